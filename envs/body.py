@@ -1,0 +1,151 @@
+"""A body is data: the description of a mass-spring animal that the physics simulates.
+
+A :class:`BodySpec` holds everything that is fixed about one animal's body (node masses, rest
+shape, Voigt elements, muscles, hydrodynamic faces, fins, buoyancy); nothing here changes while
+the animal moves. A new animal (the dolphin, later) is a new ``BodySpec``, not new physics.
+
+Conventions (shared by every body):
+
+* SI units: metres, kilograms, seconds, newtons.
+* Body frame: x forward (the nose is the most forward node), y to the animal's left, z up.
+  ``rest_positions`` are given in that frame.
+* Element kinds: ``CROSS`` (diagonal struts, stiffest), ``ORDINARY`` (the surface edges) and
+  ``MUSCLE`` (contractile; rest length ``l0 * (1 - max_contraction * u)`` for activation u).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+CROSS, ORDINARY, MUSCLE = 0, 1, 2
+KIND_NAMES = ("cross", "ordinary", "muscle")
+
+
+def _frozen(array: np.ndarray, dtype: type) -> np.ndarray:
+    out = np.ascontiguousarray(array, dtype=dtype).copy()
+    out.flags.writeable = False
+    return out
+
+
+@dataclass(frozen=True, eq=False)
+class BodySpec:
+    """Fixed description of a mass-spring body (N nodes, E elements, F faces, P fins, A actuators).
+
+    Attributes:
+        name: what the body is, e.g. ``"fish"``.
+        rest_positions: (N, 3) rest shape in the body frame, m.
+        masses: (N,) nodal masses, kg.
+        volumes: (N,) displaced volume attributed to each node, m^3 (buoyancy acts there).
+        elements: (E, 2) node index pairs of the Voigt elements.
+        kinds: (E,) element kind (``CROSS``, ``ORDINARY``, ``MUSCLE``).
+        stiffness: (E,) spring stiffness c, N/m.
+        damping: (E,) damper coefficient gamma along the element, N s/m.
+        actuator: (E,) actuator index driving each muscle element, -1 for passive elements.
+        actuator_names: (A,) names in action order.
+        max_contraction: fraction by which a fully activated muscle shortens its rest length.
+        faces: (F, 4) node indices of hydrodynamic faces; a triangle repeats its last node.
+        face_weights: (F, 4) share of each corner in the face (rows sum to 1, 0 for a repeat).
+        fin_nodes: (P, K) nodes each pectoral fin is attached to (its force is shared equally).
+        fin_areas: (P,) fin areas, m^2.
+        fin_names: (P,) names, e.g. ``("left", "right")``.
+        frame_front, frame_back: node lists whose centroids define the heading (back -> front).
+        frame_up, frame_down: node lists whose centroids define the up direction (down -> up).
+        length: body length (nose to tail tip), m.
+    """
+
+    name: str
+    rest_positions: np.ndarray
+    masses: np.ndarray
+    volumes: np.ndarray
+    elements: np.ndarray
+    kinds: np.ndarray
+    stiffness: np.ndarray
+    damping: np.ndarray
+    actuator: np.ndarray
+    actuator_names: tuple[str, ...]
+    max_contraction: float
+    faces: np.ndarray
+    face_weights: np.ndarray
+    fin_nodes: np.ndarray
+    fin_areas: np.ndarray
+    fin_names: tuple[str, ...]
+    frame_front: np.ndarray
+    frame_back: np.ndarray
+    frame_up: np.ndarray
+    frame_down: np.ndarray
+    length: float = field(default=0.0)
+
+    def __post_init__(self) -> None:
+        conversions = {
+            "rest_positions": float, "masses": float, "volumes": float, "elements": np.int64,
+            "kinds": np.int64, "stiffness": float, "damping": float, "actuator": np.int64,
+            "faces": np.int64, "face_weights": float, "fin_nodes": np.int64, "fin_areas": float,
+            "frame_front": np.int64, "frame_back": np.int64, "frame_up": np.int64,
+            "frame_down": np.int64,
+        }
+        for name, dtype in conversions.items():
+            object.__setattr__(self, name, _frozen(getattr(self, name), dtype))
+        if self.length <= 0.0:
+            extent = self.rest_positions[:, 0].max() - self.rest_positions[:, 0].min()
+            object.__setattr__(self, "length", float(extent))
+        validate_body(self)
+
+    @property
+    def num_nodes(self) -> int:
+        return int(self.rest_positions.shape[0])
+
+    @property
+    def num_elements(self) -> int:
+        return int(self.elements.shape[0])
+
+    @property
+    def num_muscles(self) -> int:
+        return int(np.count_nonzero(self.kinds == MUSCLE))
+
+    @property
+    def num_actuators(self) -> int:
+        return len(self.actuator_names)
+
+    @property
+    def total_mass(self) -> float:
+        return float(self.masses.sum())
+
+    @property
+    def rest_lengths(self) -> np.ndarray:
+        """(E,) element rest lengths in the rest shape, m."""
+        i, j = self.elements[:, 0], self.elements[:, 1]
+        return np.linalg.norm(self.rest_positions[j] - self.rest_positions[i], axis=1)
+
+
+def validate_body(body: BodySpec) -> None:
+    """Raise ValueError naming the first inconsistency in a body description."""
+    n, e = body.rest_positions.shape[0], body.elements.shape[0]
+    checks = [
+        (body.rest_positions.shape == (n, 3), "rest_positions must have shape (N, 3)"),
+        (body.masses.shape == (n,) and np.all(body.masses > 0), "masses must be (N,) and > 0"),
+        (body.volumes.shape == (n,) and np.all(body.volumes >= 0), "volumes must be (N,) >= 0"),
+        (body.elements.shape == (e, 2), "elements must have shape (E, 2)"),
+        (body.elements.min() >= 0 and body.elements.max() < n, "elements index a missing node"),
+        (np.all(body.elements[:, 0] != body.elements[:, 1]), "an element joins a node to itself"),
+        (body.kinds.shape == (e,) and set(np.unique(body.kinds)) <= {CROSS, ORDINARY, MUSCLE},
+         "kinds must be (E,) of CROSS/ORDINARY/MUSCLE"),
+        (body.stiffness.shape == (e,) and np.all(body.stiffness > 0), "stiffness must be > 0"),
+        (body.damping.shape == (e,) and np.all(body.damping >= 0), "damping must be >= 0"),
+        (np.array_equal(body.actuator >= 0, body.kinds == MUSCLE),
+         "exactly the muscle elements must have an actuator"),
+        (body.actuator.max() < len(body.actuator_names), "an actuator index has no name"),
+        (0.0 < body.max_contraction < 1.0, "max_contraction must be in (0, 1)"),
+        (body.faces.ndim == 2 and body.faces.shape[1] == 4, "faces must have shape (F, 4)"),
+        (body.face_weights.shape == body.faces.shape, "face_weights must match faces"),
+        (np.allclose(body.face_weights.sum(axis=1), 1.0), "face_weights rows must sum to 1"),
+        (body.fin_areas.shape == (body.fin_nodes.shape[0],), "one fin area per fin"),
+        (len(body.fin_names) == body.fin_nodes.shape[0], "one fin name per fin"),
+    ]
+    for ok, message in checks:
+        if not ok:
+            raise ValueError(f"BodySpec {body.name!r}: {message}")
+    lengths = body.rest_lengths
+    if np.any(lengths <= 0):
+        raise ValueError(f"BodySpec {body.name!r}: an element has zero rest length")

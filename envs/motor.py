@@ -1,0 +1,115 @@
+"""Hand-designed motor controllers (MCs): natural parameters and time -> muscle actuations.
+
+Each MC is a small pure function of its parameters and time ``t`` (s, scalar or array of
+shape (T,)) returning actuations ``u`` in [0, 1], shape (..., 6) in the actuator order
+left-front, left-middle, left-back, right-front, right-middle, right-back (or fin angles,
+shape (..., 2), rad, for the fin MCs). The envs, the learners and later behaviour and vision
+code all use them. ``to_action`` maps actuations to an env action ``a = 2u - 1``.
+
+Biomechanics (Tu's thesis): the middle and back segments drive swimming, the back one lagging
+in phase, with amplitude and frequency growing with speed; the front segments drive turning.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+LEFT_FRONT, LEFT_MIDDLE, LEFT_BACK, RIGHT_FRONT, RIGHT_MIDDLE, RIGHT_BACK = range(6)
+
+
+@dataclass(frozen=True)
+class SwimParams:
+    """Swim-MC gains: frequency ``min_hz + (max_hz - min_hz) * speed``, amplitude
+    ``max_amplitude * speed``, back segment lagging the middle by ``phase_lag`` rad."""
+
+    min_hz: float = 1.0
+    max_hz: float = 3.0
+    max_amplitude: float = 1.0
+    phase_lag: float = 0.25 * np.pi
+
+
+@dataclass(frozen=True)
+class TurnParams:
+    """Turn-MC profile: turn-side front and middle segments contract over ``rise`` s, hold for
+    ``hold`` s and relax over ``release`` s (slowly, so the recoil does not undo the turn);
+    amplitude ``min(1, angle / full_angle)`` with ``angle`` in rad."""
+
+    rise: float = 0.15
+    hold: float = 0.25
+    release: float = 1.0
+    full_angle: float = 0.5 * np.pi
+    middle_share: float = 0.6
+
+
+@dataclass(frozen=True)
+class FinParams:
+    """Fin-MC gain: the fin angle (rad) for a command of 1."""
+
+    max_angle: float = np.radians(30.0)
+
+
+def _check_unit(name: str, value: float, low: float, high: float) -> float:
+    value = float(value)
+    if not (low <= value <= high):
+        raise ValueError(f"{name} must be in [{low}, {high}], got {value!r}")
+    return value
+
+
+def swim_mc(speed: float, t: np.ndarray | float, params: SwimParams = SwimParams()) -> np.ndarray:
+    """Swim forward at ``speed`` in [0, 1] (0: glide, 1: full speed). Returns u (..., 6)."""
+    speed = _check_unit("swim speed", speed, 0.0, 1.0)
+    t = np.asarray(t, dtype=float)
+    hz = params.min_hz + (params.max_hz - params.min_hz) * speed
+    half = 0.5 * params.max_amplitude * speed
+    phase = 2.0 * np.pi * hz * t
+    u = np.zeros(t.shape + (6,))
+    u[..., LEFT_MIDDLE] = half * (1.0 + np.sin(phase))
+    u[..., RIGHT_MIDDLE] = half * (1.0 - np.sin(phase))
+    u[..., LEFT_BACK] = half * (1.0 + np.sin(phase - params.phase_lag))
+    u[..., RIGHT_BACK] = half * (1.0 - np.sin(phase - params.phase_lag))
+    return u
+
+
+def turn_profile(t: np.ndarray | float, params: TurnParams = TurnParams()) -> np.ndarray:
+    """(...,) contraction envelope in [0, 1]: smooth rise, hold, slow smooth release, then 0."""
+    t = np.asarray(t, dtype=float)
+    rise = np.clip(t / params.rise, 0.0, 1.0)
+    fall = np.clip((t - params.rise - params.hold) / params.release, 0.0, 1.0)
+    smooth = lambda s: s * s * (3.0 - 2.0 * s)  # noqa: E731  (smoothstep)
+    return smooth(rise) * (1.0 - smooth(fall))
+
+
+def turn_duration(params: TurnParams = TurnParams()) -> float:
+    """Seconds from the start of a turn until its muscles are relaxed again."""
+    return params.rise + params.hold + params.release
+
+
+def turn_mc(angle: float, t: np.ndarray | float, left: bool = True,
+            params: TurnParams = TurnParams()) -> np.ndarray:
+    """Turn left (``left=True``) or right by ``angle`` rad in [0, pi]. Returns u (..., 6)."""
+    angle = _check_unit("turn angle", angle, 0.0, np.pi)
+    amplitude = min(1.0, angle / params.full_angle)
+    envelope = amplitude * turn_profile(t, params)
+    u = np.zeros(np.shape(envelope) + (6,))
+    front, middle = (LEFT_FRONT, LEFT_MIDDLE) if left else (RIGHT_FRONT, RIGHT_MIDDLE)
+    u[..., front] = envelope
+    u[..., middle] = params.middle_share * envelope
+    return u
+
+
+def fin_mc(pitch: float = 0.0, roll: float = 0.0, params: FinParams = FinParams()) -> np.ndarray:
+    """Pectoral fin angles (2,) rad for an up/down command ``pitch`` and a ``roll`` command,
+    each in [-1, 1]. Positive pitch raises both leading edges (the fish rises when it moves
+    forward); positive roll lifts the left fin and lowers the right (rolls to the right)."""
+    pitch = _check_unit("fin pitch", pitch, -1.0, 1.0)
+    roll = _check_unit("fin roll", roll, -1.0, 1.0)
+    left = np.clip(pitch + roll, -1.0, 1.0)
+    right = np.clip(pitch - roll, -1.0, 1.0)
+    return params.max_angle * np.array([left, right])
+
+
+def to_action(u: np.ndarray) -> np.ndarray:
+    """Actuations u in [0, 1] -> env actions in [-1, 1] (float32)."""
+    return (2.0 * np.asarray(u) - 1.0).astype(np.float32)
