@@ -32,15 +32,15 @@ class SwimParams:
 
 @dataclass(frozen=True)
 class TurnParams:
-    """Turn-MC profile: turn-side front and middle segments contract over ``rise`` s, hold for
-    ``hold`` s and relax over ``release`` s (slowly, so the recoil does not undo the turn);
-    amplitude ``min(1, angle / full_angle)`` with ``angle`` in rad."""
+    """Turn-MC: a train of one-sided power strokes. Each stroke contracts the turn-side
+    segments within ``rise`` s and relaxes them over the rest of ``period`` s (fast in, slow
+    out: the water resists the fast half more, so each stroke yaws the body toward the turn
+    side). The number of strokes is ``ceil(angle / angle_per_stroke)``."""
 
+    period: float = 0.8
     rise: float = 0.15
-    hold: float = 0.25
-    release: float = 1.0
-    full_angle: float = 0.5 * np.pi
-    middle_share: float = 0.6
+    angle_per_stroke: float = np.radians(22.5)
+    amplitude: float = 1.0
 
 
 @dataclass(frozen=True)
@@ -72,30 +72,30 @@ def swim_mc(speed: float, t: np.ndarray | float, params: SwimParams = SwimParams
     return u
 
 
-def turn_profile(t: np.ndarray | float, params: TurnParams = TurnParams()) -> np.ndarray:
-    """(...,) contraction envelope in [0, 1]: smooth rise, hold, slow smooth release, then 0."""
-    t = np.asarray(t, dtype=float)
-    rise = np.clip(t / params.rise, 0.0, 1.0)
-    fall = np.clip((t - params.rise - params.hold) / params.release, 0.0, 1.0)
-    smooth = lambda s: s * s * (3.0 - 2.0 * s)  # noqa: E731  (smoothstep)
-    return smooth(rise) * (1.0 - smooth(fall))
+def turn_strokes(angle: float, params: TurnParams = TurnParams()) -> int:
+    """Number of power strokes the turn-MC uses for ``angle`` rad."""
+    return max(1, int(np.ceil(angle / params.angle_per_stroke - 1e-9)))
 
 
-def turn_duration(params: TurnParams = TurnParams()) -> float:
-    """Seconds from the start of a turn until its muscles are relaxed again."""
-    return params.rise + params.hold + params.release
+def turn_duration(angle: float, params: TurnParams = TurnParams()) -> float:
+    """Seconds from the start of a turn of ``angle`` rad until its muscles are relaxed."""
+    return turn_strokes(angle, params) * params.period
 
 
 def turn_mc(angle: float, t: np.ndarray | float, left: bool = True,
             params: TurnParams = TurnParams()) -> np.ndarray:
     """Turn left (``left=True``) or right by ``angle`` rad in [0, pi]. Returns u (..., 6)."""
     angle = _check_unit("turn angle", angle, 0.0, np.pi)
-    amplitude = min(1.0, angle / params.full_angle)
-    envelope = amplitude * turn_profile(t, params)
-    u = np.zeros(np.shape(envelope) + (6,))
-    front, middle = (LEFT_FRONT, LEFT_MIDDLE) if left else (RIGHT_FRONT, RIGHT_MIDDLE)
-    u[..., front] = envelope
-    u[..., middle] = params.middle_share * envelope
+    t = np.asarray(t, dtype=float)
+    phase = np.mod(t, params.period) / params.period
+    rise = params.rise / params.period
+    envelope = np.where(phase < rise, phase / rise, 1.0 - (phase - rise) / (1.0 - rise))
+    active = (t >= 0.0) & (t < turn_duration(angle, params))
+    envelope = params.amplitude * np.where(active, envelope, 0.0)
+    u = np.zeros(t.shape + (6,))
+    for segment in (LEFT_FRONT, LEFT_MIDDLE, LEFT_BACK) if left else (
+            RIGHT_FRONT, RIGHT_MIDDLE, RIGHT_BACK):
+        u[..., segment] = envelope
     return u
 
 

@@ -68,7 +68,9 @@ def implicit_step(x, v, f_ext, masses, elements, stiffness, damping, rest, inver
     for e in range(n_el):
         i, j = elements[e, 0], elements[e, 1]
         for b in range(lanes):
-            r_x, r_y, r_z = x[j, 0, b] - x[i, 0, b], x[j, 1, b] - x[i, 1, b], x[j, 2, b] - x[i, 2, b]
+            r_x = x[j, 0, b] - x[i, 0, b]
+            r_y = x[j, 1, b] - x[i, 1, b]
+            r_z = x[j, 2, b] - x[i, 2, b]
             norm = np.sqrt(r_x * r_x + r_y * r_y + r_z * r_z)
             r0_dir[e, 0, b], r0_dir[e, 1, b], r0_dir[e, 2, b] = r_x / norm, r_y / norm, r_z / norm
     rhs = np.empty((n, 3, lanes))
@@ -108,7 +110,9 @@ def local_step(x0, xk, elements, stiffness, damper, rest, r0_dir, rhs) -> None:
     for e in range(elements.shape[0]):
         i, j = elements[e, 0], elements[e, 1]
         for b in range(lanes):
-            r_x, r_y, r_z = xk[j, 0, b] - xk[i, 0, b], xk[j, 1, b] - xk[i, 1, b], xk[j, 2, b] - xk[i, 2, b]
+            r_x = xk[j, 0, b] - xk[i, 0, b]
+            r_y = xk[j, 1, b] - xk[i, 1, b]
+            r_z = xk[j, 2, b] - xk[i, 2, b]
             spring = stiffness[e] * rest[e, b] / np.sqrt(r_x * r_x + r_y * r_y + r_z * r_z)
             d_x = r_x - (x0[j, 0, b] - x0[i, 0, b])
             d_y = r_y - (x0[j, 1, b] - x0[i, 1, b])

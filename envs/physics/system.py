@@ -10,6 +10,7 @@ compiled step kernel (:mod:`envs.physics.integrator`) expects.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import cached_property
 
 import numpy as np
 
@@ -81,7 +82,7 @@ class System:
         object.__setattr__(self, "fin_mass", _frozen(implicit_masses(
             inverse, self.body.fin_nodes, fin_weights, self.dt)))
 
-    @property
+    @cached_property
     def kernel_args(self) -> tuple:
         """Constants for :func:`envs.physics.integrator.step_batch`, in its argument order."""
         b, w = self.body, self.water

@@ -1,0 +1,80 @@
+"""Simulator benchmark: simulated seconds per wall second, ours against MuJoCo's Swimmer-v5.
+
+Run ``python -m envs.bench`` (``animat bench`` once the launcher exists). It measures, in the
+same process and one after the other, ``Animat/FishSwim-v0`` as one env and as the native batch
+of 256, and, when ``mujoco`` is installed (the ``bench`` extra), Gymnasium's ``Swimmer-v5`` as
+one env and as a sync vector of 256, all with uniformly random actions, and prints the ratios.
+Simulated seconds per wall second of a vector env count every sub-env's time.
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+
+import gymnasium as gym
+import numpy as np
+
+import envs  # noqa: F401  (registers Animat/*)
+
+
+def sim_seconds_per_second(env, dt: float, num_envs: int, seconds: float, seed: int = 0) -> float:
+    """Step ``env`` with random actions for about ``seconds`` of wall time (after a warm-up)."""
+    env.reset(seed=seed)
+    rng = np.random.default_rng(seed)
+    actions = rng.uniform(-1, 1, (64,) + env.action_space.shape).astype(np.float32)
+    for k in range(3):
+        env.step(actions[k])
+    steps, start = 0, time.perf_counter()
+    while (elapsed := time.perf_counter() - start) < seconds:
+        for _ in range(8):
+            env.step(actions[steps % 64])
+            steps += 1
+    return steps * dt * num_envs / elapsed
+
+
+def run(seconds: float = 3.0, num_envs: int = 256) -> dict[str, float]:
+    """Measure every configuration; returns {name: simulated seconds per wall second}."""
+    results = {}
+    single = gym.make("Animat/FishSwim-v0")
+    results["fish, 1 env"] = sim_seconds_per_second(single, single.unwrapped.dt, 1, seconds)
+    batch = gym.make_vec("Animat/FishSwim-v0", num_envs=num_envs)
+    results[f"fish, native batch of {num_envs}"] = sim_seconds_per_second(
+        batch, batch.dt, num_envs, seconds)
+    try:
+        import mujoco  # noqa: F401
+    except ImportError:
+        return results
+    swimmer = gym.make("Swimmer-v5")
+    results["Swimmer-v5, 1 env"] = sim_seconds_per_second(swimmer, swimmer.unwrapped.dt, 1,
+                                                          seconds)
+    swimmers = gym.make_vec("Swimmer-v5", num_envs=num_envs, vectorization_mode="sync")
+    dt = swimmers.envs[0].unwrapped.dt
+    results[f"Swimmer-v5, sync vector of {num_envs}"] = sim_seconds_per_second(
+        swimmers, dt, num_envs, seconds)
+    return results
+
+
+def report(results: dict[str, float], num_envs: int = 256) -> str:
+    lines = [f"{'configuration':<36} {'sim s / wall s':>15}"]
+    lines += [f"{name:<36} {value:>15.1f}" for name, value in results.items()]
+    pairs = [("fish, 1 env", "Swimmer-v5, 1 env"),
+             (f"fish, native batch of {num_envs}", f"Swimmer-v5, sync vector of {num_envs}")]
+    for ours, theirs in pairs:
+        if ours in results and theirs in results:
+            lines.append(f"ratio {ours} / {theirs}: {results[ours] / results[theirs]:.2f}x")
+    if len(results) == 2:
+        lines.append("(install the 'bench' extra, i.e. mujoco, to compare with Swimmer-v5)")
+    return "\n".join(lines)
+
+
+def main(argv: list[str] | None = None) -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--seconds", type=float, default=3.0, help="wall seconds per measurement")
+    parser.add_argument("--num-envs", type=int, default=256)
+    args = parser.parse_args(argv)
+    print(report(run(args.seconds, args.num_envs), args.num_envs))
+
+
+if __name__ == "__main__":
+    main()

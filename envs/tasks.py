@@ -1,0 +1,151 @@
+"""Locomotion tasks: what a fish is asked to do, as pure functions on batched arrays.
+
+A task supplies the paper's trajectory term E_v (Eq. 1) and its own metrics, from the body's
+centre of mass, its velocity and its frame. Shapes: ``com`` (B, 3) the centre of mass relative
+to where the episode started, m; ``com_vel`` (B, 3) m/s;
+``frames`` (B, 3, 3) rows forward, left, up; ``targets`` (B, T) the task's per-episode
+parameters drawn by :meth:`Task.sample`; ``length`` the body length (m). Distances and speeds
+are reported in body lengths (BL) and BL/s, angles in degrees.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+
+def heading_yaw(frames: np.ndarray) -> np.ndarray:
+    """(B,) yaw of the forward vector about +z, rad (0: +x, positive: to the left)."""
+    return np.arctan2(frames[:, 0, 1], frames[:, 0, 0])
+
+
+def wrap_angle(angle: np.ndarray) -> np.ndarray:
+    """Angles wrapped to [-pi, pi)."""
+    return (angle + np.pi) % (2.0 * np.pi) - np.pi
+
+
+def world_to_body(vectors: np.ndarray, frames: np.ndarray) -> np.ndarray:
+    """(B, 3) world-frame vectors expressed in each body frame (forward, left, up)."""
+    return np.einsum("bij,bj->bi", frames, vectors)
+
+
+class Task:
+    """Base class: a task has ``target_size`` parameters per episode and ``obs_size`` extra
+    observation entries."""
+
+    name = "task"
+    target_size = 0
+    obs_size = 0
+
+    def sample(self, rng: np.random.Generator) -> np.ndarray:
+        """(target_size,) parameters of a new episode."""
+        return np.zeros(self.target_size)
+
+    def observe(self, com, com_vel, frames, targets, length) -> np.ndarray:
+        """(B, obs_size) task part of the observation."""
+        return np.zeros((com.shape[0], self.obs_size))
+
+    def terms(self, com, com_vel, frames, targets, length, last):
+        """E_v (B,) and a dict of metrics (B,) each; ``last`` (B,) marks an episode's last step."""
+        raise NotImplementedError
+
+
+@dataclass
+class SwimTask(Task):
+    """Swim forward along +x. Without ``target_speed`` E_v = -u (u: speed along +x, BL/s), so
+    faster is better; with it E_v = (u - target_speed)^2."""
+
+    target_speed: float | None = None
+    name = "swim"
+
+    def __post_init__(self) -> None:
+        if self.target_speed is not None and not (0.0 <= float(self.target_speed) <= 10.0):
+            raise ValueError(f"target_speed must be in [0, 10] BL/s, got {self.target_speed!r}")
+        self.obs_size = 0 if self.target_speed is None else 1
+
+    def observe(self, com, com_vel, frames, targets, length):
+        if self.target_speed is None:
+            return np.zeros((com.shape[0], 0))
+        return np.full((com.shape[0], 1), float(self.target_speed))
+
+    def terms(self, com, com_vel, frames, targets, length, last):
+        speed = com_vel[:, 0] / length
+        if self.target_speed is None:
+            e_v = -speed
+        else:
+            e_v = (speed - float(self.target_speed)) ** 2
+        heading = np.degrees(heading_yaw(frames))
+        return e_v, {"speed_bl_per_s": speed, "heading_deg": heading,
+                     "distance_bl": com[:, 0] / length}
+
+
+@dataclass
+class TurnTask(Task):
+    """Turn by ``angle_deg`` to the left (``direction="left"``) or right. E_v is the squared
+    heading error (rad^2); observation: sin and cos of the heading error."""
+
+    angle_deg: float = 90.0
+    direction: str = "left"
+    name = "turn"
+    obs_size = 2
+
+    def __post_init__(self) -> None:
+        if self.direction not in ("left", "right"):
+            raise ValueError(f"direction must be 'left' or 'right', got {self.direction!r}")
+        if not (0.0 < float(self.angle_deg) <= 180.0):
+            raise ValueError(f"angle_deg must be in (0, 180], got {self.angle_deg!r}")
+
+    @property
+    def target_yaw(self) -> float:
+        sign = 1.0 if self.direction == "left" else -1.0
+        return sign * np.radians(float(self.angle_deg))
+
+    def _error(self, frames):
+        return wrap_angle(heading_yaw(frames) - self.target_yaw)
+
+    def observe(self, com, com_vel, frames, targets, length):
+        error = self._error(frames)
+        return np.stack([np.sin(error), np.cos(error)], axis=1)
+
+    def terms(self, com, com_vel, frames, targets, length, last):
+        error = self._error(frames)
+        return error**2, {"heading_deg": np.degrees(heading_yaw(frames)),
+                          "heading_error_deg": np.degrees(error)}
+
+
+@dataclass
+class ReachTask(Task):
+    """Reach a goal point. Each episode's goal lies ``distance_bl`` body lengths from the start,
+    at a bearing drawn uniformly from ``bearing_deg`` (0: straight ahead, 180: behind, positive:
+    left), at the start depth. E_v = distance to the goal (BL) at every step, plus
+    ``final_weight`` times the distance on the episode's last step. Observation: the goal in
+    the body frame, BL."""
+
+    distance_bl: tuple[float, float] = (2.0, 4.0)
+    bearing_deg: tuple[float, float] = (-180.0, 180.0)
+    final_weight: float = 20.0
+    name = "reach"
+    target_size = 3
+    obs_size = 3
+
+    def __post_init__(self) -> None:
+        for name in ("distance_bl", "bearing_deg"):
+            low, high = (float(v) for v in getattr(self, name))
+            if not low <= high:
+                raise ValueError(f"{name} must be a (low, high) range, got {getattr(self, name)!r}")
+        if self.distance_bl[0] < 0:
+            raise ValueError(f"distance_bl must be >= 0, got {self.distance_bl!r}")
+
+    def sample(self, rng):
+        distance = rng.uniform(*self.distance_bl)
+        bearing = np.radians(rng.uniform(*self.bearing_deg))
+        return np.array([distance * np.cos(bearing), distance * np.sin(bearing), 0.0])
+
+    def observe(self, com, com_vel, frames, targets, length):
+        return world_to_body(targets * length - com, frames) / length
+
+    def terms(self, com, com_vel, frames, targets, length, last):
+        distance = np.linalg.norm(targets * length - com, axis=1) / length
+        e_v = distance + np.where(last, float(self.final_weight) * distance, 0.0)
+        return e_v, {"distance_bl": distance}

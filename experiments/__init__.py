@@ -1,0 +1,1 @@
+"""The experiment launcher and its commands (a later issue)."""

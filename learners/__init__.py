@@ -1,0 +1,1 @@
+"""The paper's learners and the baselines (a later issue)."""

@@ -1,0 +1,107 @@
+"""The Gymnasium environments: checkers, contracts, vector equivalence, bad input, video."""
+
+import warnings
+
+import gymnasium as gym
+import numpy as np
+import pytest
+from gymnasium.utils.env_checker import check_env
+from stable_baselines3.common.env_checker import check_env as sb3_check_env
+
+import envs
+
+ENV_IDS = envs.ENV_IDS
+
+
+@pytest.mark.parametrize("env_id", ENV_IDS)
+def test_gymnasium_and_sb3_checkers_pass_without_warnings(env_id):
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        check_env(gym.make(env_id, render_mode="rgb_array").unwrapped)
+        sb3_check_env(gym.make(env_id))
+
+
+@pytest.mark.parametrize("env_id", ENV_IDS)
+def test_contract_info_and_attributes(env_id):
+    env = gym.make(env_id)
+    obs, _ = env.reset(seed=0)
+    assert env.action_space == gym.spaces.Box(-1, 1, (6,), np.float32)
+    assert env.unwrapped.dt == pytest.approx(0.05)
+    assert env.unwrapped.body_length == pytest.approx(0.30)
+    _, reward, _, _, info = env.step(env.action_space.sample())
+    assert info["com"].shape == (3,) and info["forward"].shape == (3,)
+    assert np.linalg.norm(info["forward"]) == pytest.approx(1.0)
+    assert reward == pytest.approx(info["reward_ctrl"] + info["reward_task"])
+    for key in ("E_u", "E_v"):
+        assert np.isfinite(info[key])
+
+
+def test_fish_starts_heading_plus_x_with_left_plus_y():
+    env = gym.make("Animat/FishSwim-v0", reset_noise_scale=0.0)
+    _, info = env.reset(seed=0)
+    np.testing.assert_allclose(info["forward"], [1, 0, 0], atol=1e-12)
+    frames = env.unwrapped.core._cache[2]
+    np.testing.assert_allclose(frames[0, 1], [0, 1, 0], atol=1e-12)
+
+
+@pytest.mark.parametrize("bad, message", [
+    (np.zeros(5), "shape"), (np.full(6, np.nan), "NaN"), (np.array([0, 0, np.inf, 0, 0, 0]),
+                                                           "infinite")])
+def test_invalid_actions_raise_and_leave_state_unchanged(bad, message):
+    env = gym.make("Animat/FishSwim-v0").unwrapped
+    env.reset(seed=0)
+    env.step(np.zeros(6, np.float32))
+    before = (env.core.x.copy(), env.core.v.copy(), env.core.steps.copy())
+    with pytest.raises(ValueError, match=message):
+        env.step(bad)
+    assert np.array_equal(env.core.x, before[0]) and np.array_equal(env.core.v, before[1])
+    assert np.array_equal(env.core.steps, before[2])
+
+
+@pytest.mark.parametrize("env_id", ENV_IDS)
+def test_native_vector_env_matches_single_envs_step_for_step(env_id):
+    num = 4
+    vec = gym.make_vec(env_id, num_envs=num, duration=0.5)
+    assert type(vec).__name__ == "FishVectorEnv"
+    singles = [gym.make(env_id, duration=0.5) for _ in range(num)]
+    obs, _ = vec.reset(seed=10)
+    single_obs = [env.reset(seed=10 + i)[0] for i, env in enumerate(singles)]
+    np.testing.assert_array_equal(obs, np.stack(single_obs))
+    rng = np.random.default_rng(0)
+    done = np.zeros(num, dtype=bool)
+    for _ in range(25):  # crosses an episode end (10 steps) and the autoreset after it
+        actions = rng.uniform(-1, 1, (num, 6)).astype(np.float32)
+        obs, reward, term, trunc, info = vec.step(actions)
+        for i, env in enumerate(singles):
+            if done[i]:
+                o, _ = env.reset()
+                r, t = 0.0, False
+            else:
+                o, r, _, t, _ = env.step(actions[i])
+            np.testing.assert_array_equal(obs[i], o)
+            assert reward[i] == r and trunc[i] == t
+        done = trunc
+
+
+def test_vector_env_rejects_bad_batch():
+    vec = gym.make_vec("Animat/FishSwim-v0", num_envs=3)
+    vec.reset(seed=0)
+    with pytest.raises(ValueError, match="shape"):
+        vec.step(np.zeros((2, 6)))
+
+
+def test_render_and_record_video(tmp_path):
+    env = gym.make("Animat/FishSwim-v0", render_mode="rgb_array", duration=1.0)
+    assert env.metadata["render_fps"] == 20
+    env = gym.wrappers.RecordVideo(env, str(tmp_path / "videos"), episode_trigger=lambda e: True,
+                                   disable_logger=True)
+    env.reset(seed=0)
+    frame = env.render()
+    assert frame.shape == (360, 480, 3) and frame.dtype == np.uint8
+    assert frame.std() > 5  # a picture, not a blank
+    truncated = False
+    while not truncated:
+        _, _, _, truncated, _ = env.step(env.action_space.sample())
+    env.close()
+    videos = list((tmp_path / "videos").glob("*.mp4"))
+    assert videos and videos[0].stat().st_size > 1000
