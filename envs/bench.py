@@ -1,9 +1,10 @@
 """Simulator benchmark: simulated seconds per wall second, ours against MuJoCo's Swimmer-v5.
 
 Run ``python -m envs.bench`` (``animat bench`` once the launcher exists). It measures, in the
-same process and one after the other, ``Animat/FishSwim-v0`` as one env and as the native batch
-of 256, and, when ``mujoco`` is installed (the ``bench`` extra), Gymnasium's ``Swimmer-v5`` as
-one env and as a sync vector of 256, all with uniformly random actions, and prints the ratios.
+same process and in interleaved rounds (median of each), ``Animat/FishSwim-v0`` as one env and
+as the native batch of 256, and, when ``mujoco`` is installed (the ``bench`` extra),
+Gymnasium's ``Swimmer-v5`` as one env and as a sync vector of 256, all with uniformly random
+actions, and prints the ratios.
 Simulated seconds per wall second of a vector env count every sub-env's time.
 """
 
@@ -33,26 +34,34 @@ def sim_seconds_per_second(env, dt: float, num_envs: int, seconds: float, seed: 
     return steps * dt * num_envs / elapsed
 
 
-def run(seconds: float = 3.0, num_envs: int = 256) -> dict[str, float]:
-    """Measure every configuration; returns {name: simulated seconds per wall second}."""
-    results = {}
+def make_configurations(num_envs: int) -> dict[str, tuple]:
+    """{name: (env, dt, sub-env count)}; Swimmer-v5 only when mujoco is installed."""
     single = gym.make("Animat/FishSwim-v0")
-    results["fish, 1 env"] = sim_seconds_per_second(single, single.unwrapped.dt, 1, seconds)
     batch = gym.make_vec("Animat/FishSwim-v0", num_envs=num_envs)
-    results[f"fish, native batch of {num_envs}"] = sim_seconds_per_second(
-        batch, batch.dt, num_envs, seconds)
+    configs = {"fish, 1 env": (single, single.unwrapped.dt, 1),
+               f"fish, native batch of {num_envs}": (batch, batch.dt, num_envs)}
     try:
         import mujoco  # noqa: F401
     except ImportError:
-        return results
+        return configs
     swimmer = gym.make("Swimmer-v5")
-    results["Swimmer-v5, 1 env"] = sim_seconds_per_second(swimmer, swimmer.unwrapped.dt, 1,
-                                                          seconds)
     swimmers = gym.make_vec("Swimmer-v5", num_envs=num_envs, vectorization_mode="sync")
-    dt = swimmers.envs[0].unwrapped.dt
-    results[f"Swimmer-v5, sync vector of {num_envs}"] = sim_seconds_per_second(
-        swimmers, dt, num_envs, seconds)
-    return results
+    configs["Swimmer-v5, 1 env"] = (swimmer, swimmer.unwrapped.dt, 1)
+    configs[f"Swimmer-v5, sync vector of {num_envs}"] = (swimmers, swimmers.envs[0].unwrapped.dt,
+                                                         num_envs)
+    return configs
+
+
+def run(seconds: float = 6.0, num_envs: int = 256, rounds: int = 3) -> dict[str, float]:
+    """Measure every configuration in ``rounds`` interleaved rounds of ``seconds / rounds``
+    each (so machine noise hits all alike); returns the median simulated seconds per wall
+    second of each."""
+    configs = make_configurations(num_envs)
+    samples: dict[str, list[float]] = {name: [] for name in configs}
+    for _ in range(rounds):
+        for name, (env, dt, count) in configs.items():
+            samples[name].append(sim_seconds_per_second(env, dt, count, seconds / rounds))
+    return {name: float(np.median(values)) for name, values in samples.items()}
 
 
 def report(results: dict[str, float], num_envs: int = 256) -> str:
@@ -70,10 +79,12 @@ def report(results: dict[str, float], num_envs: int = 256) -> str:
 
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--seconds", type=float, default=3.0, help="wall seconds per measurement")
+    parser.add_argument("--seconds", type=float, default=6.0,
+                        help="wall seconds per configuration, over all rounds")
     parser.add_argument("--num-envs", type=int, default=256)
+    parser.add_argument("--rounds", type=int, default=3, help="interleaved rounds (median)")
     args = parser.parse_args(argv)
-    print(report(run(args.seconds, args.num_envs), args.num_envs))
+    print(report(run(args.seconds, args.num_envs, args.rounds), args.num_envs))
 
 
 if __name__ == "__main__":

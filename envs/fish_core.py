@@ -15,12 +15,14 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from numba import njit
 
 from envs.body import BodySpec
 from envs.fish import fish_body
-from envs.physics.integrator import observe_batch, step_batch
+from envs.physics.integrator import step_batch
+from envs.physics.observe import body_state, proprioception
 from envs.physics.system import System, Water
-from envs.tasks import Task, world_to_body
+from envs.tasks import Task
 
 OBS_LIMIT = 1e4  # observation entries are clipped to +-OBS_LIMIT
 
@@ -42,10 +44,26 @@ def validate_actions(actions: np.ndarray, shape: tuple[int, ...]) -> np.ndarray:
     array = np.asarray(actions, dtype=np.float64)
     if array.shape != shape:
         raise ValueError(f"action must have shape {shape}, got {array.shape}")
-    if not np.all(np.isfinite(array)):
+    if not np.isfinite(array).all():
         bad = "NaN" if np.isnan(array).any() else "infinite"
         raise ValueError(f"action contains {bad} values: {np.asarray(actions).tolist()}")
-    return np.clip(array, -1.0, 1.0)
+    return np.minimum(np.maximum(array, -1.0), 1.0)
+
+
+@njit(cache=True)
+def control_energy(u, u_prev, u_prev2, dt, nu1, nu2):
+    """(B,) E_u = (nu1 |du/dt|^2 + nu2 |d^2u/dt^2|^2) / 2 by finite differences over env steps
+    of ``dt`` s, actuations u, u_prev, u_prev2 (B, A) at this and the two previous steps."""
+    out = np.zeros(u.shape[0])
+    for b in range(u.shape[0]):
+        first = second = 0.0
+        for k in range(u.shape[1]):
+            du = (u[b, k] - u_prev[b, k]) / dt
+            ddu = (u[b, k] - 2.0 * u_prev[b, k] + u_prev2[b, k]) / (dt * dt)
+            first += du * du
+            second += ddu * ddu
+        out[b] = 0.5 * (nu1 * first + nu2 * second)
+    return out
 
 
 class FishBatch:
@@ -108,7 +126,7 @@ class FishBatch:
 
     def centre_of_mass(self) -> np.ndarray:
         """(B, 3) centre of mass, m."""
-        return observe_batch(self.x, self.v, self.body.masses, *self._frame_nodes())[0]
+        return body_state(self.x, self.v, self.body.masses, *self._frame_nodes())[0]
 
     def _frame_nodes(self) -> tuple:
         b = self.body
@@ -120,12 +138,10 @@ class FishBatch:
         u = 0.5 * (actions + 1.0)
         step_batch(self.x, self.v, self.u_prev, u, self.fins, self.frame_skip,
                    self.system.kernel_args)
-        du = (u - self.u_prev) / self.dt
-        ddu = (u - 2.0 * self.u_prev + self.u_prev2) / self.dt**2
+        w = self.weights
+        e_u = control_energy(u, self.u_prev, self.u_prev2, self.dt, w.nu1, w.nu2)
         self.u_prev2, self.u_prev = self.u_prev, u
         self.steps += 1
-        w = self.weights
-        e_u = 0.5 * (w.nu1 * np.sum(du**2, axis=1) + w.nu2 * np.sum(ddu**2, axis=1))
         info = self.measure(last=self.steps >= self.episode_steps)
         reward_ctrl = -w.mu1 * e_u * self.dt
         reward_task = -w.mu2 * info["E_v"] * self.dt
@@ -140,9 +156,8 @@ class FishBatch:
     def measure(self, last: np.ndarray | None = None) -> dict[str, np.ndarray]:
         """Info arrays: ``com`` (B, 3) m, ``forward`` (B, 3), ``time`` (B,) s, ``E_v`` (B,) and
         the task's metrics (B,); caches what :meth:`observe` needs."""
-        com, com_vel, frames, local_x, local_v = observe_batch(
-            self.x, self.v, self.body.masses, *self._frame_nodes())
-        self._cache = (com, com_vel, frames, local_x, local_v)
+        com, com_vel, frames = body_state(self.x, self.v, self.body.masses, *self._frame_nodes())
+        self._cache = (com, com_vel, frames)
         last = np.zeros(self.num_envs, dtype=bool) if last is None else last
         e_v, metrics = self.task.terms(com - self.origin, com_vel, frames, self.targets,
                                        self.body.length, last)
@@ -151,14 +166,14 @@ class FishBatch:
 
     def observe(self) -> np.ndarray:
         """(B, obs_size) float32: node positions and velocities relative to the centre of mass
-        in the body frame (BL, BL/s), the centre of mass velocity in the body frame (BL/s), the
+        in the body frame (BL, BL/s), the centre-of-mass velocity in the body frame (BL/s), the
         world's up direction in the body frame, the current actuations, the task's entries.
-        Uses the quantities of the last :meth:`measure`."""
-        com, com_vel, frames, local_x, local_v = self._cache
-        length, b = self.body.length, self.num_envs
-        up = frames[:, :, 2]  # the world's z axis in body coordinates
-        task_obs = self.task.observe(com - self.origin, com_vel, frames, self.targets, length)
-        parts = [local_x.reshape(b, -1) / length, local_v.reshape(b, -1) / length,
-                 world_to_body(com_vel, frames) / length, up, self.u_prev, task_obs]
-        obs = np.concatenate(parts, axis=1)
-        return np.clip(obs, -OBS_LIMIT, OBS_LIMIT).astype(np.float32)
+        Uses the quantities of the last :meth:`measure`; entries are clipped to +-OBS_LIMIT."""
+        com, com_vel, frames = self._cache
+        obs = np.empty((self.num_envs, self.obs_size))
+        proprioception(self.x, self.v, self.u_prev, com, com_vel, frames, self.body.length, obs)
+        if self.task.obs_size:
+            obs[:, self.obs_size - self.task.obs_size:] = self.task.observe(
+                com - self.origin, com_vel, frames, self.targets, self.body.length)
+        np.clip(obs, -OBS_LIMIT, OBS_LIMIT, out=obs)
+        return obs.astype(np.float32)

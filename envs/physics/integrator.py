@@ -28,7 +28,6 @@ from envs.physics.forces import (
     add_face_forces,
     add_fin_forces,
     add_gravity_buoyancy,
-    body_frame,
     body_frame_into,
     muscle_rest_lengths,
 )
@@ -45,14 +44,41 @@ def chebyshev_weight(iteration: int, omega: float, rho: float) -> float:
     return 4.0 / (4.0 - rho * rho * omega)
 
 
-@njit(cache=True, fastmath=True)
+@njit(cache=True)
+def apply_inverse(inverse, rhs, out) -> None:
+    """out (N, W) = inverse (N, N) @ rhs (N, W), each sum taken in the order k = 0 .. N-1.
+
+    Two loop orders with the same arithmetic (no fast-math, so no reassociation): for narrow
+    batches the sum over k is innermost, for wide ones the W columns are (SIMD)."""
+    n, width = rhs.shape
+    if width < 8:
+        for i in range(n):
+            for m in range(width):
+                acc = 0.0
+                for k in range(n):
+                    acc += inverse[i, k] * rhs[k, m]
+                out[i, m] = acc
+    else:
+        out[:] = 0.0
+        for i in range(n):
+            for k in range(n):
+                weight = inverse[i, k]
+                for m in range(width):
+                    out[i, m] += weight * rhs[k, m]
+
+
+FAST = {"cache": True, "fastmath": {"contract"}, "error_model": "numpy"}
+
+
+@njit(**FAST)
 def implicit_step(x, v, f_ext, masses, elements, stiffness, damping, rest, inverse_matrix, dt,
                   iterations, rho):
     """One implicit-Euler step of a chunk of L bodies, in place.
 
     x, v, f_ext: (N, 3, L) positions (m), velocities (m/s), external forces (N) in lane layout
-    (bodies innermost, so every loop below runs over bodies in SIMD and each body's arithmetic
-    is the same whatever L is); rest: (E, L) element rest lengths, m.
+    (bodies innermost, so the loops run over bodies in SIMD and each body's arithmetic is the
+    same whatever L is); rest: (E, L) element rest lengths, m. Element quantities are kept
+    component-first, (3, E, L), so the per-element arithmetic is one flat loop over E * L.
     """
     n, n_el, lanes = x.shape[0], elements.shape[0], x.shape[2]
     h2 = dt * dt
@@ -64,36 +90,41 @@ def implicit_step(x, v, f_ext, masses, elements, stiffness, damping, rest, inver
                 y = x[i, a, b] + dt * v[i, a, b] + h2 * f_ext[i, a, b] / masses[i]
                 xk[i, a, b] = y
                 inertial[i, a, b] = y * masses[i] / h2
-    r0_dir = np.empty((n_el, 3, lanes))
+    r0 = np.empty((3, n_el, lanes))
+    element_vectors(x, elements, r0)
+    direction = np.empty((3, n_el, lanes))
+    spring_rest = np.empty((n_el, lanes))
+    damper = np.empty((n_el, lanes))
     for e in range(n_el):
-        i, j = elements[e, 0], elements[e, 1]
         for b in range(lanes):
-            r_x = x[j, 0, b] - x[i, 0, b]
-            r_y = x[j, 1, b] - x[i, 1, b]
-            r_z = x[j, 2, b] - x[i, 2, b]
-            norm = np.sqrt(r_x * r_x + r_y * r_y + r_z * r_z)
-            r0_dir[e, 0, b], r0_dir[e, 1, b], r0_dir[e, 2, b] = r_x / norm, r_y / norm, r_z / norm
+            norm = np.sqrt(r0[0, e, b] ** 2 + r0[1, e, b] ** 2 + r0[2, e, b] ** 2)
+            for a in range(3):
+                direction[a, e, b] = r0[a, e, b] / norm
+            spring_rest[e, b] = stiffness[e] * rest[e, b]
+            damper[e, b] = damping[e] / dt
+    r = np.empty((3, n_el, lanes))
+    w = np.empty((3, n_el, lanes))
     rhs = np.empty((n, 3, lanes))
-    x_hat = np.empty((n, 3, lanes))
     x_before = xk.copy()
+    # Flat (N, 3L) views: the dense solve and the updates run over 3L contiguous numbers.
+    width = 3 * lanes
+    flat_rhs, flat_xk, flat_before = (rhs.reshape(n, width), xk.reshape(n, width),
+                                      x_before.reshape(n, width))
+    flat_inertial = inertial.reshape(n, width)
+    x_hat = np.empty((n, width))
     omega = 1.0
     for it in range(iterations):
-        rhs[:] = inertial
-        local_step(x, xk, elements, stiffness, damping / dt, rest, r0_dir, rhs)
-        x_hat[:] = 0.0
-        for i in range(n):
-            for k in range(n):
-                weight = inverse_matrix[i, k]
-                for a in range(3):
-                    for b in range(lanes):
-                        x_hat[i, a, b] += weight * rhs[k, a, b]
+        element_vectors(xk, elements, r)
+        projections(r, r0, direction, spring_rest, damper, w)
+        flat_rhs[:] = flat_inertial
+        scatter_elements(elements, w, rhs)
+        apply_inverse(inverse_matrix, flat_rhs, x_hat)
         omega = chebyshev_weight(it, omega, rho)
         for i in range(n):
-            for a in range(3):
-                for b in range(lanes):
-                    x_next = omega * (x_hat[i, a, b] - x_before[i, a, b]) + x_before[i, a, b]
-                    x_before[i, a, b] = xk[i, a, b]
-                    xk[i, a, b] = x_next
+            for m in range(width):
+                x_next = omega * (x_hat[i, m] - flat_before[i, m]) + flat_before[i, m]
+                flat_before[i, m] = flat_xk[i, m]
+                flat_xk[i, m] = x_next
     for i in range(n):
         for a in range(3):
             for b in range(lanes):
@@ -101,32 +132,64 @@ def implicit_step(x, v, f_ext, masses, elements, stiffness, damping, rest, inver
                 x[i, a, b] = xk[i, a, b]
 
 
-@njit(cache=True, fastmath=True)
-def local_step(x0, xk, elements, stiffness, damper, rest, r0_dir, rhs) -> None:
-    """Add each element's projection to ``rhs`` (N, 3, L): the spring vector of rest length
-    ``rest`` along the current element, and the Voigt damper's target (start-of-step element
-    plus the current change across it), weighted by c and gamma/h (``damper``)."""
-    lanes = xk.shape[2]
+@njit(**FAST)
+def element_vectors(x, elements, out) -> None:
+    """out (3, E, L) = x_j - x_i for every element (i, j); x (N, 3, L)."""
+    if out.shape[2] == 1:  # a batch of one: plain loops (same arithmetic)
+        for e in range(elements.shape[0]):
+            i, j = elements[e, 0], elements[e, 1]
+            for a in range(3):
+                out[a, e, 0] = x[j, a, 0] - x[i, a, 0]
+        return
     for e in range(elements.shape[0]):
         i, j = elements[e, 0], elements[e, 1]
-        for b in range(lanes):
-            r_x = xk[j, 0, b] - xk[i, 0, b]
-            r_y = xk[j, 1, b] - xk[i, 1, b]
-            r_z = xk[j, 2, b] - xk[i, 2, b]
-            spring = stiffness[e] * rest[e, b] / np.sqrt(r_x * r_x + r_y * r_y + r_z * r_z)
-            d_x = r_x - (x0[j, 0, b] - x0[i, 0, b])
-            d_y = r_y - (x0[j, 1, b] - x0[i, 1, b])
-            d_z = r_z - (x0[j, 2, b] - x0[i, 2, b])
-            axial = d_x * r0_dir[e, 0, b] + d_y * r0_dir[e, 1, b] + d_z * r0_dir[e, 2, b]
-            w_x = spring * r_x + damper[e] * (r_x - r0_dir[e, 0, b] * axial)
-            w_y = spring * r_y + damper[e] * (r_y - r0_dir[e, 1, b] * axial)
-            w_z = spring * r_z + damper[e] * (r_z - r0_dir[e, 2, b] * axial)
-            rhs[j, 0, b] += w_x
-            rhs[j, 1, b] += w_y
-            rhs[j, 2, b] += w_z
-            rhs[i, 0, b] -= w_x
-            rhs[i, 1, b] -= w_y
-            rhs[i, 2, b] -= w_z
+        for a in range(3):
+            xi, xj, o = x[i, a], x[j, a], out[a, e]
+            for b in range(o.shape[0]):
+                o[b] = xj[b] - xi[b]
+
+
+@njit(**FAST)
+def projections(r, r0, direction, spring_rest, damper, w) -> None:
+    """The local step: w (3, E, L) = c l r/|r| + (gamma/h) (r - d (d . (r - r0))).
+
+    The first term is c times the spring vector of rest length l along the current element
+    r; the second is gamma/h times the Voigt damper's target, the start-of-step element r0
+    plus the change across the start direction d (``spring_rest`` = c l and ``damper`` =
+    gamma/h, each (E, L))."""
+    size = spring_rest.size
+    r_x, r_y, r_z = r[0].reshape(size), r[1].reshape(size), r[2].reshape(size)
+    p_x, p_y, p_z = r0[0].reshape(size), r0[1].reshape(size), r0[2].reshape(size)
+    d_x, d_y, d_z = (direction[0].reshape(size), direction[1].reshape(size),
+                     direction[2].reshape(size))
+    w_x, w_y, w_z = w[0].reshape(size), w[1].reshape(size), w[2].reshape(size)
+    cl, g = spring_rest.reshape(size), damper.reshape(size)
+    for q in range(size):
+        spring = cl[q] / np.sqrt(r_x[q] * r_x[q] + r_y[q] * r_y[q] + r_z[q] * r_z[q])
+        axial = ((r_x[q] - p_x[q]) * d_x[q] + (r_y[q] - p_y[q]) * d_y[q]
+                 + (r_z[q] - p_z[q]) * d_z[q])
+        w_x[q] = spring * r_x[q] + g[q] * (r_x[q] - d_x[q] * axial)
+        w_y[q] = spring * r_y[q] + g[q] * (r_y[q] - d_y[q] * axial)
+        w_z[q] = spring * r_z[q] + g[q] * (r_z[q] - d_z[q] * axial)
+
+
+@njit(**FAST)
+def scatter_elements(elements, w, rhs) -> None:
+    """rhs (N, 3, L) += G' w: element e adds w_e to node j and subtracts it from node i."""
+    if w.shape[2] == 1:  # a batch of one: plain loops (same arithmetic)
+        for e in range(elements.shape[0]):
+            i, j = elements[e, 0], elements[e, 1]
+            for a in range(3):
+                rhs[j, a, 0] += w[a, e, 0]
+                rhs[i, a, 0] -= w[a, e, 0]
+        return
+    for e in range(elements.shape[0]):
+        i, j = elements[e, 0], elements[e, 1]
+        for a in range(3):
+            we, ri, rj = w[a, e], rhs[i, a], rhs[j, a]
+            for b in range(we.shape[0]):
+                rj[b] += we[b]
+                ri[b] -= we[b]
 
 
 @njit(cache=True)
@@ -213,30 +276,3 @@ def step_batch(x: np.ndarray, v: np.ndarray, u_start: np.ndarray, u_end: np.ndar
     """
     kernel = _step_parallel if x.shape[0] >= PARALLEL_MIN_BATCH else _step_serial
     kernel(x, v, u_start, u_end, fin_angles, int(substeps), *kernel_args)
-
-
-@njit(cache=True)
-def observe_batch(x, v, masses, frame_front, frame_back, frame_up, frame_down):
-    """Centre of mass (B, 3) m, its velocity (B, 3) m/s, body frames (B, 3, 3) (rows: forward,
-    left, up) and node positions and velocities relative to the centre of mass in the body
-    frame, (B, N, 3) each."""
-    n_bodies, n = x.shape[0], x.shape[1]
-    com = np.zeros((n_bodies, 3))
-    com_vel = np.zeros((n_bodies, 3))
-    frames = np.empty((n_bodies, 3, 3))
-    local_x = np.empty_like(x)
-    local_v = np.empty_like(v)
-    total = masses.sum()
-    for b in range(n_bodies):
-        for i in range(n):
-            com[b] += masses[i] * x[b, i] / total
-            com_vel[b] += masses[i] * v[b, i] / total
-        frames[b] = body_frame(x[b], frame_front, frame_back, frame_up, frame_down)
-        for i in range(n):
-            for r in range(3):
-                local_x[b, i, r] = 0.0
-                local_v[b, i, r] = 0.0
-                for a in range(3):
-                    local_x[b, i, r] += frames[b, r, a] * (x[b, i, a] - com[b, a])
-                    local_v[b, i, r] += frames[b, r, a] * (v[b, i, a] - com_vel[b, a])
-    return com, com_vel, frames, local_x, local_v

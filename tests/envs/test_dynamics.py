@@ -5,7 +5,8 @@ import dataclasses
 import numpy as np
 
 from envs.fish import fish_body
-from envs.physics.integrator import implicit_step, observe_batch, step_batch
+from envs.physics.integrator import implicit_step, step_batch
+from envs.physics.observe import body_state
 from envs.physics.system import System, Water
 
 
@@ -16,8 +17,8 @@ def _batch(body, count=1):
 
 def _com(system, x, v):
     b = system.body
-    return observe_batch(x, v, b.masses, b.frame_front, b.frame_back, b.frame_up,
-                         b.frame_down)[0]
+    return body_state(x, v, b.masses, b.frame_front, b.frame_back, b.frame_up,
+                      b.frame_down)[0]
 
 
 def test_spring_at_rest_length_exerts_no_force():

@@ -1,0 +1,52 @@
+"""What a body's own sensors report, batched and compiled: centre of mass, body frame, and
+the proprioceptive observation vector of the fish envs."""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from envs.physics.forces import body_frame_into
+
+
+@njit(cache=True)
+def body_state(x, v, masses, frame_front, frame_back, frame_up, frame_down):
+    """Centre of mass (B, 3) m, its velocity (B, 3) m/s and body frames (B, 3, 3) (rows:
+    forward, left, up) of bodies with node positions x and velocities v (B, N, 3)."""
+    n_bodies, n = x.shape[0], x.shape[1]
+    com = np.zeros((n_bodies, 3))
+    com_vel = np.zeros((n_bodies, 3))
+    frames = np.empty((n_bodies, 3, 3))
+    total = masses.sum()
+    for b in range(n_bodies):
+        for i in range(n):
+            for a in range(3):
+                com[b, a] += masses[i] * x[b, i, a] / total
+                com_vel[b, a] += masses[i] * v[b, i, a] / total
+        body_frame_into(x[b], frame_front, frame_back, frame_up, frame_down, frames[b])
+    return com, com_vel, frames
+
+
+@njit(cache=True)
+def proprioception(x, v, activation, com, com_vel, frames, length, out) -> None:
+    """Write into ``out`` (B, 6N + 6 + A): node positions, then node velocities, relative to
+    the centre of mass in the body frame (BL, BL/s), the centre-of-mass velocity in the body
+    frame (BL/s), the world's up direction in the body frame, the activations (B, A)."""
+    n_bodies, n = x.shape[0], x.shape[1]
+    for b in range(n_bodies):
+        for i in range(n):
+            for r in range(3):
+                px = py = 0.0
+                for a in range(3):
+                    px += frames[b, r, a] * (x[b, i, a] - com[b, a])
+                    py += frames[b, r, a] * (v[b, i, a] - com_vel[b, a])
+                out[b, 3 * i + r] = px / length
+                out[b, 3 * n + 3 * i + r] = py / length
+        for r in range(3):
+            vel = 0.0
+            for a in range(3):
+                vel += frames[b, r, a] * com_vel[b, a]
+            out[b, 6 * n + r] = vel / length
+            out[b, 6 * n + 3 + r] = frames[b, r, 2]
+        for k in range(activation.shape[1]):
+            out[b, 6 * n + 6 + k] = activation[b, k]
