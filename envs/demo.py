@@ -39,19 +39,26 @@ def main(argv: list[str] | None = None) -> None:
         env = gym.wrappers.RecordVideo(env, args.video, episode_trigger=lambda e: e == 0,
                                        disable_logger=True)
     infos = play(env, lambda t: swim_mc(1.0, t), args.seconds)
-    length = env.unwrapped.body_length
+    length, dt = env.unwrapped.body_length, env.unwrapped.dt
     com = np.array([i["com"] for i in infos])
-    late = com[len(com) // 5:]
-    speed = np.linalg.norm(late[-1, :2] - late[0, :2]) / (len(late) * env.unwrapped.dt) / length
-    print(f"swim-MC, speed 1: {speed:.2f} BL/s over the last {0.8 * args.seconds:.0f} s, "
-          f"heading {infos[-1]['heading_deg']:+.1f} deg, travelled {com[-1, 0] / length:.2f} BL")
+    per_second = int(round(1.0 / dt))
+    travel = np.diff(np.concatenate([[com[0]], com[per_second - 1::per_second]]), axis=0)
+    direction = np.degrees(np.arctan2(travel[:, 1], travel[:, 0]))
+    speed = np.linalg.norm(com[-1, :2] - com[2 * per_second, :2]) / (
+        len(com) * dt - 2.0) / length
+    print(f"swim-MC, speed 1: {speed:.2f} BL/s after the first 2 s; travel direction of each "
+          f"second within {np.abs(direction).max():.1f} deg of +x; {com[-1, 0] / length:.2f} BL "
+          "travelled")
     env.close()
     for left in (True, False):
-        turn = FishEnv("turn", duration=5.0)
-        heading = play(turn, lambda t, left=left: turn_mc(np.pi / 2, t, left), 5.0)[-1][
-            "heading_deg"]
-        print(f"{'left' if left else 'right'}-turn-MC, 90 deg asked: heading {heading:+.1f} deg "
-              "after 5 s")
+        sign = 1.0 if left else -1.0
+        turn = FishEnv("turn", duration=3.0)
+        headings = sign * np.array([i["heading_deg"] for i in play(
+            turn, lambda t, left=left: turn_mc(np.pi / 2, t, left), 3.0)])
+        first = np.flatnonzero(headings >= 90.0)
+        when = f"reached 90 deg at {(first[0] + 1) * dt:.2f} s" if first.size else "not reached"
+        print(f"{'left' if left else 'right'}-turn-MC, 90 deg: {when}; "
+              f"{headings[-1]:.1f} deg when the controller ends at 3 s")
     for pitch in (1.0, -1.0):
         dive = FishEnv("swim", duration=6.0)
         infos = play(dive, lambda t: swim_mc(1.0, t), 6.0, fins=fin_mc(pitch=pitch))

@@ -170,10 +170,12 @@ class FishBatch:
         world's up direction in the body frame, the current actuations, the task's entries.
         Uses the quantities of the last :meth:`measure`; entries are clipped to +-OBS_LIMIT."""
         com, com_vel, frames = self._cache
-        obs = np.empty((self.num_envs, self.obs_size))
-        proprioception(self.x, self.v, self.u_prev, com, com_vel, frames, self.body.length, obs)
+        obs = np.empty((self.num_envs, self.obs_size), dtype=np.float32)
+        proprioception(self.x, self.v, self.u_prev, com, com_vel, frames, self.body.length,
+                       OBS_LIMIT, obs)
         if self.task.obs_size:
-            obs[:, self.obs_size - self.task.obs_size:] = self.task.observe(
-                com - self.origin, com_vel, frames, self.targets, self.body.length)
-        np.clip(obs, -OBS_LIMIT, OBS_LIMIT, out=obs)
-        return obs.astype(np.float32)
+            task_obs = self.task.observe(com - self.origin, com_vel, frames, self.targets,
+                                         self.body.length)
+            obs[:, self.obs_size - self.task.obs_size:] = np.clip(task_obs, -OBS_LIMIT,
+                                                                  OBS_LIMIT)
+        return obs

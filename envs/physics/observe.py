@@ -27,11 +27,17 @@ def body_state(x, v, masses, frame_front, frame_back, frame_up, frame_down):
     return com, com_vel, frames
 
 
+@njit(cache=True, inline="always")
+def _clipped(value: float, limit: float) -> float:
+    return min(max(value, -limit), limit)
+
+
 @njit(cache=True)
-def proprioception(x, v, activation, com, com_vel, frames, length, out) -> None:
+def proprioception(x, v, activation, com, com_vel, frames, length, limit, out) -> None:
     """Write into ``out`` (B, 6N + 6 + A): node positions, then node velocities, relative to
     the centre of mass in the body frame (BL, BL/s), the centre-of-mass velocity in the body
-    frame (BL/s), the world's up direction in the body frame, the activations (B, A)."""
+    frame (BL/s), the world's up direction in the body frame, the activations (B, A); every
+    entry clipped to +-``limit``."""
     n_bodies, n = x.shape[0], x.shape[1]
     for b in range(n_bodies):
         for i in range(n):
@@ -40,13 +46,13 @@ def proprioception(x, v, activation, com, com_vel, frames, length, out) -> None:
                 for a in range(3):
                     px += frames[b, r, a] * (x[b, i, a] - com[b, a])
                     py += frames[b, r, a] * (v[b, i, a] - com_vel[b, a])
-                out[b, 3 * i + r] = px / length
-                out[b, 3 * n + 3 * i + r] = py / length
+                out[b, 3 * i + r] = _clipped(px / length, limit)
+                out[b, 3 * n + 3 * i + r] = _clipped(py / length, limit)
         for r in range(3):
             vel = 0.0
             for a in range(3):
                 vel += frames[b, r, a] * com_vel[b, a]
-            out[b, 6 * n + r] = vel / length
+            out[b, 6 * n + r] = _clipped(vel / length, limit)
             out[b, 6 * n + 3 + r] = frames[b, r, 2]
         for k in range(activation.shape[1]):
             out[b, 6 * n + 6 + k] = activation[b, k]

@@ -84,18 +84,18 @@ def test_momentum_is_conserved_without_fluid():
     np.testing.assert_allclose((masses * v[0]).sum(axis=0), before, atol=1e-9)
 
 
-def test_random_actions_on_a_native_batch_stay_finite():
-    """10^5 env steps (256 bodies x 400 steps of 0.05 s) of random actions and fin angles."""
+def test_random_fin_angles_keep_the_batch_finite():
+    """Fin angles are not part of the env actions; drive them at random here."""
     system = System(fish_body())
-    x, v = _batch(system.body, 256)
+    x, v = _batch(system.body, 64)
     rng = np.random.default_rng(2)
-    u_prev = np.zeros((256, 6))
-    for _ in range(400):
-        u = rng.uniform(0, 1, (256, 6))
-        fins = rng.uniform(-np.pi / 2, np.pi / 2, (256, 2))
+    u_prev = np.zeros((64, 6))
+    for _ in range(200):
+        u = rng.uniform(0, 1, (64, 6))
+        fins = rng.uniform(-np.pi / 2, np.pi / 2, (64, 2))
         step_batch(x, v, u_prev, u, fins, 2, system.kernel_args)
         u_prev = u
-        assert np.isfinite(x).all() and np.isfinite(v).all()
+    assert np.isfinite(x).all() and np.isfinite(v).all()
 
 
 def test_a_batch_row_matches_a_batch_of_one_bit_for_bit():

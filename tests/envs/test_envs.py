@@ -86,8 +86,28 @@ def test_native_vector_env_matches_single_envs_step_for_step(env_id):
 def test_vector_env_rejects_bad_batch():
     vec = gym.make_vec("Animat/FishSwim-v0", num_envs=3)
     vec.reset(seed=0)
+    x = vec.core.x.copy()
     with pytest.raises(ValueError, match="shape"):
         vec.step(np.zeros((2, 6)))
+    bad = np.zeros((3, 6))
+    bad[1, 2] = np.nan
+    with pytest.raises(ValueError, match="NaN"):
+        vec.step(bad)
+    assert np.array_equal(vec.core.x, x)
+
+
+@pytest.mark.parametrize("env_id", ENV_IDS)
+def test_1e5_random_steps_on_the_native_batch_stay_finite(env_id):
+    """256 envs x 400 steps = 102,400 env steps of uniformly random actions, across episode
+    ends: observations, rewards, every info entry and the body state stay finite."""
+    vec = gym.make_vec(env_id, num_envs=256)
+    obs, _ = vec.reset(seed=0)
+    rng = np.random.default_rng(0)
+    for _ in range(400):
+        obs, reward, _, _, info = vec.step(rng.uniform(-1, 1, (256, 6)).astype(np.float32))
+        assert np.isfinite(obs).all() and np.isfinite(reward).all()
+        assert all(np.isfinite(np.asarray(value, dtype=float)).all() for value in info.values())
+    assert np.isfinite(vec.core.x).all() and np.isfinite(vec.core.v).all()
 
 
 def test_render_and_record_video(tmp_path):

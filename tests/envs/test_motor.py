@@ -66,6 +66,16 @@ def test_fin_pitch_changes_depth_in_the_commanded_direction(pitch):
     assert abs(depth_change) > 0.05 * env.body_length
 
 
+@pytest.mark.parametrize("roll", [1.0, -1.0])
+def test_fin_roll_rolls_the_fish_to_the_commanded_side(roll):
+    env = FishEnv("swim", duration=6.0)
+    _run(env, lambda t: swim_mc(1.0, t), 6.0, fins=fin_mc(roll=roll))
+    up = env.core._cache[2][0, 2]  # the body's up vector in the world frame
+    heading = env.core._cache[2][0, 0]
+    left = np.cross([0.0, 0.0, 1.0], heading)
+    assert -roll * (up @ left) > 0.03  # positive roll: the up vector leans to the right
+
+
 def test_controllers_reject_out_of_range_parameters():
     with pytest.raises(ValueError, match="swim speed"):
         swim_mc(1.5, 0.0)
