@@ -23,7 +23,8 @@ CROSS, ORDINARY, MUSCLE = 0, 1, 2
 KIND_NAMES = ("cross", "ordinary", "muscle")
 
 
-def _frozen(array: np.ndarray, dtype: type) -> np.ndarray:
+def frozen_array(array: np.ndarray, dtype: type = np.float64) -> np.ndarray:
+    """A contiguous read-only copy of ``array`` (fixed parameters must not change)."""
     out = np.ascontiguousarray(array, dtype=dtype).copy()
     out.flags.writeable = False
     return out
@@ -86,7 +87,7 @@ class BodySpec:
             "frame_down": np.int64,
         }
         for name, dtype in conversions.items():
-            object.__setattr__(self, name, _frozen(getattr(self, name), dtype))
+            object.__setattr__(self, name, frozen_array(getattr(self, name), dtype))
         if self.length <= 0.0:
             extent = self.rest_positions[:, 0].max() - self.rest_positions[:, 0].min()
             object.__setattr__(self, "length", float(extent))

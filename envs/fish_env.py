@@ -170,7 +170,6 @@ class FishVectorEnv(VectorEnv):
             raise ValueError(f"num_envs must be >= 1, got {num_envs!r}")
         if render_mode not in (None, "rgb_array"):
             raise ValueError(f"render_mode must be None or 'rgb_array', got {render_mode!r}")
-        task_kwargs.pop("max_episode_steps", None)
         self.num_envs = int(num_envs)
         self.core = _make_core(self.num_envs, task, task_kwargs, duration, physics_dt,
                                frame_skip, reset_noise_scale, reward_weights)

@@ -31,7 +31,7 @@ class BodyRenderer:
     """
 
     def __init__(self, body: BodySpec, width: int = 480, height: int = 360,
-                 seabed_depth: float = 0.6, grid: float = 0.1) -> None:
+                 seabed_depth: float = 0.3, grid: float = 0.1) -> None:
         self.body, self.width, self.height = body, int(width), int(height)
         self.seabed_z, self.grid = -float(seabed_depth), float(grid)
         self.focal = 0.9 * self.width
@@ -53,7 +53,7 @@ class BodyRenderer:
         return np.repeat(column[:, None, :], self.width, axis=1).astype(np.uint8)
 
     def _draw_seabed(self, image, centre, eye, rot) -> None:
-        span, z = 12 * self.grid, self.seabed_z
+        span, z = 8 * self.grid, self.seabed_z
         start = np.floor((centre[:2] - span) / self.grid) * self.grid
         ticks = np.arange(0, 2 * span + 1e-9, self.grid)
         for axis in (0, 1):
@@ -64,7 +64,7 @@ class BodyRenderer:
                 a[2] = b[2] = z
                 (pa, pb), (da, db) = self._project(np.stack([a, b]), eye, rot)
                 if da > 0.05 and db > 0.05:
-                    cv2.line(image, tuple(np.int32(pa)), tuple(np.int32(pb)), (70, 120, 140), 1,
+                    cv2.line(image, tuple(np.int32(pa)), tuple(np.int32(pb)), (90, 130, 140), 1,
                              cv2.LINE_AA)
 
     def _draw_faces(self, image, x, eye, rot, shadow: bool) -> None:
@@ -81,7 +81,7 @@ class BodyRenderer:
             if np.any(depth[k] <= 0.05):
                 continue
             if shadow:
-                colour = (20, 50, 70)
+                colour = (25, 40, 45)
             else:
                 shade = 0.35 + 0.65 * max(0.0, float(normals[k] @ self.light))
                 colour = tuple(int(c * shade) for c in (250, 140, 60))

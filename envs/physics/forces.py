@@ -56,14 +56,6 @@ def body_frame_into(x, front, back, up, down, frame) -> None:
     frame[2, 0], frame[2, 1], frame[2, 2] = u0, u1, u2
 
 
-@njit(cache=True)
-def body_frame(x, front, back, up, down) -> np.ndarray:
-    """(3, 3) rows: forward, left, up unit vectors of the body (right-handed)."""
-    frame = np.empty((3, 3))
-    body_frame_into(x, front, back, up, down, frame)
-    return frame
-
-
 @njit(cache=True, inline="always")
 def limited_drag(kappa: float, area: float, normal_speed: float, speed: float, mass: float,
                  dt: float) -> float:

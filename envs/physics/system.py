@@ -14,7 +14,7 @@ from functools import cached_property
 
 import numpy as np
 
-from envs.body import BodySpec
+from envs.body import BodySpec, frozen_array
 
 
 @dataclass(frozen=True)
@@ -76,10 +76,10 @@ class System:
             raise ValueError(f"System.iterations must be >= 1, got {self.iterations!r}")
         inverse = np.linalg.inv(implicit_matrix(self.body, self.dt))
         fin_weights = np.full(self.body.fin_nodes.shape, 1.0 / self.body.fin_nodes.shape[1])
-        object.__setattr__(self, "inverse_matrix", _frozen(inverse))
-        object.__setattr__(self, "face_mass", _frozen(implicit_masses(
+        object.__setattr__(self, "inverse_matrix", frozen_array(inverse))
+        object.__setattr__(self, "face_mass", frozen_array(implicit_masses(
             inverse, self.body.faces, self.body.face_weights, self.dt)))
-        object.__setattr__(self, "fin_mass", _frozen(implicit_masses(
+        object.__setattr__(self, "fin_mass", frozen_array(implicit_masses(
             inverse, self.body.fin_nodes, fin_weights, self.dt)))
 
     @cached_property
@@ -95,12 +95,6 @@ class System:
             np.asarray(w.current, dtype=np.float64), float(self.dt), int(self.iterations),
             float(self.chebyshev_rho),
         )
-
-
-def _frozen(array: np.ndarray) -> np.ndarray:
-    array = np.ascontiguousarray(array, dtype=np.float64)
-    array.flags.writeable = False
-    return array
 
 
 def implicit_matrix(body: BodySpec, dt: float) -> np.ndarray:

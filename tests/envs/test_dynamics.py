@@ -120,3 +120,17 @@ def test_system_rejects_bad_parameters():
     with pytest.raises(ValueError, match="fluid_coefficient"):
         Water(fluid_coefficient=float("nan"))
     assert dataclasses.is_dataclass(System)
+
+
+def test_above_the_surface_a_body_falls_ballistically():
+    """The water-surface hook: above ``surface_z`` there is no buoyancy and only air drag."""
+    water = Water(surface_z=-1.0)  # the fish starts 1 m above the water
+    system = System(fish_body(), water)
+    x, v = _batch(system.body)
+    start = _com(system, x, v)[0]
+    zeros = np.zeros((1, 6))
+    step_batch(x, v, zeros, zeros, np.zeros((1, 2)), 8, system.kernel_args)  # 0.2 s
+    drop = start[2] - _com(system, x, v)[0, 2]
+    steps, h = 8, system.dt
+    free_fall = 0.5 * water.gravity * h**2 * steps * (steps + 1)  # backward Euler's free fall
+    assert 0.95 * free_fall < drop <= free_fall * (1 + 1e-9)  # air drag may only slow it
