@@ -152,11 +152,23 @@ class FishReachEnv(FishEnv):
         super().__init__(task="reach", **kwargs)
 
 
+def _autoreset_mode(value: str | AutoresetMode) -> AutoresetMode:
+    names = {"next_step": AutoresetMode.NEXT_STEP, "same_step": AutoresetMode.SAME_STEP}
+    if value in names.values():
+        return value
+    if value not in names:
+        raise ValueError(f"autoreset_mode must be 'next_step' or 'same_step', got {value!r}")
+    return names[value]
+
+
 class FishVectorEnv(VectorEnv):
-    """B fish in one batched simulation, with Gymnasium's next-step autoreset.
+    """B fish in one batched simulation.
 
     Sub-env i seeded with ``seed + i`` draws exactly what a single :class:`FishEnv` reset with
-    that seed draws, and steps bit for bit like it.
+    that seed draws, and steps bit for bit like it. ``autoreset_mode``: Gymnasium's
+    ``next_step`` (default: the step after an episode's end resets it) or ``same_step`` (it is
+    reset at once; the last observation is in ``info["final_obs"]``, masked by
+    ``info["_final_obs"]``), the form stable-baselines3 expects.
     """
 
     metadata = {"render_modes": ["rgb_array"], "render_fps": RENDER_FPS,
@@ -165,7 +177,12 @@ class FishVectorEnv(VectorEnv):
     def __init__(self, num_envs: int = 1, task: str = "swim", render_mode: str | None = None,
                  duration: float | None = None, physics_dt: float = 0.025, frame_skip: int = 2,
                  reset_noise_scale: float = 0.005,
-                 reward_weights: RewardWeights | dict | None = None, **task_kwargs: Any) -> None:
+                 reward_weights: RewardWeights | dict | None = None,
+                 autoreset_mode: str | AutoresetMode = AutoresetMode.NEXT_STEP,
+                 **task_kwargs: Any) -> None:
+        mode = _autoreset_mode(autoreset_mode)
+        self.autoreset_mode = mode
+        self.metadata = {**self.metadata, "autoreset_mode": mode}
         if int(num_envs) < 1:
             raise ValueError(f"num_envs must be >= 1, got {num_envs!r}")
         if render_mode not in (None, "rgb_array"):
@@ -218,9 +235,23 @@ class FishVectorEnv(VectorEnv):
             reward[rows] = 0.0
             truncated[rows] = False
         obs = self.core.observe()
-        self._autoreset = truncated
         terminated = np.zeros(self.num_envs, dtype=bool)
+        if self.autoreset_mode == AutoresetMode.SAME_STEP:
+            return self._reset_finished(obs, reward, terminated, truncated, info)
+        self._autoreset = truncated
         return obs, reward, terminated, truncated, self._with_masks(info)
+
+    def _reset_finished(self, obs, reward, terminated, truncated, info):
+        """Same-step autoreset: restart finished episodes now, keeping their last obs."""
+        done = terminated | truncated
+        info = self._with_masks(info)
+        rows = np.flatnonzero(done)
+        if rows.size:
+            info["final_obs"], info["_final_obs"] = obs.copy(), done.copy()
+            self.core.reset_rows(rows, [self._rngs[r] for r in rows])
+            self.core.measure()
+            obs = self.core.observe()
+        return obs, reward, terminated, truncated, info
 
     def _with_masks(self, info: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
         mask = np.ones(self.num_envs, dtype=bool)

@@ -1,0 +1,107 @@
+"""Controller abstraction (the paper's Section 4.2): the FFT of each actuator's controller with
+the below-threshold amplitudes suppressed.
+
+An :class:`AbstractController` is a truncated Fourier series per actuator over one period T
+(the learned controller's interval): ``u_i(t) = mean_i + sum_k a_ik cos(2 pi f_k t) -
+b_ik sin(2 pi f_k t)``, kept only for the harmonics k whose amplitude is at least ``threshold``
+times the actuator's largest. It is compact (a handful of numbers per actuator), serialisable
+(:meth:`to_dict`), and playable at any duration (periodic continuation of the learned window).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from learners.controller import TentController
+
+
+@dataclass(frozen=True)
+class AbstractController:
+    """Per actuator: ``mean`` (N,) and the kept harmonics ``harmonics`` (list of (K_i,) int
+    arrays) with complex coefficients ``coefficients`` (list of (K_i,) complex arrays), over
+    ``period`` s. Coefficients follow ``numpy.fft.rfft`` normalised so that a harmonic of
+    amplitude A has |c| = A / 2."""
+
+    mean: np.ndarray
+    harmonics: tuple[np.ndarray, ...]
+    coefficients: tuple[np.ndarray, ...]
+    period: float
+
+    @property
+    def num_actuators(self) -> int:
+        return len(self.mean)
+
+    @property
+    def num_coefficients(self) -> int:
+        """Kept harmonics over all actuators (each a complex number: 2 reals)."""
+        return int(sum(len(h) for h in self.harmonics))
+
+    @property
+    def num_parameters(self) -> int:
+        """Real numbers that define the controller: means + 2 per kept harmonic."""
+        return self.num_actuators + 2 * self.num_coefficients
+
+    def __call__(self, t: np.ndarray | float) -> np.ndarray:
+        """u(t), shape t.shape + (N,), clipped to [0, 1]; periodic with ``period``."""
+        t = np.asarray(t, dtype=float)
+        out = np.empty(t.shape + (self.num_actuators,))
+        for i in range(self.num_actuators):
+            phase = 2.0 * np.pi * np.multiply.outer(t, self.harmonics[i]) / self.period
+            c = self.coefficients[i]
+            series = 2.0 * (np.cos(phase) @ c.real - np.sin(phase) @ c.imag) if len(c) else 0.0
+            out[..., i] = self.mean[i] + series
+        return np.clip(out, 0.0, 1.0)
+
+    def actions(self, dt: float, steps: int, t0: float = 0.0) -> np.ndarray:
+        """(steps, N) float32 env actions a_k = 2 u(t0 + (k + 1) dt) - 1, any number of steps."""
+        t = t0 + dt * np.arange(1, steps + 1)
+        return (2.0 * self(t) - 1.0).astype(np.float32)
+
+    def to_dict(self) -> dict:
+        """JSON-ready description (lists of floats and ints)."""
+        return {
+            "period": float(self.period),
+            "mean": [float(m) for m in self.mean],
+            "harmonics": [[int(k) for k in h] for h in self.harmonics],
+            "coefficients": [[[float(z.real), float(z.imag)] for z in c]
+                             for c in self.coefficients],
+        }
+
+    @classmethod
+    def from_dict(cls, data: dict) -> AbstractController:
+        return cls(
+            mean=np.asarray(data["mean"], dtype=float),
+            harmonics=tuple(np.asarray(h, dtype=int) for h in data["harmonics"]),
+            coefficients=tuple(np.array([complex(re, im) for re, im in c], dtype=complex)
+                               for c in data["coefficients"]),
+            period=float(data["period"]),
+        )
+
+
+def abstract(controller: TentController, threshold: float = 0.1,
+             samples: int | None = None) -> AbstractController:
+    """FFT abstraction of a tent controller over its interval.
+
+    The controller is sampled at ``samples`` evenly spaced times over one period (default: its
+    node count, i.e. the nodal values themselves, the last node dropped as the period's end);
+    harmonics with amplitude below ``threshold`` times the actuator's largest are suppressed.
+    """
+    if not 0.0 <= threshold < 1.0:
+        raise ValueError(f"threshold must be in [0, 1), got {threshold!r}")
+    count = samples or controller.num_nodes - 1
+    t = controller.t0 + controller.duration * np.arange(count) / count
+    values = controller(t)  # (count, N)
+    spectrum = np.fft.rfft(values, axis=0) / count  # (count // 2 + 1, N)
+    harmonics, coefficients = [], []
+    for i in range(controller.num_actuators):
+        amplitudes = np.abs(spectrum[1:, i])
+        largest = amplitudes.max() if amplitudes.size else 0.0
+        keep = np.flatnonzero((amplitudes >= threshold * largest) & (amplitudes > 1e-12)) + 1
+        if count % 2 == 0:  # the Nyquist term counts once, not twice
+            spectrum[-1, i] *= 0.5
+        harmonics.append(keep)
+        coefficients.append(spectrum[keep, i].copy())
+    return AbstractController(mean=spectrum[0].real.copy(), harmonics=tuple(harmonics),
+                              coefficients=tuple(coefficients), period=controller.duration)

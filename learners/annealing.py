@@ -1,0 +1,133 @@
+"""Simulated annealing (the paper's optimiser) as an ask/tell optimiser with explicit params
+and state (after evosax): ``init`` -> (``ask`` -> evaluate -> ``tell``)* .
+
+C chains run in parallel (one proposal each per round, evaluated together on the native
+batch). A proposal perturbs a random subset of a chain's parameters with Gaussian steps whose
+size shrinks with the temperature, and is accepted with the Metropolis rule
+``min(1, exp(-(E_new - E) / T))``. The temperature falls geometrically after every
+``moves_per_temperature`` rounds; annealing stops when it reaches ``min_temperature`` (or the
+caller's budget runs out). The state holds the generator's state, so a run is reproducible bit
+for bit and can be checkpointed and resumed anywhere.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class AnnealingParams:
+    """Schedule and moves.
+
+    Attributes:
+        chains: parallel chains (proposals per round).
+        initial_temperature: T0, in units of E.
+        cooling: T <- cooling * T after each temperature stage (0 < cooling < 1).
+        moves_per_temperature: rounds per temperature stage.
+        min_temperature: stopping rule: stop once T falls below it.
+        step_size: Gaussian step (parameter units) at T0; it scales with sqrt(T / T0), floored
+            at ``min_step_size``.
+        min_step_size: the smallest step.
+        mutation_rate: probability that a parameter is perturbed in a proposal (at least one).
+        lower, upper: parameter bounds (proposals are clipped).
+    """
+
+    chains: int = 64
+    initial_temperature: float = 0.1
+    cooling: float = 0.95
+    moves_per_temperature: int = 4
+    min_temperature: float = 1e-4
+    step_size: float = 0.3
+    min_step_size: float = 0.02
+    mutation_rate: float = 0.2
+    lower: float = 0.0
+    upper: float = 1.0
+
+    def __post_init__(self) -> None:
+        checks = [(self.chains >= 1, "chains must be >= 1"),
+                  (self.initial_temperature > 0, "initial_temperature must be > 0"),
+                  (0 < self.cooling < 1, "cooling must be in (0, 1)"),
+                  (self.moves_per_temperature >= 1, "moves_per_temperature must be >= 1"),
+                  (self.min_temperature > 0, "min_temperature must be > 0"),
+                  (self.step_size > 0 and self.min_step_size > 0, "step sizes must be > 0"),
+                  (0 < self.mutation_rate <= 1, "mutation_rate must be in (0, 1]"),
+                  (self.lower < self.upper, "lower must be < upper")]
+        for ok, message in checks:
+            if not ok:
+                raise ValueError(f"AnnealingParams: {message}")
+
+
+@dataclass(frozen=True)
+class AnnealingState:
+    """x (C, D) chain positions; energy (C,) their E (inf before the first tell); best_x (D,),
+    best_energy; temperature; round (proposal rounds told); rng: the generator's state."""
+
+    x: np.ndarray
+    energy: np.ndarray
+    best_x: np.ndarray
+    best_energy: float
+    temperature: float
+    round: int
+    rng: dict
+
+
+def init(params: AnnealingParams, x0: np.ndarray, seed: int) -> AnnealingState:
+    """Start every chain at ``x0`` (D,) or at its own row of ``x0`` (C, D)."""
+    x0 = np.asarray(x0, dtype=float)
+    x = np.broadcast_to(x0, (params.chains, x0.shape[-1])).copy()
+    rng = np.random.Generator(np.random.PCG64(seed))
+    return AnnealingState(x=x, energy=np.full(params.chains, np.inf), best_x=x[0].copy(),
+                          best_energy=np.inf, temperature=params.initial_temperature, round=0,
+                          rng=rng.bit_generator.state)
+
+
+def finished(params: AnnealingParams, state: AnnealingState) -> bool:
+    """The stopping rule: the temperature has fallen below ``min_temperature``."""
+    return state.temperature < params.min_temperature
+
+
+def ask(params: AnnealingParams, state: AnnealingState) -> tuple[np.ndarray, AnnealingState]:
+    """Proposals (C, D): the chains themselves first (to learn their energies), then moves."""
+    if not np.all(np.isfinite(state.energy)):
+        return state.x.copy(), state
+    rng = np.random.Generator(np.random.PCG64())
+    rng.bit_generator.state = state.rng
+    scale = max(params.min_step_size,
+                params.step_size * np.sqrt(state.temperature / params.initial_temperature))
+    chains, dims = state.x.shape
+    mask = rng.random((chains, dims)) < params.mutation_rate
+    mask[np.arange(chains), rng.integers(0, dims, chains)] = True
+    steps = rng.normal(0.0, scale, (chains, dims)) * mask
+    proposals = np.clip(state.x + steps, params.lower, params.upper)
+    return proposals, replace(state, rng=rng.bit_generator.state)
+
+
+def tell(params: AnnealingParams, state: AnnealingState, proposals: np.ndarray,
+         energies: np.ndarray) -> AnnealingState:
+    """Metropolis acceptance per chain, best-so-far tracking, and the cooling schedule."""
+    energies = np.asarray(energies, dtype=float)
+    if not np.all(np.isfinite(energies)):
+        raise ValueError("energies must be finite")
+    if not np.all(np.isfinite(state.energy)):  # first evaluation of the starting points
+        x, energy = proposals.copy(), energies.copy()
+        rng_state, told = state.rng, state.round
+    else:
+        rng = np.random.Generator(np.random.PCG64())
+        rng.bit_generator.state = state.rng
+        delta = energies - state.energy
+        accept = (delta <= 0) | (rng.random(len(delta)) < np.exp(
+            -np.maximum(delta, 0) / state.temperature))
+        x = np.where(accept[:, None], proposals, state.x)
+        energy = np.where(accept, energies, state.energy)
+        rng_state, told = rng.bit_generator.state, state.round + 1
+    best = int(np.argmin(energy))
+    best_x, best_energy = state.best_x, state.best_energy
+    if energy[best] < best_energy:
+        best_x, best_energy = x[best].copy(), float(energy[best])
+    temperature = state.temperature
+    if told > state.round and told % params.moves_per_temperature == 0:
+        temperature *= params.cooling
+    return AnnealingState(x=x, energy=energy, best_x=best_x, best_energy=best_energy,
+                          temperature=temperature, round=told, rng=rng_state)

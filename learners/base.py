@@ -1,0 +1,94 @@
+"""The one learner interface: every learner is run the same way, with an env id (and its
+kwargs), a budget in env steps, a seed and a logger, and can be checkpointed and resumed.
+
+Tags every learner logs, with the global step = env steps consumed: ``eval/return`` and the
+task's summary metrics as ``eval/<name>`` (:func:`learners.rollout.episode_metrics`); anything
+else under ``train/``. Hyperparameters go in as text (``hparams``).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import pickle
+import tempfile
+from abc import ABC, abstractmethod
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, ClassVar
+
+from learners.logger import Logger
+
+
+@dataclass
+class LearnResult:
+    """What a run produced: env steps consumed, wall seconds, final metrics (``eval/...``),
+    and artefacts (e.g. the best controller as a dict)."""
+
+    env_steps: int
+    wall_seconds: float
+    metrics: dict[str, float]
+    artefacts: dict[str, Any] = field(default_factory=dict)
+
+
+class Learner(ABC):
+    """Base class. Subclasses set ``name`` and implement :meth:`learn`.
+
+    Args:
+        env_id: a registered env id, e.g. ``Animat/FishSwim-v0``.
+        env_kwargs: keyword arguments for the env.
+        params: the learner's own parameters (validated by the subclass).
+        seed: the run's seed; everything random derives from it.
+        logger: where scalars go.
+    """
+
+    name: ClassVar[str] = "learner"
+
+    def __init__(self, env_id: str, env_kwargs: dict | None = None, params: dict | None = None,
+                 seed: int = 0, logger: Logger | None = None) -> None:
+        self.env_id = env_id
+        self.env_kwargs = dict(env_kwargs or {})
+        self.params = dict(params or {})
+        self.seed = int(seed)
+        self.logger = logger or Logger()
+
+    @abstractmethod
+    def learn(self, budget_env_steps: int, checkpoint_dir: str | Path | None = None
+              ) -> LearnResult:
+        """Learn with at most ``budget_env_steps`` env steps. With ``checkpoint_dir``, save
+        checkpoints there as it goes and resume from the last one if present."""
+
+    def log_hparams(self) -> None:
+        self.logger.text("hparams", json.dumps({"learner": self.name, "env_id": self.env_id,
+                                                "env_kwargs": self.env_kwargs,
+                                                "params": self.params, "seed": self.seed},
+                                               indent=1, default=str))
+
+
+def save_checkpoint(path: str | Path, payload: Any) -> None:
+    """Pickle ``payload`` to ``path`` atomically (a crash never leaves half a checkpoint)."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    handle, tmp = tempfile.mkstemp(dir=path.parent, prefix=path.name, suffix=".tmp")
+    with os.fdopen(handle, "wb") as file:
+        pickle.dump(payload, file)
+        file.flush()
+        os.fsync(file.fileno())
+    os.replace(tmp, path)
+
+
+def load_checkpoint(path: str | Path) -> Any | None:
+    """The payload saved at ``path``, or None when there is none."""
+    path = Path(path)
+    if not path.exists():
+        return None
+    with path.open("rb") as file:
+        return pickle.load(file)
+
+
+def unknown_params(params: dict, allowed: set[str], learner: str) -> None:
+    """Raise ValueError naming parameters a learner does not take."""
+    extra = sorted(set(params) - allowed)
+    if extra:
+        raise ValueError(f"learner {learner!r} does not take parameter(s) {extra}; "
+                         f"it takes {sorted(allowed)}")

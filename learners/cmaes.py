@@ -1,0 +1,66 @@
+"""CMA-ES (pycma) behind the same ask/tell interface as :mod:`learners.annealing`, over the
+same controller parameters: the baseline that answers "was annealing a good choice?"."""
+
+from __future__ import annotations
+
+import warnings
+from dataclasses import dataclass
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class CMAESParams:
+    """popsize: candidates per generation; sigma0: initial step (parameter units); lower,
+    upper: box bounds (pycma's bound handling); tolfun: stop when the spread of E is below it."""
+
+    popsize: int = 64
+    sigma0: float = 0.25
+    lower: float = 0.0
+    upper: float = 1.0
+    tolfun: float = 1e-8
+
+    def __post_init__(self) -> None:
+        if self.popsize < 2 or self.sigma0 <= 0 or self.lower >= self.upper:
+            raise ValueError("CMAESParams: need popsize >= 2, sigma0 > 0, lower < upper")
+
+
+@dataclass
+class CMAESState:
+    """The pycma strategy object (it holds its own generator; it pickles for checkpoints)."""
+
+    es: object
+
+    @property
+    def best_x(self) -> np.ndarray:
+        return np.asarray(self.es.result.xbest if self.es.result.xbest is not None
+                          else self.es.mean)
+
+
+def _cma():
+    with warnings.catch_warnings():  # pycma warns that matplotlib (plotting) is absent
+        warnings.simplefilter("ignore")
+        import cma
+    return cma
+
+
+def init(params: CMAESParams, x0: np.ndarray, seed: int) -> CMAESState:
+    cma = _cma()
+    options = {"popsize": params.popsize, "seed": int(seed) + 1, "verbose": -9,
+               "bounds": [params.lower, params.upper], "tolfun": params.tolfun}
+    return CMAESState(cma.CMAEvolutionStrategy(np.asarray(x0, dtype=float), params.sigma0,
+                                               options))
+
+
+def finished(params: CMAESParams, state: CMAESState) -> bool:
+    return bool(state.es.stop())
+
+
+def ask(params: CMAESParams, state: CMAESState) -> tuple[np.ndarray, CMAESState]:
+    return np.asarray(state.es.ask()), state
+
+
+def tell(params: CMAESParams, state: CMAESState, candidates: np.ndarray,
+         energies: np.ndarray) -> CMAESState:
+    state.es.tell(list(candidates), list(np.asarray(energies, dtype=float)))
+    return state

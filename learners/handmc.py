@@ -1,0 +1,52 @@
+"""The hand-designed motor controllers as a learner that learns nothing, so that they stand in
+every comparison, evaluated by the same protocol as the learners."""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+import numpy as np
+
+from envs.motor import swim_mc, turn_mc
+from learners.base import Learner, LearnResult, unknown_params
+from learners.rollout import BatchEvaluator
+
+
+class HandMCLearner(Learner):
+    """Plays the task's hand-designed MC: swim -> swim-MC at ``speed`` (default 1); turn ->
+    the turn-MC for the env's angle and direction. Uses one episode of env steps."""
+
+    name = "handmc"
+
+    def __init__(self, *args, **kwargs) -> None:
+        super().__init__(*args, **kwargs)
+        unknown_params(self.params, {"speed"}, self.name)
+        self.speed = float(self.params.get("speed", 1.0))
+
+    def _actuation(self, evaluator: BatchEvaluator):
+        task = evaluator.env.core.task
+        if task.name == "swim":
+            return lambda t: swim_mc(self.speed, t)
+        if task.name == "turn":
+            angle, left = np.radians(float(task.angle_deg)), task.direction == "left"
+            return lambda t: turn_mc(angle, t, left)
+        raise ValueError(f"no hand-designed motor controller for task {task.name!r}")
+
+    def learn(self, budget_env_steps: int, checkpoint_dir: str | Path | None = None
+              ) -> LearnResult:
+        start = time.perf_counter()
+        evaluator = BatchEvaluator(self.env_id, self.env_kwargs, num_envs=1, seed=self.seed)
+        if budget_env_steps < evaluator.steps:
+            raise ValueError(f"budget too small: one episode needs {evaluator.steps} env steps")
+        self.log_hparams()
+        actuation = self._actuation(evaluator)
+        t = evaluator.dt * np.arange(1, evaluator.steps + 1)
+        actions = (2.0 * actuation(t) - 1.0).astype(np.float32)[None]
+        returns, metrics = evaluator.evaluate(actions)
+        result = {"eval/return": float(returns[0]),
+                  **{f"eval/{k}": float(v[0]) for k, v in metrics.items()}}
+        self.logger.scalars(result, evaluator.env_steps)
+        return LearnResult(env_steps=evaluator.env_steps,
+                           wall_seconds=time.perf_counter() - start, metrics=result,
+                           artefacts={"speed": self.speed})

@@ -1,0 +1,141 @@
+"""PPO (stable-baselines3) on the native batch, the modern baseline.
+
+Hyperparameters take rl-baselines3-zoo's names (``n_envs``, ``n_steps``, ``batch_size``,
+``n_epochs``, ``gamma``, ``gae_lambda``, ``learning_rate``, ``clip_range``, ``ent_coef``,
+``vf_coef``, ``max_grad_norm``, ``policy``, ``policy_kwargs``, ``normalize``). The policy is
+evaluated every ``eval_every`` env steps, deterministically, from the same seeded start state
+the black-box learners are scored on (``eval/return`` and the task's ``eval/<metric>``); the
+evaluation's own env steps are not charged to the budget.
+"""
+
+from __future__ import annotations
+
+import ast
+import json
+import time
+from pathlib import Path
+
+import gymnasium as gym
+
+from learners.base import Learner, LearnResult, unknown_params
+from learners.rollout import episode_metrics
+
+ZOO_KEYS = {"n_envs", "n_steps", "batch_size", "n_epochs", "gamma", "gae_lambda",
+            "learning_rate", "clip_range", "ent_coef", "vf_coef", "max_grad_norm", "policy",
+            "policy_kwargs", "normalize"}
+OWN_KEYS = {"eval_every", "torch_threads", "checkpoint_every"}
+DEFAULTS = {"n_envs": 64, "n_steps": 64, "batch_size": 1024, "n_epochs": 10, "gamma": 0.99,
+            "gae_lambda": 0.95, "learning_rate": 3e-4, "clip_range": 0.2, "ent_coef": 0.0,
+            "vf_coef": 0.5, "max_grad_norm": 0.5, "policy": "MlpPolicy",
+            "policy_kwargs": "dict(net_arch=[128, 128], log_std_init=-1.0)", "normalize": True,
+            "eval_every": 50_000, "torch_threads": 1, "checkpoint_every": 200_000}
+
+
+def parse_policy_kwargs(value) -> dict:
+    """rl-baselines3-zoo writes policy_kwargs as a string such as ``dict(net_arch=[64, 64])``."""
+    if isinstance(value, dict):
+        return value
+    tree = ast.parse(str(value), mode="eval").body
+    if not (isinstance(tree, ast.Call) and getattr(tree.func, "id", None) == "dict"
+            and not tree.args):
+        raise ValueError(f"policy_kwargs must look like dict(key=value, ...), got {value!r}")
+    return {kw.arg: ast.literal_eval(kw.value) for kw in tree.keywords}
+
+
+class PPOLearner(Learner):
+    name = "ppo"
+
+    def __init__(self, *args, **kwargs) -> None:
+        super().__init__(*args, **kwargs)
+        unknown_params(self.params, ZOO_KEYS | OWN_KEYS, self.name)
+        self.hp = {**DEFAULTS, **self.params}
+
+    def _model(self, venv, checkpoint: Path | None):
+        import torch
+        from stable_baselines3 import PPO
+
+        torch.set_num_threads(int(self.hp["torch_threads"]))
+        if checkpoint is not None:
+            return PPO.load(checkpoint / "model.zip", env=venv, device="cpu")
+        keys = ZOO_KEYS - {"n_envs", "policy", "policy_kwargs", "normalize"}
+        return PPO(self.hp["policy"], venv, seed=self.seed, device="cpu", verbose=0,
+                   policy_kwargs=parse_policy_kwargs(self.hp["policy_kwargs"]),
+                   **{k: self.hp[k] for k in keys})
+
+    def _venv(self, checkpoint: Path | None):
+        from stable_baselines3.common.vec_env import VecNormalize
+
+        from learners.sb3_adapter import NativeVecEnv
+
+        venv = NativeVecEnv(self.env_id, int(self.hp["n_envs"]), self.env_kwargs, self.seed)
+        if not self.hp["normalize"]:
+            return venv
+        if checkpoint is not None:
+            return VecNormalize.load(str(checkpoint / "vecnormalize.pkl"), venv)
+        return VecNormalize(venv, gamma=float(self.hp["gamma"]))
+
+    def evaluate(self, model, venv) -> dict[str, float]:
+        """Deterministic episode from the black-box learners' start state."""
+        env = gym.make_vec(self.env_id, num_envs=1, **self.env_kwargs)
+        obs, _ = env.reset(seed=[self.seed])
+        total, info = 0.0, {}
+        for _ in range(env.core.episode_steps):
+            if hasattr(venv, "normalize_obs"):
+                obs = venv.normalize_obs(obs)
+            action, _ = model.predict(obs, deterministic=True)
+            obs, reward, _, _, info = env.step(action)
+            total += float(reward[0])
+        metrics = episode_metrics(env.core.task.name, info, env.core.episode_steps * env.dt)
+        return {"eval/return": total, **{f"eval/{k}": float(v[0]) for k, v in metrics.items()}}
+
+    def learn(self, budget_env_steps: int, checkpoint_dir: str | Path | None = None
+              ) -> LearnResult:
+        from stable_baselines3.common.callbacks import BaseCallback
+
+        folder = Path(checkpoint_dir) if checkpoint_dir else None
+        saved = folder if folder and (folder / "model.zip").exists() else None
+        state = json.loads((saved / "state.json").read_text()) if saved else {
+            "wall": 0.0, "metrics": {}}
+        venv = self._venv(saved)
+        model = self._model(venv, saved)
+        if saved is None:
+            self.log_hparams()
+        learner, start = self, time.perf_counter() - state["wall"]
+
+        class Progress(BaseCallback):
+            def __init__(self) -> None:
+                super().__init__()
+                self.next_eval = (model.num_timesteps // learner.hp["eval_every"] + 1) * \
+                    learner.hp["eval_every"]
+                self.next_save = model.num_timesteps + learner.hp["checkpoint_every"]
+
+            def _on_step(self) -> bool:
+                if self.num_timesteps >= self.next_eval:
+                    state["metrics"] = learner.evaluate(model, venv)
+                    learner.logger.scalars(state["metrics"], self.num_timesteps)
+                    self.next_eval += learner.hp["eval_every"]
+                if folder and self.num_timesteps >= self.next_save:
+                    learner._save(folder, model, venv, state, start)
+                    self.next_save += learner.hp["checkpoint_every"]
+                return True
+
+        remaining = budget_env_steps - model.num_timesteps
+        if remaining > 0:
+            model.learn(remaining, callback=Progress(), reset_num_timesteps=saved is None)
+        state["metrics"] = self.evaluate(model, venv)
+        self.logger.scalars(state["metrics"], model.num_timesteps)
+        if folder:
+            self._save(folder, model, venv, state, start)
+        return LearnResult(env_steps=int(model.num_timesteps),
+                           wall_seconds=time.perf_counter() - start, metrics=state["metrics"],
+                           artefacts={"hyperparameters": {k: self.hp[k] for k in sorted(
+                               self.hp)}})
+
+    @staticmethod
+    def _save(folder: Path, model, venv, state: dict, start: float) -> None:
+        folder.mkdir(parents=True, exist_ok=True)
+        model.save(folder / "model.zip")
+        if hasattr(venv, "save"):
+            venv.save(str(folder / "vecnormalize.pkl"))
+        state["wall"] = time.perf_counter() - start
+        (folder / "state.json").write_text(json.dumps(state))

@@ -1,0 +1,22 @@
+"""Every learner by name: ``make_learner(name, env_id, env_kwargs, params, seed, logger)``."""
+
+from __future__ import annotations
+
+from learners.base import Learner
+from learners.blackbox import AnnealingLearner, CMAESLearner
+from learners.handmc import HandMCLearner
+from learners.logger import Logger
+from learners.ppo import PPOLearner
+
+LEARNERS: dict[str, type[Learner]] = {
+    cls.name: cls for cls in (AnnealingLearner, CMAESLearner, PPOLearner, HandMCLearner)
+}
+
+
+def make_learner(name: str, env_id: str, env_kwargs: dict | None = None,
+                 params: dict | None = None, seed: int = 0,
+                 logger: Logger | None = None) -> Learner:
+    """The learner called ``name``; ValueError naming the choices for an unknown one."""
+    if name not in LEARNERS:
+        raise ValueError(f"unknown learner {name!r}; choose one of {sorted(LEARNERS)}")
+    return LEARNERS[name](env_id, env_kwargs, params, seed, logger)

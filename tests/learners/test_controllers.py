@@ -1,0 +1,88 @@
+"""Tent controllers, FFT abstraction and blended concatenation."""
+
+import json
+
+import numpy as np
+import pytest
+
+from learners.abstraction import AbstractController, abstract
+from learners.concatenation import concatenate, schedule
+from learners.controller import TentController
+
+
+def test_tent_basis_interpolates_its_nodes():
+    rng = np.random.default_rng(0)
+    controller = TentController(rng.uniform(0, 1, (6, 9)), 0.0, 2.0)
+    np.testing.assert_allclose(controller(controller.node_times), controller.nodes.T)
+    midpoint = 0.5 * (controller.node_times[3] + controller.node_times[4])
+    np.testing.assert_allclose(controller(midpoint), controller.nodes[:, 3:5].mean(axis=1))
+
+
+def test_control_energy_of_a_constant_controller_is_zero():
+    controller = TentController(np.full((6, 11), 0.4), 0.0, 5.0)
+    assert controller.control_energy(nu1=1.0, nu2=0.01) == 0.0
+    np.testing.assert_array_equal(controller.derivative(np.linspace(0, 5, 7)), 0.0)
+
+
+def test_actions_follow_the_controller_at_step_ends():
+    controller = TentController(np.linspace(0, 1, 11)[None].repeat(6, 0), 0.0, 1.0)
+    actions = controller.actions(dt=0.1, steps=10)
+    np.testing.assert_allclose(actions[:, 0], 2 * np.linspace(0.1, 1.0, 10) - 1, atol=1e-6)
+
+
+def _sinusoid(harmonic=3, period=2.0, nodes=65):
+    t = np.linspace(0, period, nodes)
+    values = [0.5 + 0.3 * np.sin(2 * np.pi * harmonic * t / period + phase)
+              for phase in np.linspace(0, np.pi, 6)]
+    return TentController(np.array(values), 0.0, period)
+
+
+def test_abstraction_of_a_sinusoid_keeps_one_coefficient_per_actuator_and_reconstructs():
+    controller = _sinusoid()
+    abstracted = abstract(controller, threshold=0.1)
+    assert [len(h) for h in abstracted.harmonics] == [1] * 6
+    assert all(h[0] == 3 for h in abstracted.harmonics)
+    nodes = controller.node_times
+    np.testing.assert_allclose(abstracted(nodes), controller(nodes), atol=1e-12)
+    t = np.linspace(0, 2.0, 200)  # between nodes the tent controller is the sine's chord
+    np.testing.assert_allclose(abstracted(t), controller(t), atol=5e-3)
+    later = abstracted(t + 2.0)  # periodic: playable at any duration
+    np.testing.assert_allclose(later, abstracted(t), atol=1e-9)
+
+
+def test_abstraction_round_trips_through_json():
+    abstracted = abstract(_sinusoid(), threshold=0.05)
+    again = AbstractController.from_dict(json.loads(json.dumps(abstracted.to_dict())))
+    t = np.linspace(0, 5, 50)
+    np.testing.assert_allclose(again(t), abstracted(t))
+    assert again.num_parameters == abstracted.num_parameters == 6 + 2 * 6
+
+
+def test_abstraction_rejects_bad_threshold():
+    with pytest.raises(ValueError, match="threshold"):
+        abstract(_sinusoid(), threshold=1.5)
+
+
+def test_schedule_overlaps_five_percent():
+    starts, blends = schedule([2.0, 4.0, 1.0])
+    np.testing.assert_allclose(blends, [0.1, 0.05])
+    np.testing.assert_allclose(starts, [0.0, 1.9, 5.85])
+
+
+def _swim_like(hz, phase, period=1.0, nodes=129):
+    t = np.linspace(0, period, nodes)
+    row = 0.5 + 0.5 * np.sin(2 * np.pi * hz * t + phase)
+    return abstract(TentController(np.repeat(row[None], 6, axis=0), 0.0, period))
+
+
+def test_concatenation_seam_has_no_jump_larger_than_the_controllers_own_steps():
+    dt = 0.05
+    first = _swim_like(3.0, -np.pi / 2)  # ends at its trough (0) after 4 s
+    second = _swim_like(2.0, np.pi / 2)  # starts at its peak (1)
+    blended, total = concatenate([first, second], [4.0, 4.0])  # blend: 0.2 s = 4 steps
+    t = np.arange(0, total, dt)
+    jumps = np.abs(np.diff(blended(t), axis=0)).max()
+    own = max(np.abs(np.diff(c(np.arange(0, 4, dt)), axis=0)).max() for c in (first, second))
+    assert jumps <= own + 1e-9
+    unblended = np.where(t[:, None] < 4.0, first(t), second(t - 4.0))
+    assert np.abs(np.diff(unblended, axis=0)).max() > own  # without blending there is a jump
