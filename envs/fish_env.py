@@ -24,7 +24,8 @@ turn: sin and cos of the heading error, 2; reach: the goal in the body frame, BL
 
 ## Rewards
 ``r = -(mu1 E_u + mu2 E_v) dt`` (the paper's Eq. 1), ``E_u = (nu1 |du/dt|^2 + nu2 |d^2u/dt^2|^2)
-/ 2``. E_v: swim ``-u`` (u: speed along +x, BL/s) or ``(u - target)^2``; turn: squared heading
+/ 2``. E_v: swim ``-u`` (u: horizontal speed along the fish's heading, BL/s) or
+``(u - target)^2``; turn: squared heading
 error (rad^2); reach: distance to the goal (BL), plus ``final_weight`` times it on the last
 step. ``info`` holds ``E_u``, ``E_v``, ``reward_ctrl``, ``reward_task`` (the two summands of the
 reward), ``com`` (3,) m, ``forward`` (3,), ``time`` s, and the task's metrics (swim:

@@ -53,8 +53,11 @@ class Task:
 
 @dataclass
 class SwimTask(Task):
-    """Swim forward along +x. Without ``target_speed`` E_v = -u (u: speed along +x, BL/s), so
-    faster is better; with it E_v = (u - target_speed)^2."""
+    """Swim forward. u is the swimming speed: the centre of mass's horizontal velocity along
+    the fish's own horizontal heading, BL/s (so a fish that veers still swims; whether it goes
+    straight is the ``distance_bl`` metric's business). Without ``target_speed`` E_v = -u
+    (faster is better); with it E_v = (u - target_speed)^2. Metrics: ``speed_bl_per_s`` (u),
+    ``distance_bl`` (net horizontal distance from the start, BL), ``heading_deg``."""
 
     target_speed: float | None = None
     name = "swim"
@@ -70,14 +73,14 @@ class SwimTask(Task):
         return np.full((com.shape[0], 1), float(self.target_speed))
 
     def terms(self, com, com_vel, frames, targets, length, last):
-        speed = com_vel[:, 0] / length
+        yaw = heading_yaw(frames)
+        speed = (com_vel[:, 0] * np.cos(yaw) + com_vel[:, 1] * np.sin(yaw)) / length
         if self.target_speed is None:
             e_v = -speed
         else:
             e_v = (speed - float(self.target_speed)) ** 2
-        heading = np.degrees(heading_yaw(frames))
-        return e_v, {"speed_bl_per_s": speed, "heading_deg": heading,
-                     "distance_bl": com[:, 0] / length}
+        return e_v, {"speed_bl_per_s": speed, "heading_deg": np.degrees(yaw),
+                     "distance_bl": np.hypot(com[:, 0], com[:, 1]) / length}
 
 
 @dataclass

@@ -4,8 +4,9 @@ the below-threshold amplitudes suppressed.
 An :class:`AbstractController` is a truncated Fourier series per actuator over one period T
 (the learned controller's interval): ``u_i(t) = mean_i + sum_k a_ik cos(2 pi f_k t) -
 b_ik sin(2 pi f_k t)``, kept only for the harmonics k whose amplitude is at least ``threshold``
-times the actuator's largest. It is compact (a handful of numbers per actuator), serialisable
-(:meth:`to_dict`), and playable at any duration (periodic continuation of the learned window).
+times the largest harmonic amplitude in the controller. It is compact (a handful of numbers
+per actuator), serialisable (:meth:`to_dict`), and playable at any duration (periodic
+continuation of the learned window).
 """
 
 from __future__ import annotations
@@ -86,7 +87,9 @@ def abstract(controller: TentController, threshold: float = 0.1,
 
     The controller is sampled at ``samples`` evenly spaced times over one period (default: its
     node count, i.e. the nodal values themselves, the last node dropped as the period's end);
-    harmonics with amplitude below ``threshold`` times the actuator's largest are suppressed.
+    harmonics with amplitude below ``threshold`` times the largest harmonic amplitude of any
+    actuator are suppressed (one threshold for the whole controller: an actuator that barely
+    moves keeps only its mean).
     """
     if not 0.0 <= threshold < 1.0:
         raise ValueError(f"threshold must be in [0, 1), got {threshold!r}")
@@ -94,10 +97,10 @@ def abstract(controller: TentController, threshold: float = 0.1,
     t = controller.t0 + controller.duration * np.arange(count) / count
     values = controller(t)  # (count, N)
     spectrum = np.fft.rfft(values, axis=0) / count  # (count // 2 + 1, N)
+    largest = np.abs(spectrum[1:]).max() if count > 2 else 0.0
     harmonics, coefficients = [], []
     for i in range(controller.num_actuators):
         amplitudes = np.abs(spectrum[1:, i])
-        largest = amplitudes.max() if amplitudes.size else 0.0
         keep = np.flatnonzero((amplitudes >= threshold * largest) & (amplitudes > 1e-12)) + 1
         if count % 2 == 0:  # the Nyquist term counts once, not twice
             spectrum[-1, i] *= 0.5
@@ -105,3 +108,30 @@ def abstract(controller: TentController, threshold: float = 0.1,
         coefficients.append(spectrum[keep, i].copy())
     return AbstractController(mean=spectrum[0].real.copy(), harmonics=tuple(harmonics),
                               coefficients=tuple(coefficients), period=controller.duration)
+
+
+DEFAULT_THRESHOLDS = (0.5, 0.4, 0.3, 0.2, 0.15, 0.1, 0.05, 0.0)
+
+
+def most_compact(controller: TentController, score, tolerance: float = 0.1,
+                 thresholds: tuple[float, ...] = DEFAULT_THRESHOLDS, samples: int | None = None
+                 ) -> tuple[AbstractController, list[dict]]:
+    """The most compact abstraction whose objective is within ``tolerance`` of the learned
+    controller's: E_abstract <= E_learned + tolerance * |E_learned|.
+
+    ``score(list of controllers) -> (K,) E`` evaluates by simulation (the learned one first).
+    Returns the chosen abstraction and a report row per threshold tried (threshold, kept
+    coefficients, parameters, E), highest threshold first.
+    """
+    candidates = [abstract(controller, th, samples) for th in thresholds]
+    energies = np.asarray(score([controller, *candidates]), dtype=float)
+    learned, rows = energies[0], []
+    chosen = candidates[-1]
+    for th, candidate, energy in zip(thresholds, candidates, energies[1:]):
+        rows.append({"threshold": th, "coefficients": candidate.num_coefficients,
+                     "parameters": candidate.num_parameters, "E": float(energy)})
+    for candidate, energy in zip(candidates, energies[1:]):
+        if energy <= learned + tolerance * abs(learned):
+            chosen = candidate
+            break
+    return chosen, rows

@@ -32,6 +32,10 @@ class AnnealingParams:
         min_step_size: the smallest step.
         mutation_rate: probability that a parameter is perturbed in a proposal (at least one).
         lower, upper: parameter bounds (proposals are clipped).
+        smoothing: if > 0, each perturbation is a smooth bump rather than a spike: the steps
+            of each run of ``block`` consecutive parameters (one actuator's nodal values) are
+            convolved, circularly, with a Gaussian of this width (in nodes, peak 1).
+        block: the run length for ``smoothing`` (0: the whole vector).
     """
 
     chains: int = 64
@@ -44,6 +48,8 @@ class AnnealingParams:
     mutation_rate: float = 0.2
     lower: float = 0.0
     upper: float = 1.0
+    smoothing: float = 0.0
+    block: int = 0
 
     def __post_init__(self) -> None:
         checks = [(self.chains >= 1, "chains must be >= 1"),
@@ -53,7 +59,8 @@ class AnnealingParams:
                   (self.min_temperature > 0, "min_temperature must be > 0"),
                   (self.step_size > 0 and self.min_step_size > 0, "step sizes must be > 0"),
                   (0 < self.mutation_rate <= 1, "mutation_rate must be in (0, 1]"),
-                  (self.lower < self.upper, "lower must be < upper")]
+                  (self.lower < self.upper, "lower must be < upper"),
+                  (self.smoothing >= 0 and self.block >= 0, "smoothing and block must be >= 0")]
         for ok, message in checks:
             if not ok:
                 raise ValueError(f"AnnealingParams: {message}")
@@ -100,8 +107,22 @@ def ask(params: AnnealingParams, state: AnnealingState) -> tuple[np.ndarray, Ann
     mask = rng.random((chains, dims)) < params.mutation_rate
     mask[np.arange(chains), rng.integers(0, dims, chains)] = True
     steps = rng.normal(0.0, scale, (chains, dims)) * mask
+    if params.smoothing > 0:
+        steps = smooth_blocks(steps, params.smoothing, params.block or dims)
     proposals = np.clip(state.x + steps, params.lower, params.upper)
     return proposals, replace(state, rng=rng.bit_generator.state)
+
+
+def smooth_blocks(steps: np.ndarray, width: float, block: int) -> np.ndarray:
+    """Circular convolution of each run of ``block`` values (C, D) with exp(-d^2 / 2 w^2)."""
+    chains, dims = steps.shape
+    if dims % block:
+        raise ValueError(f"block {block} does not divide the {dims} parameters")
+    distance = np.minimum(np.arange(block), block - np.arange(block))
+    kernel = np.fft.rfft(np.exp(-0.5 * (distance / width) ** 2))
+    runs = steps.reshape(chains, dims // block, block)
+    return np.fft.irfft(np.fft.rfft(runs, axis=-1) * kernel, n=block, axis=-1).reshape(
+        chains, dims)
 
 
 def tell(params: AnnealingParams, state: AnnealingState, proposals: np.ndarray,

@@ -11,14 +11,14 @@ simulated env step); E = -return.
 from __future__ import annotations
 
 import time
-from dataclasses import asdict, fields
+from dataclasses import fields
 from pathlib import Path
 from types import ModuleType
 
 import numpy as np
 
 from learners import annealing, cmaes
-from learners.abstraction import abstract
+from learners.abstraction import abstract, most_compact
 from learners.base import Learner, LearnResult, load_checkpoint, save_checkpoint, unknown_params
 from learners.controller import TentController
 from learners.rollout import BatchEvaluator
@@ -53,27 +53,37 @@ class PeriodicPlayer:
 
 
 class BlackBoxLearner(Learner):
-    """Optimises controller parameters with an ask/tell ``optimizer`` module (``init``,
-    ``ask``, ``tell``, ``finished``) configured by ``params_class``."""
+    """Optimises a parameter vector with an ask/tell ``optimizer`` module (``init``, ``ask``,
+    ``tell``, ``finished``) configured by ``params_class``. What the vector means is the
+    subclass's: ``own_keys`` (its parameters), :meth:`_configure`, :meth:`_x0`,
+    :meth:`controller` (vector -> something with ``actions(dt, steps)``), :meth:`_artefacts`.
+    This base reads the tent-controller encoding."""
 
     optimizer: ModuleType
     params_class: type
     population_key: str
+    own_keys: set[str] = CONTROLLER_KEYS
 
     def __init__(self, *args, **kwargs) -> None:
         super().__init__(*args, **kwargs)
-        allowed = CONTROLLER_KEYS | {f.name for f in fields(self.params_class)}
-        unknown_params(self.params, allowed, self.name)
+        unknown_params(self.params, self.own_keys | {f.name for f in fields(self.params_class)},
+                       self.name)
+        self.checkpoint_every = int(self.params.get("checkpoint_every", 10))
+        opt_params = {k: v for k, v in self.params.items() if k not in self.own_keys}
+        self._configure(opt_params)
+        self.opt_params = self.params_class(**opt_params)
+
+    def _configure(self, opt_params: dict) -> None:
         self.nodes = int(self.params.get("nodes", 20))
         period = self.params.get("period", 1.0)
         self.period = None if period is None else float(period)
         self.init_mode = self.params.get("init", "random")
-        self.threshold = float(self.params.get("abstraction_threshold", 0.1))
-        self.checkpoint_every = int(self.params.get("checkpoint_every", 10))
-        opt_params = {k: v for k, v in self.params.items() if k not in CONTROLLER_KEYS}
-        self.opt_params = self.params_class(**opt_params)
+        threshold = self.params.get("abstraction_threshold")
+        self.threshold = None if threshold is None else float(threshold)
         if self.nodes < 2 or self.init_mode not in ("random", "relaxed", "half"):
             raise ValueError("nodes must be >= 2 and init one of random, relaxed, half")
+        if opt_params.get("smoothing") and "block" not in opt_params:
+            opt_params["block"] = self.nodes  # smooth along each actuator's nodes
 
     @property
     def population(self) -> int:
@@ -142,16 +152,35 @@ class BlackBoxLearner(Learner):
         if best is None:
             raise ValueError(f"budget too small: one round of {self.name} needs "
                              f"{self.population * evaluator.steps} env steps")
-        tent = controller_from_vector(best["x"], self.nodes, self.period, evaluator.duration)
-        artefacts = {"controller": {"nodes": tent.nodes.tolist(), "t0": tent.t0, "t1": tent.t1,
-                                    "periodic": self.period is not None},
-                     "parameters": int(best["x"].size)}
-        if self.period is not None:
-            artefacts["abstraction"] = abstract(tent, self.threshold).to_dict()
+        artefacts = self._artefacts(best["x"], evaluator.duration, evaluator)
         metrics = {"eval/return": best["return"],
                    **{f"eval/{k}": v for k, v in best["metrics"].items()}}
         return LearnResult(env_steps=run["env_steps"], wall_seconds=run["wall"],
                            metrics=metrics, artefacts=artefacts)
+
+
+    def _artefacts(self, x: np.ndarray, duration: float, evaluator: BatchEvaluator) -> dict:
+        """The best controller and its FFT abstraction (over the period, or over the whole
+        window for a non-periodic controller, sampled 4x finer than its nodes): at the fixed
+        ``abstraction_threshold`` if one is given, else the most compact one within 10% of the
+        learned objective (each tried threshold simulated once, not charged to the budget)."""
+        tent = controller_from_vector(x, self.nodes, self.period, duration)
+        artefacts = {"controller": {"nodes": tent.nodes.tolist(), "t0": tent.t0, "t1": tent.t1,
+                                    "periodic": self.period is not None},
+                     "parameters": int(x.size)}
+        samples = None if self.period is not None else 4 * (tent.num_nodes - 1)
+        if self.threshold is not None:
+            artefacts["abstraction"] = abstract(tent, self.threshold, samples).to_dict()
+            return artefacts
+
+        def score(controllers):
+            actions = np.stack([PeriodicPlayer(c, self.period).actions(
+                evaluator.dt, evaluator.steps) for c in controllers])
+            return -evaluator.evaluate(actions)[0]
+
+        chosen, report = most_compact(tent, score, samples=samples)
+        artefacts["abstraction"], artefacts["abstraction_report"] = chosen.to_dict(), report
+        return artefacts
 
 
 class AnnealingLearner(BlackBoxLearner):
@@ -170,9 +199,3 @@ class CMAESLearner(BlackBoxLearner):
     optimizer = cmaes
     params_class = cmaes.CMAESParams
     population_key = "popsize"
-
-
-def describe_params(learner: BlackBoxLearner) -> dict:
-    """The resolved parameters of a black-box learner (controller and optimiser)."""
-    return {"nodes": learner.nodes, "period": learner.period, "init": learner.init_mode,
-            "abstraction_threshold": learner.threshold, **asdict(learner.opt_params)}

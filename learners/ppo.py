@@ -18,7 +18,7 @@ from pathlib import Path
 import gymnasium as gym
 
 from learners.base import Learner, LearnResult, unknown_params
-from learners.rollout import episode_metrics
+from learners.rollout import EpisodeSummary
 
 ZOO_KEYS = {"n_envs", "n_steps", "batch_size", "n_epochs", "gamma", "gae_lambda",
             "learning_rate", "clip_range", "ent_coef", "vf_coef", "max_grad_norm", "policy",
@@ -78,14 +78,15 @@ class PPOLearner(Learner):
         """Deterministic episode from the black-box learners' start state."""
         env = gym.make_vec(self.env_id, num_envs=1, **self.env_kwargs)
         obs, _ = env.reset(seed=[self.seed])
-        total, info = 0.0, {}
+        total, summary = 0.0, EpisodeSummary(env.core.task.name, 1)
         for _ in range(env.core.episode_steps):
             if hasattr(venv, "normalize_obs"):
                 obs = venv.normalize_obs(obs)
             action, _ = model.predict(obs, deterministic=True)
             obs, reward, _, _, info = env.step(action)
             total += float(reward[0])
-        metrics = episode_metrics(env.core.task.name, info, env.core.episode_steps * env.dt)
+            summary.update(info)
+        metrics = summary.summary()
         return {"eval/return": total, **{f"eval/{k}": float(v[0]) for k, v in metrics.items()}}
 
     def learn(self, budget_env_steps: int, checkpoint_dir: str | Path | None = None

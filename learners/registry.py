@@ -6,10 +6,13 @@ from learners.base import Learner
 from learners.blackbox import AnnealingLearner, CMAESLearner
 from learners.handmc import HandMCLearner
 from learners.logger import Logger
+from learners.macro import MacroLearner
 from learners.ppo import PPOLearner
+from learners.repertoire import BasicTrainingLearner
 
 LEARNERS: dict[str, type[Learner]] = {
-    cls.name: cls for cls in (AnnealingLearner, CMAESLearner, PPOLearner, HandMCLearner)
+    cls.name: cls for cls in (AnnealingLearner, CMAESLearner, PPOLearner, HandMCLearner,
+                              BasicTrainingLearner, MacroLearner)
 }
 
 

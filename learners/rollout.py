@@ -13,18 +13,30 @@ import numpy as np
 import envs  # noqa: F401  (registers Animat/*)
 
 
-def episode_metrics(task: str, last_info: dict[str, np.ndarray], duration: float
-                    ) -> dict[str, np.ndarray]:
-    """The task's summary metrics (B,) from the last step's info: swim ``speed_bl_per_s``
-    (distance along +x over the episode / its duration), reach ``final_distance_bl``, turn
-    ``final_heading_error_deg`` (absolute)."""
-    if task == "swim":
-        return {"speed_bl_per_s": last_info["distance_bl"] / duration}
-    if task == "reach":
-        return {"final_distance_bl": last_info["distance_bl"]}
-    if task == "turn":
-        return {"final_heading_error_deg": np.abs(last_info["heading_error_deg"])}
-    raise ValueError(f"no summary metrics for task {task!r}")
+class EpisodeSummary:
+    """Accumulates a task's summary metrics over an episode, from each step's info: swim
+    ``speed_bl_per_s`` (mean swimming speed over the episode), reach ``final_distance_bl``,
+    turn ``final_heading_error_deg`` (absolute, at the end)."""
+
+    def __init__(self, task: str, num_envs: int) -> None:
+        if task not in ("swim", "reach", "turn"):
+            raise ValueError(f"no summary metrics for task {task!r}")
+        self.task, self.steps = task, 0
+        self.speed_sum = np.zeros(num_envs)
+        self.last: dict[str, np.ndarray] = {}
+
+    def update(self, info: dict[str, np.ndarray]) -> None:
+        self.steps += 1
+        self.last = info
+        if self.task == "swim":
+            self.speed_sum = self.speed_sum + info["speed_bl_per_s"]
+
+    def summary(self) -> dict[str, np.ndarray]:
+        if self.task == "swim":
+            return {"speed_bl_per_s": self.speed_sum / max(self.steps, 1)}
+        if self.task == "reach":
+            return {"final_distance_bl": np.asarray(self.last["distance_bl"])}
+        return {"final_heading_error_deg": np.abs(self.last["heading_error_deg"])}
 
 
 class BatchEvaluator:
@@ -71,10 +83,10 @@ class BatchEvaluator:
         padded[:count] = chunk
         self.env.reset(seed=[self.seed] * self.num_envs)  # every row: the same start
         total = np.zeros(self.num_envs)
-        info = {}
+        summary = EpisodeSummary(self.task, self.num_envs)
         for k in range(self.steps):
             _, reward, _, _, info = self.env.step(padded[:, k])
             total += reward
+            summary.update(info)
         self.env_steps += count * self.steps
-        metrics = episode_metrics(self.task, info, self.duration)
-        return total[:count], {k: v[:count] for k, v in metrics.items()}
+        return total[:count], {k: v[:count] for k, v in summary.summary().items()}

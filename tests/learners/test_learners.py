@@ -15,7 +15,22 @@ TINY = {
     "ppo": ({"n_envs": 4, "n_steps": 16, "batch_size": 32, "n_epochs": 1, "eval_every": 64,
              "policy_kwargs": "dict(net_arch=[16])"}, 128),
     "handmc": ({}, 10),
+    "basic_training": ({"regimen": [
+        {"name": "swim", "env_id": "Animat/FishSwim-v0", "env_kwargs": {"duration": 0.5},
+         "params": {"nodes": 4, "period": 0.5}},
+        {"name": "turn", "env_id": "Animat/FishTurn-v0", "env_kwargs": {"duration": 0.5},
+         "params": {"nodes": 4, "period": None}}], "annealing": {"chains": 8}}, 480),
+    "macro": ({"chains": 8, "slots": 2}, 240),
 }
+
+
+@pytest.fixture(scope="module")
+def tiny_repertoire(tmp_path_factory):
+    """A repertoire learned on a tiny budget (the basic-training learner's own output)."""
+    folder = tmp_path_factory.mktemp("repertoire")
+    params, budget = TINY["basic_training"]
+    make_learner("basic_training", ENV, TINY_ENV, params, seed=0).learn(budget, folder)
+    return folder / "repertoire.json"
 
 
 def test_every_registered_learner_has_a_tiny_setting():
@@ -23,13 +38,20 @@ def test_every_registered_learner_has_a_tiny_setting():
 
 
 @pytest.mark.parametrize("name", sorted(LEARNERS))
-def test_learner_runs_on_a_tiny_budget_and_logs_the_shared_tags(name, tmp_path):
+def test_learner_runs_on_a_tiny_budget_and_logs_the_shared_tags(name, tmp_path,
+                                                                tiny_repertoire):
     params, budget = TINY[name]
+    env_id, tags = ENV, ("eval/return", "eval/speed_bl_per_s")
+    if name == "macro":
+        params = {**params, "repertoire": str(tiny_repertoire)}
+        env_id, tags = "Animat/FishReach-v0", ("eval/return", "eval/final_distance_bl")
+    if name == "basic_training":
+        tags = ("eval/return",)
     sink = MemorySink()
-    learner = make_learner(name, ENV, TINY_ENV, params, seed=0, logger=Logger([sink]))
+    learner = make_learner(name, env_id, TINY_ENV, params, seed=0, logger=Logger([sink]))
     result = learner.learn(budget, checkpoint_dir=tmp_path)
     assert 0 < result.env_steps <= budget
-    for tag in ("eval/return", "eval/speed_bl_per_s"):
+    for tag in tags:
         assert np.isfinite(result.metrics[tag])
         steps = [step for step, _ in sink.series(tag)]
         assert steps and steps == sorted(steps) and max(steps) <= budget

@@ -1,0 +1,94 @@
+"""The macro-controller learner (the paper's Section 4.2): simulated annealing over the
+selection, ordering and durations of repertoire skills, evaluated by simulation.
+
+A candidate is ``slots`` (skill, duration) pairs, encoded in [0, 1]^(2 slots) so that the
+unchanged annealing optimiser of :mod:`learners.annealing` can search it: gene ``2k`` picks
+slot k's skill (or none: the slot is empty), gene ``2k + 1`` its duration in
+[``min_duration``, ``max_duration``] s. The filled slots, in order, are concatenated with 5%
+blends (:mod:`learners.concatenation`); after the sequence the muscles relax.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from learners import annealing
+from learners.blackbox import BlackBoxLearner
+from learners.concatenation import concatenate
+from learners.repertoire import Repertoire
+
+MACRO_KEYS = {"repertoire", "slots", "min_duration", "max_duration", "skills", "overlap",
+              "checkpoint_every"}
+
+
+class MacroSequence:
+    """A decoded candidate: ``steps`` [(skill name, duration s)] and its actuation."""
+
+    def __init__(self, repertoire: Repertoire, steps: list[tuple[str, float]],
+                 overlap: float) -> None:
+        self.steps = steps
+        if steps:
+            self._blended, self.duration = concatenate(
+                [repertoire[name].controller for name, _ in steps],
+                [duration for _, duration in steps], overlap)
+        else:
+            self._blended, self.duration = None, 0.0
+
+    def __call__(self, t: np.ndarray | float) -> np.ndarray:
+        t = np.asarray(t, dtype=float)
+        if self._blended is None:
+            return np.zeros(t.shape + (6,))
+        return np.where((t < self.duration)[..., None], self._blended(t), 0.0)
+
+    def actions(self, dt: float, steps: int) -> np.ndarray:
+        t = dt * np.arange(1, steps + 1)
+        return (2.0 * np.clip(self(t), 0.0, 1.0) - 1.0).astype(np.float32)
+
+
+class MacroLearner(BlackBoxLearner):
+    """Params: ``repertoire`` (path to a repertoire JSON), ``skills`` (names to use; default
+    all), ``slots`` (3), ``min_duration``/``max_duration`` (0.5 / 4 s), ``overlap`` (0.05),
+    plus the annealing parameters."""
+
+    name = "macro"
+    optimizer = annealing
+    params_class = annealing.AnnealingParams
+    population_key = "chains"
+    own_keys = MACRO_KEYS
+
+    def _configure(self, opt_params: dict) -> None:
+        if "repertoire" not in self.params:
+            raise ValueError("learner 'macro' needs params.repertoire (a repertoire file)")
+        self.repertoire = Repertoire.load(self.params["repertoire"])
+        self.skill_names = list(self.params.get("skills", self.repertoire.names))
+        for name in self.skill_names:
+            self.repertoire[name]  # raises KeyError naming a missing skill
+        self.slots = int(self.params.get("slots", 3))
+        self.min_duration = float(self.params.get("min_duration", 0.5))
+        self.max_duration = float(self.params.get("max_duration", 4.0))
+        self.overlap = float(self.params.get("overlap", 0.05))
+        if self.slots < 1 or not 0 < self.min_duration <= self.max_duration:
+            raise ValueError("need slots >= 1 and 0 < min_duration <= max_duration")
+
+    def _x0(self) -> np.ndarray:
+        return np.random.default_rng(self.seed).uniform(0.0, 1.0, 2 * self.slots)
+
+    def decode(self, vector: np.ndarray) -> list[tuple[str, float]]:
+        """[(skill, duration)] of the filled slots, in order."""
+        steps = []
+        choices = len(self.skill_names)
+        for k in range(self.slots):
+            pick = min(int(vector[2 * k] * (choices + 1)), choices) - 1
+            if pick >= 0:
+                duration = self.min_duration + vector[2 * k + 1] * (
+                    self.max_duration - self.min_duration)
+                steps.append((self.skill_names[pick], float(duration)))
+        return steps
+
+    def controller(self, vector: np.ndarray, duration: float) -> MacroSequence:
+        return MacroSequence(self.repertoire, self.decode(vector), self.overlap)
+
+    def _artefacts(self, x: np.ndarray, duration: float, evaluator) -> dict:
+        return {"sequence": [{"skill": name, "duration": round(d, 3)}
+                             for name, d in self.decode(x)],
+                "parameters": int(x.size)}

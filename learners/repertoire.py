@@ -1,0 +1,182 @@
+"""Basic training (the paper's Section 4.2) and the repertoire it leaves behind.
+
+A regimen of primitive skills (swim at several speeds, turns of several angles left and
+right; for the dolphin later: turn-down, turn-up, turn-left, turn-right, move-forward) is
+learned one skill at a time by annealing, each learned controller abstracted by FFT, and the
+abstractions kept in a repertoire file: one JSON with readable metadata (skill, task, env,
+objective, duration, parameter counts, metrics) beside the Fourier coefficients.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import tempfile
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from learners.abstraction import AbstractController
+from learners.base import Learner, LearnResult, unknown_params
+from learners.blackbox import AnnealingLearner
+from learners.logger import Logger
+from learners.rollout import BatchEvaluator
+
+FISH_REGIMEN = [
+    {"name": "swim_slow", "env_id": "Animat/FishSwim-v0",
+     "env_kwargs": {"duration": 4.0, "target_speed": 0.4}, "params": {"period": 1.0}},
+    {"name": "swim_fast", "env_id": "Animat/FishSwim-v0",
+     "env_kwargs": {"duration": 4.0}, "params": {"period": 1.0}},
+    {"name": "turn_left_90", "env_id": "Animat/FishTurn-v0",
+     "env_kwargs": {"duration": 2.0, "angle_deg": 90.0, "direction": "left"},
+     "params": {"period": None, "nodes": 11}},
+    {"name": "turn_right_90", "env_id": "Animat/FishTurn-v0",
+     "env_kwargs": {"duration": 2.0, "angle_deg": 90.0, "direction": "right"},
+     "params": {"period": None, "nodes": 11}},
+]
+
+
+@dataclass(frozen=True)
+class Skill:
+    """One repertoire entry: an abstracted controller and what it was learned for."""
+
+    name: str
+    controller: AbstractController
+    metadata: dict
+
+    @property
+    def duration(self) -> float:
+        """The duration the skill was learned over, s."""
+        return float(self.metadata["duration"])
+
+
+class Repertoire:
+    """Named skills; saved as JSON (``save``/``load``)."""
+
+    def __init__(self, skills: list[Skill] | None = None) -> None:
+        self.skills = {skill.name: skill for skill in (skills or [])}
+
+    def __getitem__(self, name: str) -> Skill:
+        if name not in self.skills:
+            raise KeyError(f"no skill {name!r} in the repertoire; it has {sorted(self.skills)}")
+        return self.skills[name]
+
+    def __len__(self) -> int:
+        return len(self.skills)
+
+    @property
+    def names(self) -> list[str]:
+        return sorted(self.skills)
+
+    def add(self, skill: Skill) -> None:
+        self.skills[skill.name] = skill
+
+    def save(self, path: str | Path) -> None:
+        """Write atomically as JSON."""
+        data = {"format": "artificial-animals repertoire 1",
+                "skills": [{"name": s.name, "metadata": s.metadata,
+                            "controller": s.controller.to_dict()}
+                           for s in (self.skills[n] for n in self.names)]}
+        path = Path(path)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        handle, tmp = tempfile.mkstemp(dir=path.parent, suffix=".tmp")
+        with os.fdopen(handle, "w") as file:
+            json.dump(data, file, indent=1)
+        os.replace(tmp, path)
+
+    @classmethod
+    def load(cls, path: str | Path) -> Repertoire:
+        data = json.loads(Path(path).read_text())
+        if data.get("format") != "artificial-animals repertoire 1":
+            raise ValueError(f"{path}: not a repertoire file")
+        return cls([Skill(s["name"], AbstractController.from_dict(s["controller"]),
+                          s["metadata"]) for s in data["skills"]])
+
+
+def learn_skill(spec: dict, env_steps: int, seed: int, threshold: float | None,
+                annealing: dict, logger: Logger, checkpoint_dir: Path | None) -> Skill:
+    """Anneal one skill's controller, abstract it, and measure what abstraction cost."""
+    params = {**annealing, **spec.get("params", {})}
+    if threshold is not None:
+        params["abstraction_threshold"] = threshold
+    learner = AnnealingLearner(spec["env_id"], spec.get("env_kwargs", {}), params, seed,
+                               Logger([_Prefixed(logger, f"skill/{spec['name']}/")]))
+    result = learner.learn(env_steps, checkpoint_dir)
+    abstracted = AbstractController.from_dict(result.artefacts["abstraction"])
+    evaluator = BatchEvaluator(spec["env_id"], spec.get("env_kwargs", {}), 1, seed)
+    returns, metrics = evaluator.evaluate(abstracted.actions(evaluator.dt, evaluator.steps)[None])
+    metadata = {
+        "task": evaluator.task, "env_id": spec["env_id"], "env_kwargs": spec.get("env_kwargs", {}),
+        "objective": "E = -return (paper Eq. 1)", "duration": evaluator.duration,
+        "learned_E": -result.metrics["eval/return"], "abstracted_E": float(-returns[0]),
+        "parameters_learned": result.artefacts["parameters"],
+        "parameters_abstracted": abstracted.num_parameters,
+        "coefficients_kept": abstracted.num_coefficients,
+        "learned_metrics": {k: v for k, v in result.metrics.items() if k != "eval/return"},
+        "abstracted_metrics": {f"eval/{k}": float(v[0]) for k, v in metrics.items()},
+        "env_steps": result.env_steps, "threshold": threshold,
+    }
+    return Skill(spec["name"], abstracted, metadata)
+
+
+class _Prefixed:
+    """A sink that forwards to a logger with a tag prefix."""
+
+    def __init__(self, logger: Logger, prefix: str) -> None:
+        self.logger, self.prefix = logger, prefix
+
+    def scalar(self, tag: str, value: float, step: int) -> None:
+        self.logger.scalar(self.prefix + tag, value, step)
+
+    def text(self, tag: str, text: str, step: int) -> None:
+        self.logger.text(self.prefix + tag, text, step)
+
+    def close(self) -> None:
+        pass
+
+
+class BasicTrainingLearner(Learner):
+    """Learns every skill of ``regimen`` (default: the fish's) with an equal share of the
+    budget and writes ``repertoire.json`` into the checkpoint folder (or ``output``).
+
+    Params: ``regimen`` (list of {name, env_id, env_kwargs, params}), ``threshold`` (FFT;
+    default: the most compact abstraction within 10% of the learned objective),
+    ``annealing`` (annealing parameters shared by all skills), ``output`` (repertoire path).
+    The env id it is given is not used: each skill names its own."""
+
+    name = "basic_training"
+
+    def __init__(self, *args, **kwargs) -> None:
+        super().__init__(*args, **kwargs)
+        unknown_params(self.params, {"regimen", "threshold", "annealing", "output"}, self.name)
+        self.regimen = self.params.get("regimen", FISH_REGIMEN)
+        threshold = self.params.get("threshold")
+        self.threshold = None if threshold is None else float(threshold)
+        self.annealing = dict(self.params.get("annealing", {"chains": 64}))
+
+    def learn(self, budget_env_steps: int, checkpoint_dir: str | Path | None = None
+              ) -> LearnResult:
+        start = time.perf_counter()
+        self.log_hparams()
+        folder = Path(checkpoint_dir) if checkpoint_dir else None
+        share = budget_env_steps // len(self.regimen)
+        repertoire, used = Repertoire(), 0
+        for k, spec in enumerate(self.regimen):
+            skill_dir = folder / spec["name"] if folder else None
+            skill = learn_skill(spec, share, self.seed + k, self.threshold, self.annealing,
+                                self.logger, skill_dir)
+            repertoire.add(skill)
+            used += skill.metadata["env_steps"]
+            self.logger.scalar("eval/return", -skill.metadata["abstracted_E"], used)
+        output = self.params.get("output") or (folder / "repertoire.json" if folder else None)
+        if output:
+            repertoire.save(output)
+        metrics = {"eval/return": float(np.mean([-s.metadata["abstracted_E"]
+                                                 for s in repertoire.skills.values()]))}
+        return LearnResult(env_steps=used, wall_seconds=time.perf_counter() - start,
+                           metrics=metrics, artefacts={
+                               "repertoire": str(output) if output else None,
+                               "skills": {n: s.metadata for n, s in repertoire.skills.items()}})
+
