@@ -1,0 +1,145 @@
+"""The ``animat`` command (also ``python -m experiments``).
+
+    animat run CONFIG [--set key.path=value ...] [--out DIR]
+    animat run --resume DIR
+    animat sweep CONFIG --seeds 0-4 [--set ...] [--executor local|ray] [--jobs N]
+                 [--address ADDR] [--out PARENT]
+    animat compare RUN_DIR_OR_PARENT ... [--metric eval/return] [--threshold X] [-o REPORT]
+    animat bench [--seconds S]
+    animat list
+
+A bad config or override stops before any work with one line naming the file, the field path
+and what is wrong, and exit status 2.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+from experiments.config import ConfigError, load_config
+from experiments.runs import RunError, create_run, execute, resume
+
+CONFIG_DIR = Path(__file__).resolve().parent.parent / "configs"
+
+
+def _parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(prog="animat", description="artificial-animals launcher")
+    sub = parser.add_subparsers(dest="command", required=True)
+    run = sub.add_parser("run", help="run one experiment (or --resume one)")
+    run.add_argument("config", nargs="?", help="YAML config")
+    run.add_argument("--set", dest="overrides", action="append", default=[],
+                     metavar="KEY.PATH=VALUE")
+    run.add_argument("--out", type=Path, help="the run folder, exactly")
+    run.add_argument("--resume", type=Path, metavar="DIR", help="continue an unfinished run")
+    run.add_argument("--quiet", action="store_true", help="no progress bar")
+    sweep = sub.add_parser("sweep", help="one run per seed")
+    sweep.add_argument("config")
+    sweep.add_argument("--seeds", required=True, help="e.g. 0-4 or 1,3,5")
+    sweep.add_argument("--set", dest="overrides", action="append", default=[],
+                       metavar="KEY.PATH=VALUE")
+    sweep.add_argument("--executor", choices=("local", "ray"), default="local")
+    sweep.add_argument("--jobs", type=int, default=1, help="local: runs at once")
+    sweep.add_argument("--address", help="ray: an existing cluster's address")
+    sweep.add_argument("--out", type=Path, help="parent folder of the run folders")
+    compare = sub.add_parser("compare", help="compare runs (TensorBoard events)")
+    compare.add_argument("paths", nargs="+")
+    compare.add_argument("--metric", default="eval/return")
+    compare.add_argument("--threshold", type=float, help="report env steps to reach it")
+    compare.add_argument("-o", "--output", type=Path, help="Markdown report (+ .png plot)")
+    bench = sub.add_parser("bench", help="simulator benchmark against Swimmer-v5")
+    bench.add_argument("--seconds", type=float, default=6.0)
+    bench.add_argument("--num-envs", type=int, default=256)
+    sub.add_parser("list", help="registered envs, learners and shipped configs")
+    return parser
+
+
+def _progress(args, config):
+    from experiments.progress import ProgressSink
+
+    if getattr(args, "quiet", False) or not config.logging.progress:
+        return None
+    return ProgressSink.if_terminal(config.budget.env_steps, config.eval.metric)
+
+
+def cmd_run(args) -> int:
+    if args.resume:
+        folder = args.resume
+        if not (folder / "config.yaml").exists():
+            raise RunError(f"{folder}: no config.yaml: not a run folder")
+        config = load_config(folder / "config.yaml")
+        result = resume(folder, _progress(args, config))
+    else:
+        if not args.config:
+            raise RunError("give a CONFIG to run, or --resume DIR")
+        config = load_config(args.config, args.overrides)
+        folder = create_run(config, args.out, ["animat", *sys.argv[1:]])
+        print(f"run folder: {folder}")
+        result = execute(folder, _progress(args, config))
+    print(json.dumps({k: result[k] for k in ("status", "env_steps", "wall_seconds", "metrics")}))
+    return 0
+
+
+def cmd_sweep(args) -> int:
+    from experiments.sweep import parse_seeds, prepare, run_local, run_ray
+
+    try:
+        seeds = parse_seeds(args.seeds)
+    except ValueError as error:
+        raise RunError(str(error)) from None
+    config = load_config(args.config, args.overrides)
+    folders = prepare(config, seeds, args.out, ["animat", *sys.argv[1:]])
+    if args.executor == "ray":
+        results = run_ray(folders, args.address)
+    else:
+        results = run_local(folders, args.jobs)
+    for folder, result in zip(folders, results):
+        print(f"{folder}: {result['status']} {json.dumps(result.get('metrics', {}))}")
+    return 0 if all(r["status"] == "done" for r in results) else 1
+
+
+def cmd_compare(args) -> int:
+    from experiments.compare import compare
+
+    text, image = compare(args.paths, args.metric, args.threshold, args.output)
+    print(text)
+    if args.output:
+        print(f"report: {args.output}; plot: {image}")
+    return 0
+
+
+def cmd_list(args) -> int:
+    import gymnasium as gym
+
+    import envs
+    from learners.registry import LEARNERS
+
+    print("envs:     " + ", ".join(envs.ENV_IDS))
+    print("learners: " + ", ".join(sorted(LEARNERS)))
+    configs = sorted(p.name for p in CONFIG_DIR.glob("*.yaml")) if CONFIG_DIR.exists() else []
+    print("configs:  " + (", ".join(configs) if configs else "(none)"))
+    return 0 if all(e in gym.registry for e in envs.ENV_IDS) else 1
+
+
+def cmd_bench(args) -> int:
+    from envs.bench import report, run
+
+    print(report(run(args.seconds, args.num_envs), args.num_envs))
+    return 0
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = _parser().parse_args(argv)
+    handlers = {"run": cmd_run, "sweep": cmd_sweep, "compare": cmd_compare, "list": cmd_list,
+                "bench": cmd_bench}
+    try:
+        return handlers[args.command](args)
+    except (ConfigError, RunError, FileNotFoundError) as error:
+        print(f"animat: error: {error}", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main())

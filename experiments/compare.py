@@ -1,0 +1,160 @@
+"""``animat compare``: read run folders' TensorBoard events back (TensorBoard's own reader,
+keeping every scalar), group runs by learner, aggregate over seeds and write a Markdown table
+and a PNG plot (mean curve with a shaded +-std band per learner, x = env steps)."""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import yaml
+
+from experiments.runs import read_status
+
+
+@dataclass
+class RunCurves:
+    folder: Path
+    learner: str
+    env_id: str
+    seed: int
+    status: dict
+    scalars: dict[str, tuple[np.ndarray, np.ndarray]]  # tag -> (steps, values)
+
+
+def find_runs(paths: list[str | Path]) -> list[Path]:
+    """Run folders given directly or found below parent folders (any depth)."""
+    found = []
+    for path in map(Path, paths):
+        if (path / "result.json").exists():
+            found.append(path)
+        else:
+            found.extend(sorted(p.parent for p in path.rglob("result.json")))
+    if not found:
+        raise FileNotFoundError(f"no run folders (with result.json) in {[str(p) for p in paths]}")
+    return found
+
+
+def read_scalars(folder: Path) -> dict[str, tuple[np.ndarray, np.ndarray]]:
+    """Every scalar of a run's TensorBoard events: tag -> (steps, values), sorted by step, the
+    last value kept where a resumed run logged a step twice."""
+    from tensorboard.backend.event_processing.event_accumulator import EventAccumulator
+
+    series: dict[str, dict[int, float]] = {}
+    for events in sorted((folder / "tb").glob("events.out.tfevents.*")):
+        accumulator = EventAccumulator(str(events), size_guidance={"scalars": 0})
+        accumulator.Reload()
+        for tag in accumulator.Tags()["scalars"]:
+            for event in accumulator.Scalars(tag):
+                series.setdefault(tag, {})[event.step] = event.value
+    return {tag: (np.array(sorted(v)), np.array([v[s] for s in sorted(v)]))
+            for tag, v in series.items()}
+
+
+def load_run(folder: Path) -> RunCurves:
+    config = yaml.safe_load((folder / "config.yaml").read_text())
+    return RunCurves(folder, config["learner"]["name"], config["env"]["id"],
+                     int(config.get("seed", 0)), read_status(folder), read_scalars(folder))
+
+
+def _steps_to(curve: tuple[np.ndarray, np.ndarray] | None, threshold: float | None):
+    if curve is None or threshold is None:
+        return None
+    steps, values = curve
+    reached = np.flatnonzero(values >= threshold)
+    return int(steps[reached[0]]) if reached.size else None
+
+
+def summarise(runs: list[RunCurves], metric: str, threshold: float | None) -> list[dict]:
+    """One row per learner: runs, final and best mean +- std, env steps to ``threshold``
+    (mean over the runs that reached it, and how many did), wall seconds, env steps."""
+    rows = []
+    for learner in sorted({r.learner for r in runs}):
+        group = [r for r in runs if r.learner == learner]
+        curves = [r.scalars.get(metric) for r in group]
+        finals = np.array([c[1][-1] for c in curves if c is not None])
+        bests = np.array([c[1].max() for c in curves if c is not None])
+        reached = [s for s in (_steps_to(c, threshold) for c in curves) if s is not None]
+        rows.append({
+            "learner": learner, "runs": len(group),
+            "done": sum(r.status.get("status") == "done" for r in group),
+            "final": _mean_std(finals), "best": _mean_std(bests),
+            "steps_to_threshold": (float(np.mean(reached)) if reached else None, len(reached)),
+            "wall_seconds": float(np.mean([r.status.get("wall_seconds", 0.0) for r in group])),
+            "env_steps": float(np.mean([r.status.get("env_steps", 0) for r in group])),
+        })
+    return rows
+
+
+def _mean_std(values: np.ndarray) -> tuple[float, float] | None:
+    return (float(values.mean()), float(values.std())) if values.size else None
+
+
+def markdown(rows: list[dict], metric: str, threshold: float | None) -> str:
+    def pm(value):
+        return "n/a" if value is None else f"{value[0]:.3f} ± {value[1]:.3f}"
+
+    head = (f"| learner | runs (done) | final {metric} | best {metric} | env steps to "
+            f"{threshold if threshold is not None else '—'} (runs reaching) | env steps | "
+            "wall s |")
+    lines = [head, "|---|---|---|---|---|---|---|"]
+    for row in rows:
+        steps, count = row["steps_to_threshold"]
+        if threshold is None:
+            reach = "—"
+        elif steps is None:
+            reach = f"never (0/{row['runs']})"
+        else:
+            reach = f"{steps:,.0f} ({count}/{row['runs']})"
+        lines.append(f"| {row['learner']} | {row['runs']} ({row['done']}) | {pm(row['final'])} | "
+                     f"{pm(row['best'])} | {reach} | {row['env_steps']:,.0f} | "
+                     f"{row['wall_seconds']:.0f} |")
+    return "\n".join(lines) + "\n"
+
+
+def plot(runs: list[RunCurves], metric: str, path: Path) -> None:
+    """Mean curve and +-std band per learner on a common grid of env steps."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    figure, axes = plt.subplots(figsize=(7, 4.2))
+    for learner in sorted({r.learner for r in runs}):
+        curves = [r.scalars[metric] for r in runs if r.learner == learner and metric in r.scalars]
+        if not curves:
+            continue
+        end = max(c[0][-1] for c in curves)
+        grid = np.linspace(0, end, 200)
+        values = np.array([np.interp(grid, c[0], c[1], left=np.nan) for c in curves])
+        mean, std = np.nanmean(values, axis=0), np.nanstd(values, axis=0)
+        (line,) = axes.plot(grid, mean, label=f"{learner} (n={len(curves)})")
+        axes.fill_between(grid, mean - std, mean + std, alpha=0.2, color=line.get_color())
+    axes.set_xlabel("env steps")
+    axes.set_ylabel(metric)
+    axes.grid(alpha=0.3)
+    axes.legend()
+    figure.tight_layout()
+    figure.savefig(path, dpi=120)
+    plt.close(figure)
+
+
+def compare(paths: list[str | Path], metric: str = "eval/return", threshold: float | None = None,
+            report: str | Path | None = None) -> tuple[str, Path | None]:
+    """Compare runs; returns the Markdown and the plot's path (beside ``report`` if given)."""
+    runs = [load_run(folder) for folder in find_runs(paths)]
+    rows = summarise(runs, metric, threshold)
+    envs = sorted({r.env_id for r in runs})
+    text = f"Runs of {', '.join(envs)}; metric `{metric}` (x = env steps).\n\n" + markdown(
+        rows, metric, threshold)
+    image = None
+    if report:
+        report = Path(report)
+        report.parent.mkdir(parents=True, exist_ok=True)
+        image = report.with_suffix(".png")
+        plot(runs, metric, image)
+        report.write_text(text + f"\n![{metric}]({image.name})\n")
+        (report.with_suffix(".json")).write_text(json.dumps(rows, indent=1))
+    return text, image

@@ -1,0 +1,151 @@
+"""Experiment configs: YAML validated against typed schemas (pydantic, unknown keys forbidden).
+
+Top-level keys: ``env`` (``id``, ``kwargs``), ``learner`` (``name``, ``params``), ``budget``
+(``env_steps``), ``seed``, ``eval``, ``logging``. ``--set key.path=value`` overrides any field
+(the value is read as YAML: ``3``, ``0.5``, ``true``, ``[1, 2]``, ``{a: 1}``). A bad config or
+override raises :class:`ConfigError`, whose one-line message names the file, the field path and
+what is wrong.
+"""
+
+from __future__ import annotations
+
+import copy
+from pathlib import Path
+from typing import Any
+
+import yaml
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
+
+
+class ConfigError(ValueError):
+    """A config problem: ``file: field.path: what is wrong``."""
+
+    def __init__(self, source: str, path: str, message: str) -> None:
+        self.source, self.path, self.message = source, path, message
+        super().__init__(f"{source}: {path}: {message}" if path else f"{source}: {message}")
+
+
+class _Strict(BaseModel):
+    model_config = ConfigDict(extra="forbid", validate_assignment=True)
+
+
+class EnvConfig(_Strict):
+    id: str
+    kwargs: dict[str, Any] = Field(default_factory=dict)
+
+    @field_validator("id")
+    @classmethod
+    def _registered(cls, value: str) -> str:
+        import gymnasium as gym
+
+        import envs  # noqa: F401  (registers Animat/*)
+
+        if value not in gym.registry:
+            known = sorted(k for k in gym.registry if k.startswith("Animat/"))
+            raise ValueError(f"unknown env id {value!r}; registered: {', '.join(known)}")
+        return value
+
+
+class LearnerConfig(_Strict):
+    name: str
+    params: dict[str, Any] = Field(default_factory=dict)
+
+    @field_validator("name")
+    @classmethod
+    def _registered(cls, value: str) -> str:
+        from learners.registry import LEARNERS
+
+        if value not in LEARNERS:
+            raise ValueError(f"unknown learner {value!r}; choose one of {sorted(LEARNERS)}")
+        return value
+
+
+class BudgetConfig(_Strict):
+    env_steps: int = Field(gt=0)
+
+
+class EvalConfig(_Strict):
+    """How results are compared: ``metric`` (the headline tag), ``threshold`` (for "env steps
+    to reach it"; optional)."""
+
+    metric: str = "eval/return"
+    threshold: float | None = None
+
+
+class LoggingConfig(_Strict):
+    tensorboard: bool = True
+    csv: bool = True
+    progress: bool = True
+
+
+class ExperimentConfig(_Strict):
+    env: EnvConfig
+    learner: LearnerConfig
+    budget: BudgetConfig
+    seed: int = Field(default=0, ge=0)
+    eval: EvalConfig = Field(default_factory=EvalConfig)
+    logging: LoggingConfig = Field(default_factory=LoggingConfig)
+
+
+def apply_override(data: dict, override: str, source: str) -> None:
+    """Apply ``key.path=value`` to the raw config dict in place."""
+    if "=" not in override:
+        raise ConfigError(source, "", f"override {override!r} must look like key.path=value")
+    path, raw = override.split("=", 1)
+    keys = path.strip().split(".")
+    if not all(keys):
+        raise ConfigError(source, path, f"override {override!r} has an empty key")
+    try:
+        value = yaml.safe_load(raw)
+    except yaml.YAMLError as error:
+        raise ConfigError(source, path, f"cannot read value {raw!r}: {error}") from None
+    node = data
+    for key in keys[:-1]:
+        child = node.get(key)
+        if child is None:
+            child = node[key] = {}
+        if not isinstance(child, dict):
+            raise ConfigError(source, path, f"{key!r} is not a mapping, cannot set {path}")
+        node = child
+    node[keys[-1]] = value
+
+
+def validate(data: Any, source: str) -> ExperimentConfig:
+    """The typed config, or ConfigError naming the first problem."""
+    if not isinstance(data, dict):
+        raise ConfigError(source, "", "the config must be a YAML mapping")
+    try:
+        return ExperimentConfig.model_validate(data)
+    except ValidationError as error:
+        first = error.errors()[0]
+        path = ".".join(str(p) for p in first["loc"])
+        message = first["msg"].removeprefix("Value error, ")
+        if first["type"] == "extra_forbidden":
+            message = "unknown key"
+        elif first["type"] == "missing":
+            message = "required field is missing"
+        raise ConfigError(source, path, message) from None
+
+
+def load_config(path: str | Path, overrides: list[str] | None = None) -> ExperimentConfig:
+    """Read, override and validate a YAML config file."""
+    source = str(path)
+    try:
+        text = Path(path).read_text()
+    except OSError as error:
+        raise ConfigError(source, "", f"cannot read the file: {error.strerror}") from None
+    try:
+        data = yaml.safe_load(text)
+    except yaml.YAMLError as error:
+        raise ConfigError(source, "", f"not valid YAML: {str(error).splitlines()[0]}") from None
+    data = copy.deepcopy(data) if isinstance(data, dict) else data
+    for override in overrides or []:
+        if not isinstance(data, dict):
+            break
+        apply_override(data, override, source)
+    return validate(data, source)
+
+
+def to_yaml(config: ExperimentConfig) -> str:
+    """The resolved config as YAML (what a run folder keeps)."""
+    return yaml.safe_dump(config.model_dump(mode="json"), sort_keys=False)

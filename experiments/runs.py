@@ -1,0 +1,145 @@
+"""Run folders: where one experiment keeps everything.
+
+``runs/<env>/<learner>/seed<k>-<timestamp>/`` (or exactly ``--out DIR``) holds
+``config.yaml`` (resolved), ``command.txt``, ``versions.json``, TensorBoard events in ``tb/``,
+``scalars.csv``, ``checkpoints/`` and ``result.json``, written atomically:
+``{"status": "running"|"done"|"failed", "env_steps", "wall_seconds", "metrics", ...}``
+(``pending`` for a folder a sweep has prepared but not started).
+A run folder is never overwritten. A run that died without saying so (``running`` with a dead
+process) is reported as ``killed``; ``animat run --resume DIR`` continues any unfinished run
+from its last checkpoint.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import shlex
+import socket
+import sys
+import tempfile
+import time
+import traceback
+from importlib import metadata
+from pathlib import Path
+
+from experiments.config import ExperimentConfig, load_config, to_yaml
+from learners.base import LearnResult
+from learners.logger import CsvSink, Logger, TensorBoardSink
+from learners.registry import make_learner
+
+PACKAGES = ("artificial-animals", "numpy", "numba", "gymnasium", "stable-baselines3", "torch",
+            "cma", "tensorboard", "pydantic", "pyyaml", "ray")
+
+
+class RunError(RuntimeError):
+    """A run-folder problem (exists already, nothing to resume, ...)."""
+
+
+def write_json(path: Path, data: dict) -> None:
+    """Write JSON atomically (a reader never sees half a file)."""
+    handle, tmp = tempfile.mkstemp(dir=path.parent, prefix=path.name, suffix=".tmp")
+    with os.fdopen(handle, "w") as file:
+        json.dump(data, file, indent=1, default=str)
+        file.flush()
+        os.fsync(file.fileno())
+    os.replace(tmp, path)
+
+
+def default_run_dir(config: ExperimentConfig, root: Path = Path("runs")) -> Path:
+    env = config.env.id.replace("/", "_")
+    stamp = time.strftime("%Y%m%d-%H%M%S")
+    base = root / env / config.learner.name / f"seed{config.seed}-{stamp}"
+    candidate, k = base, 1
+    while candidate.exists():
+        candidate, k = base.with_name(f"{base.name}-{k}"), k + 1
+    return candidate
+
+
+def versions() -> dict[str, str]:
+    found = {"python": sys.version.split()[0]}
+    for name in PACKAGES:
+        try:
+            found[name] = metadata.version(name)
+        except metadata.PackageNotFoundError:
+            continue
+    return found
+
+
+def create_run(config: ExperimentConfig, out: Path | None, command: list[str]) -> Path:
+    """Make a new run folder (``out`` exactly, or the default under ``runs/``)."""
+    folder = Path(out) if out else default_run_dir(config)
+    if folder.exists() and any(folder.iterdir()):
+        raise RunError(f"{folder}: exists and is not empty; a run folder is never overwritten")
+    folder.mkdir(parents=True, exist_ok=True)
+    (folder / "config.yaml").write_text(to_yaml(config))
+    (folder / "command.txt").write_text(shlex.join(command) + "\n")
+    write_json(folder / "versions.json", versions())
+    write_json(folder / "result.json", _status("pending", folder))
+    return folder
+
+
+def _status(status: str, folder: Path, result: LearnResult | None = None, **extra) -> dict:
+    data = {"status": status, "env_steps": 0, "wall_seconds": 0.0, "metrics": {},
+            "pid": os.getpid(), "host": socket.gethostname(), "updated": time.time(), **extra}
+    if result is not None:
+        data.update(env_steps=int(result.env_steps), wall_seconds=float(result.wall_seconds),
+                    metrics={k: float(v) for k, v in result.metrics.items()})
+    return data
+
+
+def read_status(folder: Path) -> dict:
+    """result.json, with ``status`` "killed" for a run whose process is gone."""
+    path = Path(folder) / "result.json"
+    if not path.exists():
+        raise RunError(f"{folder}: no result.json: not a run folder")
+    data = json.loads(path.read_text())
+    if data.get("status") == "running" and data.get("host") == socket.gethostname():
+        try:
+            os.kill(int(data.get("pid", -1)), 0)
+        except (ProcessLookupError, ValueError):
+            data["status"] = "killed"
+        except PermissionError:
+            pass
+    return data
+
+
+def execute(folder: Path, progress=None) -> dict:
+    """Run (or continue) the experiment of a run folder; returns the final result.json."""
+    folder = Path(folder)
+    config = load_config(folder / "config.yaml")
+    write_json(folder / "result.json", _status("running", folder))
+    sinks = []
+    if config.logging.tensorboard:
+        sinks.append(TensorBoardSink(folder / "tb"))
+    if config.logging.csv:
+        sinks.append(CsvSink(folder / "scalars.csv"))
+    if progress is not None:
+        sinks.append(progress)
+    logger = Logger(sinks)
+    try:
+        learner = make_learner(config.learner.name, config.env.id, config.env.kwargs,
+                               config.learner.params, config.seed, logger)
+        result = learner.learn(config.budget.env_steps, folder / "checkpoints")
+    except BaseException as error:
+        write_json(folder / "result.json", _status(
+            "failed", folder, error=f"{type(error).__name__}: {error}",
+            traceback=traceback.format_exc()))
+        raise
+    finally:
+        logger.close()
+    artefacts = {k: v for k, v in result.artefacts.items()}
+    write_json(folder / "artefacts.json", artefacts)
+    final = _status("done", folder, result)
+    write_json(folder / "result.json", final)
+    return final
+
+
+def resume(folder: Path, progress=None) -> dict:
+    """Continue an unfinished run from its last checkpoint."""
+    status = read_status(folder)
+    if status["status"] == "done":
+        raise RunError(f"{folder}: the run is done; nothing to resume")
+    if status["status"] == "running":
+        raise RunError(f"{folder}: the run is still running (pid {status.get('pid')})")
+    return execute(folder, progress)

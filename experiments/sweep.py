@@ -1,0 +1,87 @@
+"""``animat sweep``: one run folder per seed, executed locally (one after the other, or
+``--jobs N`` processes at once) or as Ray tasks (one CPU each) on an existing Ray cluster
+(``--address``) or a local one."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from concurrent.futures import ThreadPoolExecutor
+from pathlib import Path
+
+from experiments.config import ExperimentConfig
+from experiments.runs import create_run, default_run_dir, execute, read_status
+
+
+def parse_seeds(text: str) -> list[int]:
+    """``0-4`` -> [0, 1, 2, 3, 4]; ``1,3,5`` -> [1, 3, 5]; ``7`` -> [7]."""
+    seeds: list[int] = []
+    try:
+        for part in text.split(","):
+            if "-" in part:
+                low, high = (int(v) for v in part.split("-", 1))
+                if high < low:
+                    raise ValueError
+                seeds.extend(range(low, high + 1))
+            else:
+                seeds.append(int(part))
+    except ValueError:
+        raise ValueError(f"--seeds {text!r}: use a range like 0-4 or a list like 1,3,5") from None
+    if any(s < 0 for s in seeds):
+        raise ValueError(f"--seeds {text!r}: seeds must be >= 0")
+    return sorted(set(seeds))
+
+
+def prepare(config: ExperimentConfig, seeds: list[int], parent: Path | None,
+            command: list[str]) -> list[Path]:
+    """A new run folder per seed (under ``parent`` when given, else under ``runs/``)."""
+    folders = []
+    for seed in seeds:
+        seeded = config.model_copy(update={"seed": seed})
+        folder = default_run_dir(seeded, Path(parent) if parent else Path("runs"))
+        folders.append(create_run(seeded, folder, command))
+    return folders
+
+
+def run_local(folders: list[Path], jobs: int = 1) -> list[dict]:
+    """Execute the folders here: in this process (jobs = 1) or as ``jobs`` subprocesses."""
+    if jobs <= 1:
+        return [execute(folder) for folder in folders]
+
+    def one(folder: Path) -> dict:
+        subprocess.run([sys.executable, "-m", "experiments", "run", "--resume", str(folder),
+                        "--quiet"], check=False, stdout=subprocess.DEVNULL)
+        return read_status(folder)
+
+    with ThreadPoolExecutor(max_workers=jobs) as pool:
+        return list(pool.map(one, folders))
+
+
+def run_ray(folders: list[Path], address: str | None = None, num_cpus: int | None = None
+            ) -> list[dict]:
+    """Execute each folder as a Ray task with one CPU; the results land in the same folders
+    (the cluster's workers must see the folders: a local cluster, or a shared file system)."""
+    try:
+        import ray
+    except ImportError:
+        raise RuntimeError("the ray executor needs Ray: pip install 'artificial-animals[ray]'"
+                           ) from None
+    started = not ray.is_initialized()
+    if started:
+        ray.init(address=address, num_cpus=None if address else num_cpus,
+                 include_dashboard=False, log_to_driver=False)
+
+    @ray.remote(num_cpus=1)
+    def run_one(folder: str) -> dict:
+        from experiments.runs import execute as run_folder
+
+        try:
+            return run_folder(Path(folder))
+        except Exception:  # the failure is recorded in the folder's result.json
+            return read_status(Path(folder))
+
+    try:
+        return ray.get([run_one.remote(str(folder.resolve())) for folder in folders])
+    finally:
+        if started:
+            ray.shutdown()

@@ -1,0 +1,162 @@
+"""The launcher end to end: run, resume after SIGKILL, sweep, compare, bad configs."""
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+import yaml
+
+from experiments.config import ConfigError, load_config
+
+ROOT = Path(__file__).resolve().parents[2]
+TINY = {
+    "env": {"id": "Animat/FishSwim-v0", "kwargs": {"duration": 0.5}},
+    "learner": {"name": "annealing", "params": {"chains": 8, "nodes": 4, "period": 0.5}},
+    "budget": {"env_steps": 800},
+    "seed": 0,
+    "eval": {"metric": "eval/speed_bl_per_s"},
+}
+
+
+def animat(*args, cwd=None, check=True):
+    result = subprocess.run([sys.executable, "-m", "experiments", *map(str, args)],
+                            capture_output=True, text=True, cwd=cwd or ROOT, timeout=600)
+    if check and result.returncode != 0:
+        raise AssertionError(f"animat {args} failed:\n{result.stdout}\n{result.stderr}")
+    return result
+
+
+def write_config(path, data):
+    path.write_text(yaml.safe_dump(data))
+    return path
+
+
+def test_run_end_to_end_fills_the_run_folder(tmp_path):
+    config = write_config(tmp_path / "tiny.yaml", TINY)
+    animat("run", config, "--out", tmp_path / "run", "--set", "seed=2")
+    folder = tmp_path / "run"
+    for name in ("config.yaml", "command.txt", "versions.json", "scalars.csv", "result.json",
+                 "artefacts.json"):
+        assert (folder / name).exists(), name
+    assert list((folder / "tb").glob("events.out.tfevents.*"))
+    result = json.loads((folder / "result.json").read_text())
+    assert result["status"] == "done" and 0 < result["env_steps"] <= 800
+    assert set(result["metrics"]) == {"eval/return", "eval/speed_bl_per_s"}
+    assert yaml.safe_load((folder / "config.yaml").read_text())["seed"] == 2
+    assert "--set seed=2" in (folder / "command.txt").read_text()
+    again = animat("run", config, "--out", folder, check=False)
+    assert again.returncode == 2 and "never overwritten" in again.stderr
+
+
+def test_compare_two_learners_writes_table_and_plot(tmp_path):
+    config = write_config(tmp_path / "tiny.yaml", TINY)
+    animat("run", config, "--out", tmp_path / "runs" / "a")
+    animat("run", config, "--out", tmp_path / "runs" / "b", "--set", "learner.name=cmaes",
+           "--set", "learner.params={popsize: 8, nodes: 4, period: 0.5}")
+    report = tmp_path / "report" / "swim.md"
+    animat("compare", tmp_path / "runs", "--metric", "eval/speed_bl_per_s", "--threshold",
+           "0.0", "-o", report)
+    text = report.read_text()
+    assert "| annealing |" in text and "| cmaes |" in text
+    png = report.with_suffix(".png")
+    assert png.exists() and png.stat().st_size > 5000
+    rows = json.loads(report.with_suffix(".json").read_text())
+    assert {row["learner"] for row in rows} == {"annealing", "cmaes"}
+
+
+@pytest.mark.parametrize("change, message", [
+    (lambda d: d.update(extra_key=1), "extra_key: unknown key"),
+    (lambda d: d["budget"].update(env_steps="many"), "budget.env_steps:"),
+    (lambda d: d.pop("learner"), "learner: required field is missing"),
+    (lambda d: d["env"].update(id="Animat/Nope-v0"), "env.id: unknown env id"),
+    (lambda d: d["learner"].update(name="sgd"), "learner.name: unknown learner 'sgd'"),
+])
+def test_malformed_configs_fail_in_one_line(tmp_path, change, message):
+    data = json.loads(json.dumps(TINY))
+    change(data)
+    config = write_config(tmp_path / "bad.yaml", data)
+    result = animat("run", config, "--out", tmp_path / "run", check=False)
+    assert result.returncode == 2
+    lines = result.stderr.strip().splitlines()
+    assert len(lines) == 1 and str(config) in lines[0] and message in lines[0], result.stderr
+    assert not (tmp_path / "run").exists()  # failed before any work
+
+
+def test_bad_override_fails_in_one_line(tmp_path):
+    config = write_config(tmp_path / "tiny.yaml", TINY)
+    for override, message in [("seed", "must look like key.path=value"),
+                              ("seed=-1", "seed:"), ("budget.env_steps.x=3", "not a mapping")]:
+        result = animat("run", config, "--set", override, check=False)
+        assert result.returncode == 2 and message in result.stderr
+        assert len(result.stderr.strip().splitlines()) == 1 and "Traceback" not in result.stderr
+
+
+def test_every_shipped_config_takes_seed_and_budget_overrides():
+    configs = sorted((ROOT / "configs").glob("*.yaml"))
+    assert {c.name for c in configs} >= {
+        "quickstart.yaml", "fish_swim_annealing.yaml", "fish_swim_cmaes.yaml",
+        "fish_swim_ppo.yaml", "fish_swim_handmc.yaml", "fish_basic_training.yaml",
+        "fish_reach_macro.yaml"}
+    for path in configs:
+        config = load_config(path, ["seed=3", "budget.env_steps=20000"])
+        assert config.seed == 3 and config.budget.env_steps == 20000
+
+
+def test_config_error_names_file_and_path(tmp_path):
+    with pytest.raises(ConfigError, match=r"nope.yaml: cannot read the file"):
+        load_config(tmp_path / "nope.yaml")
+
+
+def test_sigkilled_run_resumes_to_the_uninterrupted_result(tmp_path):
+    data = json.loads(json.dumps(TINY))
+    data["budget"]["env_steps"] = 24000
+    data["learner"]["params"]["checkpoint_every"] = 1
+    config = write_config(tmp_path / "long.yaml", data)
+    animat("run", config, "--out", tmp_path / "whole")
+    folder = tmp_path / "killed"
+    process = subprocess.Popen([sys.executable, "-m", "experiments", "run", str(config),
+                                "--out", str(folder)], cwd=ROOT, stdout=subprocess.DEVNULL,
+                               stderr=subprocess.DEVNULL)
+    checkpoint = folder / "checkpoints" / "checkpoint.pkl"
+    deadline = time.time() + 300
+    while time.time() < deadline and process.poll() is None:
+        if checkpoint.exists() and len((folder / "scalars.csv").read_text().splitlines()) > 30:
+            break
+        time.sleep(0.05)
+    assert process.poll() is None, "the run ended before it could be killed"
+    os.kill(process.pid, signal.SIGKILL)
+    process.wait()
+    status = animat("compare", folder, check=False)  # readable while unfinished
+    assert status.returncode == 0
+    animat("run", "--resume", folder)
+    whole = json.loads((tmp_path / "whole" / "result.json").read_text())
+    resumed = json.loads((folder / "result.json").read_text())
+    assert resumed["status"] == "done"
+    assert resumed["env_steps"] == whole["env_steps"]
+    assert resumed["metrics"] == whole["metrics"]  # bit for bit
+    whole_art = json.loads((tmp_path / "whole" / "artefacts.json").read_text())
+    resumed_art = json.loads((folder / "artefacts.json").read_text())
+    assert resumed_art["controller"] == whole_art["controller"]
+
+
+def test_resume_refuses_a_finished_run(tmp_path):
+    config = write_config(tmp_path / "tiny.yaml", TINY)
+    animat("run", config, "--out", tmp_path / "run")
+    result = animat("run", "--resume", tmp_path / "run", check=False)
+    assert result.returncode == 2 and "nothing to resume" in result.stderr
+
+
+def test_local_sweep_one_folder_per_seed(tmp_path):
+    config = write_config(tmp_path / "tiny.yaml", TINY)
+    animat("sweep", config, "--seeds", "0-2", "--jobs", "2", "--out", tmp_path / "sweep")
+    results = sorted((tmp_path / "sweep").rglob("result.json"))
+    assert len(results) == 3
+    seeds = sorted(yaml.safe_load((r.parent / "config.yaml").read_text())["seed"]
+                   for r in results)
+    assert seeds == [0, 1, 2]
+    assert all(json.loads(r.read_text())["status"] == "done" for r in results)
