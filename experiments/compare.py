@@ -127,8 +127,15 @@ def plot(runs: list[RunCurves], metric: str, path: Path) -> None:
         if not curves:
             continue
         end = max(c[0][-1] for c in curves)
+        if all(len(c[0]) == 1 for c in curves):  # a learner that learns nothing: a level line
+            values = [c[1][0] for c in curves]
+            axes.axhline(np.mean(values), linestyle="--", color="0.3",
+                         label=f"{learner} (n={len(curves)})")
+            continue
         grid = np.linspace(0, end, 200)
         values = np.array([np.interp(grid, c[0], c[1], left=np.nan) for c in curves])
+        logged = np.isfinite(values).any(axis=0)  # before a run's first point: no value
+        grid, values = grid[logged], values[:, logged]
         mean, std = np.nanmean(values, axis=0), np.nanstd(values, axis=0)
         (line,) = axes.plot(grid, mean, label=f"{learner} (n={len(curves)})")
         axes.fill_between(grid, mean - std, mean + std, alpha=0.2, color=line.get_color())

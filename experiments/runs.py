@@ -43,6 +43,7 @@ def write_json(path: Path, data: dict) -> None:
         json.dump(data, file, indent=1, default=str)
         file.flush()
         os.fsync(file.fileno())
+    os.chmod(tmp, 0o644)
     os.replace(tmp, path)
 
 

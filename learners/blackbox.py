@@ -180,6 +180,12 @@ class BlackBoxLearner(Learner):
 
         chosen, report = most_compact(tent, score, samples=samples)
         artefacts["abstraction"], artefacts["abstraction_report"] = chosen.to_dict(), report
+        action = PeriodicPlayer(chosen, self.period).actions(evaluator.dt, evaluator.steps)
+        returns, metrics = evaluator.evaluate(action[None])
+        artefacts["abstraction_metrics"] = {
+            "eval/return": float(returns[0]), **{f"eval/{k}": float(v[0]) for k, v in
+                                                metrics.items()},
+            "parameters": chosen.num_parameters, "coefficients": chosen.num_coefficients}
         return artefacts
 
 

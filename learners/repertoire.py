@@ -84,6 +84,7 @@ class Repertoire:
         handle, tmp = tempfile.mkstemp(dir=path.parent, suffix=".tmp")
         with os.fdopen(handle, "w") as file:
             json.dump(data, file, indent=1)
+        os.chmod(tmp, 0o644)
         os.replace(tmp, path)
 
     @classmethod

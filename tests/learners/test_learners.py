@@ -102,3 +102,12 @@ def test_annealing_accepts_downhill_and_cools():
     np.testing.assert_array_equal(told.x, proposals)
     assert told.best_energy == 0.0 and told.temperature == pytest.approx(
         0.5 * params.initial_temperature)
+
+
+def test_ppo_resumes_from_its_checkpoint(tmp_path):
+    params, _ = TINY["ppo"]
+    params = {**params, "checkpoint_every": 64}
+    first = make_learner("ppo", ENV, TINY_ENV, params, seed=0).learn(128, tmp_path)
+    assert (tmp_path / "model.zip").exists() and first.env_steps == 128
+    resumed = make_learner("ppo", ENV, TINY_ENV, params, seed=0).learn(256, tmp_path)
+    assert resumed.env_steps == 256  # continued from 128, not from 0
