@@ -94,7 +94,7 @@ def cmd_sweep(args) -> int:
     if args.executor == "ray":
         results = run_ray(folders, args.address)
     else:
-        results = run_local(folders, args.jobs)
+        results = run_local(folders, args.jobs, progress=lambda folder: _progress(args, config))
     for folder, result in zip(folders, results):
         print(f"{folder}: {result['status']} {json.dumps(result.get('metrics', {}))}")
     return 0 if all(r["status"] == "done" for r in results) else 1

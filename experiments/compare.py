@@ -114,14 +114,16 @@ def markdown(rows: list[dict], metric: str, threshold: float | None) -> str:
     return "\n".join(lines) + "\n"
 
 
-def plot(runs: list[RunCurves], metric: str, path: Path) -> None:
-    """Mean curve and +-std band per learner on a common grid of env steps."""
+def plot(runs: list[RunCurves], metric: str, path: Path) -> list[str]:
+    """Mean curve and +-std band per learner on a common grid of env steps; returns the
+    learners drawn."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     figure, axes = plt.subplots(figsize=(7, 4.2))
+    drawn = []
     for learner in sorted({r.learner for r in runs}):
         curves = [r.scalars[metric] for r in runs if r.learner == learner and metric in r.scalars]
         if not curves:
@@ -131,6 +133,7 @@ def plot(runs: list[RunCurves], metric: str, path: Path) -> None:
             values = [c[1][0] for c in curves]
             axes.axhline(np.mean(values), linestyle="--", color="0.3",
                          label=f"{learner} (n={len(curves)})")
+            drawn.append(learner)
             continue
         grid = np.linspace(0, end, 200)
         values = np.array([np.interp(grid, c[0], c[1], left=np.nan) for c in curves])
@@ -139,6 +142,7 @@ def plot(runs: list[RunCurves], metric: str, path: Path) -> None:
         mean, std = np.nanmean(values, axis=0), np.nanstd(values, axis=0)
         (line,) = axes.plot(grid, mean, label=f"{learner} (n={len(curves)})")
         axes.fill_between(grid, mean - std, mean + std, alpha=0.2, color=line.get_color())
+        drawn.append(learner)
     axes.set_xlabel("env steps")
     axes.set_ylabel(metric)
     axes.grid(alpha=0.3)
@@ -146,6 +150,7 @@ def plot(runs: list[RunCurves], metric: str, path: Path) -> None:
     figure.tight_layout()
     figure.savefig(path, dpi=120)
     plt.close(figure)
+    return drawn
 
 
 def compare(paths: list[str | Path], metric: str = "eval/return", threshold: float | None = None,
@@ -161,7 +166,8 @@ def compare(paths: list[str | Path], metric: str = "eval/return", threshold: flo
         report = Path(report)
         report.parent.mkdir(parents=True, exist_ok=True)
         image = report.with_suffix(".png")
-        plot(runs, metric, image)
+        drawn = plot(runs, metric, image)
         report.write_text(text + f"\n![{metric}]({image.name})\n")
-        (report.with_suffix(".json")).write_text(json.dumps(rows, indent=1))
+        (report.with_suffix(".json")).write_text(json.dumps({"rows": rows, "plotted": drawn},
+                                                            indent=1))
     return text, image

@@ -43,10 +43,11 @@ def prepare(config: ExperimentConfig, seeds: list[int], parent: Path | None,
     return folders
 
 
-def run_local(folders: list[Path], jobs: int = 1) -> list[dict]:
-    """Execute the folders here: in this process (jobs = 1) or as ``jobs`` subprocesses."""
+def run_local(folders: list[Path], jobs: int = 1, progress=None) -> list[dict]:
+    """Execute the folders here: in this process (jobs = 1; ``progress(folder)`` may give each
+    run a progress sink) or as ``jobs`` subprocesses."""
     if jobs <= 1:
-        return [execute(folder) for folder in folders]
+        return [execute(folder, progress(folder) if progress else None) for folder in folders]
 
     def one(folder: Path) -> dict:
         subprocess.run([sys.executable, "-m", "experiments", "run", "--resume", str(folder),

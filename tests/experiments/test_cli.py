@@ -65,8 +65,9 @@ def test_compare_two_learners_writes_table_and_plot(tmp_path):
     assert "| annealing |" in text and "| cmaes |" in text
     png = report.with_suffix(".png")
     assert png.exists() and png.stat().st_size > 5000
-    rows = json.loads(report.with_suffix(".json").read_text())
-    assert {row["learner"] for row in rows} == {"annealing", "cmaes"}
+    summary = json.loads(report.with_suffix(".json").read_text())
+    assert {row["learner"] for row in summary["rows"]} == {"annealing", "cmaes"}
+    assert summary["plotted"] == ["annealing", "cmaes"]  # both curves are in the plot
 
 
 @pytest.mark.parametrize("change, message", [
