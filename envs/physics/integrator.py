@@ -48,53 +48,74 @@ def chebyshev_weight(iteration: int, omega: float, rho: float) -> float:
 def apply_inverse(inverse, rhs, out) -> None:
     """out (N, W) = inverse (N, N) @ rhs (N, W), each sum taken in the order k = 0 .. N-1.
 
-    Two loop orders with the same arithmetic (no fast-math, so no reassociation): for narrow
-    batches the sum over k is innermost, for wide ones the W columns are (SIMD)."""
+    Every loop order below does the same arithmetic (no fast-math, so no reassociation): for a
+    single body (W = 3) two rows at a time with six independent running sums, so the sums'
+    latencies overlap; for wide batches the W columns run in SIMD."""
     n, width = rhs.shape
-    if width < 8:
-        for i in range(n):
-            for m in range(width):
-                acc = 0.0
-                for k in range(n):
-                    acc += inverse[i, k] * rhs[k, m]
-                out[i, m] = acc
-    else:
-        out[:] = 0.0
-        for i in range(n):
+    if width == 3:
+        for i in range(0, n - 1, 2):
+            a0 = a1 = a2 = b0 = b1 = b2 = 0.0
             for k in range(n):
-                weight = inverse[i, k]
-                for m in range(width):
-                    out[i, m] += weight * rhs[k, m]
+                p, q = inverse[i, k], inverse[i + 1, k]
+                r0, r1, r2 = rhs[k, 0], rhs[k, 1], rhs[k, 2]
+                a0 += p * r0
+                a1 += p * r1
+                a2 += p * r2
+                b0 += q * r0
+                b1 += q * r1
+                b2 += q * r2
+            out[i, 0], out[i, 1], out[i, 2] = a0, a1, a2
+            out[i + 1, 0], out[i + 1, 1], out[i + 1, 2] = b0, b1, b2
+        if n % 2:
+            a0 = a1 = a2 = 0.0
+            for k in range(n):
+                p = inverse[n - 1, k]
+                a0 += p * rhs[k, 0]
+                a1 += p * rhs[k, 1]
+                a2 += p * rhs[k, 2]
+            out[n - 1, 0], out[n - 1, 1], out[n - 1, 2] = a0, a1, a2
+        return
+    out[:] = 0.0
+    for i in range(n):
+        for k in range(n):
+            weight = inverse[i, k]
+            for m in range(width):
+                out[i, m] += weight * rhs[k, m]
 
 
 FAST = {"cache": True, "fastmath": {"contract"}, "error_model": "numpy"}
 
 
 @njit(**FAST)
+def workspace(n: int, n_el: int, lanes: int):
+    """Scratch arrays for :func:`implicit_step` (allocated once per chunk, reused every step)."""
+    return (np.empty((n, 3, lanes)), np.empty((n, 3, lanes)), np.empty((3, n_el, lanes)),
+            np.empty((3, n_el, lanes)), np.empty((n_el, lanes)), np.empty((n_el, lanes)),
+            np.empty((3, n_el, lanes)), np.empty((3, n_el, lanes)), np.empty((n, 3, lanes)),
+            np.empty((n, 3, lanes)), np.empty((n, 3 * lanes)))
+
+
+@njit(**FAST)
 def implicit_step(x, v, f_ext, masses, elements, stiffness, damping, rest, inverse_matrix, dt,
-                  iterations, rho):
+                  iterations, rho, work):
     """One implicit-Euler step of a chunk of L bodies, in place.
 
     x, v, f_ext: (N, 3, L) positions (m), velocities (m/s), external forces (N) in lane layout
     (bodies innermost, so the loops run over bodies in SIMD and each body's arithmetic is the
-    same whatever L is); rest: (E, L) element rest lengths, m. Element quantities are kept
-    component-first, (3, E, L), so the per-element arithmetic is one flat loop over E * L.
+    same whatever L is); rest: (E, L) element rest lengths, m; ``work``: :func:`workspace`.
+    Element quantities are kept component-first, (3, E, L), so the per-element arithmetic is one
+    flat loop over E * L.
     """
     n, n_el, lanes = x.shape[0], elements.shape[0], x.shape[2]
     h2 = dt * dt
-    inertial = np.empty((n, 3, lanes))
-    xk = np.empty((n, 3, lanes))
+    inertial, xk, r0, direction, spring_rest, damper, r, w, rhs, x_before, x_hat = work
     for i in range(n):
         for a in range(3):
             for b in range(lanes):
                 y = x[i, a, b] + dt * v[i, a, b] + h2 * f_ext[i, a, b] / masses[i]
                 xk[i, a, b] = y
                 inertial[i, a, b] = y * masses[i] / h2
-    r0 = np.empty((3, n_el, lanes))
     element_vectors(x, elements, r0)
-    direction = np.empty((3, n_el, lanes))
-    spring_rest = np.empty((n_el, lanes))
-    damper = np.empty((n_el, lanes))
     for e in range(n_el):
         for b in range(lanes):
             norm = np.sqrt(r0[0, e, b] ** 2 + r0[1, e, b] ** 2 + r0[2, e, b] ** 2)
@@ -102,16 +123,12 @@ def implicit_step(x, v, f_ext, masses, elements, stiffness, damping, rest, inver
                 direction[a, e, b] = r0[a, e, b] / norm
             spring_rest[e, b] = stiffness[e] * rest[e, b]
             damper[e, b] = damping[e] / dt
-    r = np.empty((3, n_el, lanes))
-    w = np.empty((3, n_el, lanes))
-    rhs = np.empty((n, 3, lanes))
-    x_before = xk.copy()
+    x_before[:] = xk
     # Flat (N, 3L) views: the dense solve and the updates run over 3L contiguous numbers.
     width = 3 * lanes
     flat_rhs, flat_xk, flat_before = (rhs.reshape(n, width), xk.reshape(n, width),
                                       x_before.reshape(n, width))
     flat_inertial = inertial.reshape(n, width)
-    x_hat = np.empty((n, width))
     omega = 1.0
     for it in range(iterations):
         element_vectors(xk, elements, r)
@@ -221,10 +238,13 @@ def step_chunk(x, v, u_start, u_end, fin_angles, substeps, masses, volumes, elem
     f, frame = np.empty((n, 3)), np.empty((3, 3))
     rest = np.empty((rest_lengths.shape[0], lanes))
     rest_one = np.empty_like(rest_lengths)
+    activation = np.empty(u_start.shape[1])
+    work = workspace(n, elements.shape[0], lanes)
     for s in range(substeps):
         ramp = (s + 1.0) / substeps
         for b in range(lanes):
-            activation = u_start[b] + ramp * (u_end[b] - u_start[b])
+            for k in range(activation.shape[0]):
+                activation[k] = u_start[b, k] + ramp * (u_end[b, k] - u_start[b, k])
             muscle_rest_lengths(rest_lengths, actuator, max_contraction, activation, rest_one)
             rest[:, b] = rest_one
             external_forces_into(x[b], v[b], fin_angles[b], masses, volumes, faces,
@@ -235,7 +255,7 @@ def step_chunk(x, v, u_start, u_end, fin_angles, substeps, masses, volumes, elem
                 for a in range(3):
                     xl[i, a, b], vl[i, a, b], fl[i, a, b] = x[b, i, a], v[b, i, a], f[i, a]
         implicit_step(xl, vl, fl, masses, elements, stiffness, damping, rest, inverse_matrix,
-                      dt, iterations, rho)
+                      dt, iterations, rho, work)
         for b in range(lanes):
             for i in range(n):
                 for a in range(3):

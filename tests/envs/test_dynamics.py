@@ -5,7 +5,7 @@ import dataclasses
 import numpy as np
 
 from envs.fish import fish_body
-from envs.physics.integrator import implicit_step, step_batch
+from envs.physics.integrator import implicit_step, step_batch, workspace
 from envs.physics.observe import body_state
 from envs.physics.system import System, Water
 
@@ -28,7 +28,8 @@ def test_spring_at_rest_length_exerts_no_force():
     v = np.zeros_like(lanes)
     implicit_step(lanes, v, np.zeros_like(lanes), body.masses, body.elements, body.stiffness,
                   body.damping, body.rest_lengths[:, None].copy(), system.inverse_matrix,
-                  system.dt, system.iterations, system.chebyshev_rho)
+                  system.dt, system.iterations, system.chebyshev_rho,
+                  workspace(body.num_nodes, body.num_elements, 1))
     np.testing.assert_allclose(lanes[:, :, 0], body.rest_positions, atol=1e-12)
     np.testing.assert_allclose(v, 0.0, atol=1e-10)
 
