@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from learners.controller import TentController
+from learners.controller import TentController, play
 
 
 @dataclass(frozen=True)
@@ -57,8 +57,7 @@ class AbstractController:
 
     def actions(self, dt: float, steps: int, t0: float = 0.0) -> np.ndarray:
         """(steps, N) float32 env actions a_k = 2 u(t0 + (k + 1) dt) - 1, any number of steps."""
-        t = t0 + dt * np.arange(1, steps + 1)
-        return (2.0 * self(t) - 1.0).astype(np.float32)
+        return play(self, dt, steps, t0)
 
     def to_dict(self) -> dict:
         """JSON-ready description (lists of floats and ints)."""

@@ -20,7 +20,7 @@ import numpy as np
 from learners import annealing, cmaes
 from learners.abstraction import abstract, most_compact
 from learners.base import Learner, LearnResult, load_checkpoint, save_checkpoint, unknown_params
-from learners.controller import TentController
+from learners.controller import TentController, play
 from learners.rollout import BatchEvaluator
 
 NUM_ACTUATORS = 6
@@ -48,8 +48,7 @@ class PeriodicPlayer:
         return self.controller(np.mod(t, self.period) if self.period else t)
 
     def actions(self, dt: float, steps: int) -> np.ndarray:
-        t = dt * np.arange(1, steps + 1)
-        return (2.0 * np.clip(self(t), 0.0, 1.0) - 1.0).astype(np.float32)
+        return play(self, dt, steps)
 
 
 class BlackBoxLearner(Learner):

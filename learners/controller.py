@@ -14,6 +14,14 @@ from dataclasses import dataclass
 import numpy as np
 
 
+def play(actuation, dt: float, steps: int, t0: float = 0.0) -> np.ndarray:
+    """The env actions (steps, N) float32 that play ``actuation(t) -> u (..., N)``: the env step
+    k ends at t0 + (k + 1) dt, where the activation must be u, so a_k = 2 u - 1 (u clipped to
+    [0, 1])."""
+    t = t0 + dt * np.arange(1, steps + 1)
+    return (2.0 * np.clip(actuation(t), 0.0, 1.0) - 1.0).astype(np.float32)
+
+
 @dataclass(frozen=True)
 class TentController:
     """Nodal values ``nodes`` (N, M) in [0, 1] on [t0, t1] s (M >= 2)."""
@@ -77,8 +85,7 @@ class TentController:
 
     def actions(self, dt: float, steps: int) -> np.ndarray:
         """(steps, N) float32 env actions: a_k = 2 u(t0 + (k + 1) dt) - 1."""
-        t = self.t0 + dt * np.arange(1, steps + 1)
-        return (2.0 * np.clip(self(t), 0.0, 1.0) - 1.0).astype(np.float32)
+        return play(self, dt, steps, self.t0)
 
     @classmethod
     def from_vector(cls, vector: np.ndarray, num_actuators: int, t0: float, t1: float

@@ -10,6 +10,7 @@ import numpy as np
 
 from envs.motor import swim_mc, turn_mc
 from learners.base import Learner, LearnResult, unknown_params
+from learners.controller import play
 from learners.rollout import BatchEvaluator
 
 
@@ -40,9 +41,7 @@ class HandMCLearner(Learner):
         if budget_env_steps < evaluator.steps:
             raise ValueError(f"budget too small: one episode needs {evaluator.steps} env steps")
         self.log_hparams()
-        actuation = self._actuation(evaluator)
-        t = evaluator.dt * np.arange(1, evaluator.steps + 1)
-        actions = (2.0 * actuation(t) - 1.0).astype(np.float32)[None]
+        actions = play(self._actuation(evaluator), evaluator.dt, evaluator.steps)[None]
         returns, metrics = evaluator.evaluate(actions)
         result = {"eval/return": float(returns[0]),
                   **{f"eval/{k}": float(v[0]) for k, v in metrics.items()}}

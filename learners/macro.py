@@ -15,6 +15,7 @@ import numpy as np
 from learners import annealing
 from learners.blackbox import BlackBoxLearner
 from learners.concatenation import concatenate
+from learners.controller import play
 from learners.repertoire import Repertoire
 
 MACRO_KEYS = {"repertoire", "slots", "min_duration", "max_duration", "skills", "overlap",
@@ -41,8 +42,7 @@ class MacroSequence:
         return np.where((t < self.duration)[..., None], self._blended(t), 0.0)
 
     def actions(self, dt: float, steps: int) -> np.ndarray:
-        t = dt * np.arange(1, steps + 1)
-        return (2.0 * np.clip(self(t), 0.0, 1.0) - 1.0).astype(np.float32)
+        return play(self, dt, steps)
 
 
 class MacroLearner(BlackBoxLearner):
