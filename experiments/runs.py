@@ -17,14 +17,13 @@ import os
 import shlex
 import socket
 import sys
-import tempfile
 import time
 import traceback
 from importlib import metadata
 from pathlib import Path
 
 from experiments.config import ExperimentConfig, load_config, to_yaml
-from learners.base import LearnResult
+from learners.base import LearnResult, atomic_write
 from learners.logger import CsvSink, Logger, TensorBoardSink
 from learners.registry import make_learner
 
@@ -38,13 +37,7 @@ class RunError(RuntimeError):
 
 def write_json(path: Path, data: dict) -> None:
     """Write JSON atomically (a reader never sees half a file)."""
-    handle, tmp = tempfile.mkstemp(dir=path.parent, prefix=path.name, suffix=".tmp")
-    with os.fdopen(handle, "w") as file:
-        json.dump(data, file, indent=1, default=str)
-        file.flush()
-        os.fsync(file.fileno())
-    os.chmod(tmp, 0o644)
-    os.replace(tmp, path)
+    atomic_write(path, lambda file: json.dump(data, file, indent=1, default=str))
 
 
 def default_run_dir(config: ExperimentConfig, root: Path = Path("runs")) -> Path:

@@ -65,16 +65,23 @@ class Learner(ABC):
                                                indent=1, default=str))
 
 
-def save_checkpoint(path: str | Path, payload: Any) -> None:
-    """Pickle ``payload`` to ``path`` atomically (a crash never leaves half a checkpoint)."""
+def atomic_write(path: str | Path, write, binary: bool = False) -> None:
+    """Write a file atomically: ``write(file)`` fills a temporary file beside ``path``, which
+    then replaces it, so a reader (or a crash) never sees half a file."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     handle, tmp = tempfile.mkstemp(dir=path.parent, prefix=path.name, suffix=".tmp")
-    with os.fdopen(handle, "wb") as file:
-        pickle.dump(payload, file)
+    with os.fdopen(handle, "wb" if binary else "w") as file:
+        write(file)
         file.flush()
         os.fsync(file.fileno())
+    os.chmod(tmp, 0o644)
     os.replace(tmp, path)
+
+
+def save_checkpoint(path: str | Path, payload: Any) -> None:
+    """Pickle ``payload`` to ``path`` atomically (a crash never leaves half a checkpoint)."""
+    atomic_write(path, lambda file: pickle.dump(payload, file), binary=True)
 
 
 def load_checkpoint(path: str | Path) -> Any | None:

@@ -10,8 +10,6 @@ objective, duration, parameter counts, metrics) beside the Fourier coefficients.
 from __future__ import annotations
 
 import json
-import os
-import tempfile
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -19,7 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from learners.abstraction import AbstractController
-from learners.base import Learner, LearnResult, unknown_params
+from learners.base import Learner, LearnResult, atomic_write, unknown_params
 from learners.blackbox import AnnealingLearner
 from learners.logger import Logger
 from learners.rollout import BatchEvaluator
@@ -79,13 +77,7 @@ class Repertoire:
                 "skills": [{"name": s.name, "metadata": s.metadata,
                             "controller": s.controller.to_dict()}
                            for s in (self.skills[n] for n in self.names)]}
-        path = Path(path)
-        path.parent.mkdir(parents=True, exist_ok=True)
-        handle, tmp = tempfile.mkstemp(dir=path.parent, suffix=".tmp")
-        with os.fdopen(handle, "w") as file:
-            json.dump(data, file, indent=1)
-        os.chmod(tmp, 0o644)
-        os.replace(tmp, path)
+        atomic_write(path, lambda file: json.dump(data, file, indent=1))
 
     @classmethod
     def load(cls, path: str | Path) -> Repertoire:
