@@ -44,10 +44,22 @@ def validate_actions(actions: np.ndarray, shape: tuple[int, ...]) -> np.ndarray:
     array = np.asarray(actions, dtype=np.float64)
     if array.shape != shape:
         raise ValueError(f"action must have shape {shape}, got {array.shape}")
-    if not np.isfinite(array).all():
+    clipped = np.empty_like(array)
+    if not _clip_finite(array.reshape(-1), clipped.reshape(-1)):
         bad = "NaN" if np.isnan(array).any() else "infinite"
         raise ValueError(f"action contains {bad} values: {np.asarray(actions).tolist()}")
-    return np.minimum(np.maximum(array, -1.0), 1.0)
+    return clipped
+
+
+@njit(cache=True)
+def _clip_finite(values, out) -> bool:
+    """out = values clipped to [-1, 1]; False if any value is NaN or infinite (one pass)."""
+    for k in range(values.shape[0]):
+        value = values[k]
+        if not np.isfinite(value):
+            return False
+        out[k] = min(max(value, -1.0), 1.0)
+    return True
 
 
 @njit(cache=True)
@@ -142,7 +154,7 @@ class FishBatch:
         e_u = control_energy(u, self.u_prev, self.u_prev2, self.dt, w.nu1, w.nu2)
         self.u_prev2, self.u_prev = self.u_prev, u
         self.steps += 1
-        info = self.measure(last=self.steps >= self.episode_steps)
+        info = self.measure(last=self.truncated)
         reward_ctrl = -w.mu1 * e_u * self.dt
         reward_task = -w.mu2 * info["E_v"] * self.dt
         info.update(E_u=e_u, reward_ctrl=reward_ctrl, reward_task=reward_task)

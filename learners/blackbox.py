@@ -162,25 +162,27 @@ class BlackBoxLearner(Learner):
         """The best controller and its FFT abstraction (over the period, or over the whole
         window for a non-periodic controller, sampled 4x finer than its nodes): at the fixed
         ``abstraction_threshold`` if one is given, else the most compact one within 10% of the
-        learned objective (each tried threshold simulated once, not charged to the budget)."""
+        learned objective; with what the abstraction scores (each simulation here is not
+        charged to the budget)."""
         tent = controller_from_vector(x, self.nodes, self.period, duration)
         artefacts = {"controller": {"nodes": tent.nodes.tolist(), "t0": tent.t0, "t1": tent.t1,
                                     "periodic": self.period is not None},
-                     "parameters": int(x.size)}
+                     "parameters": int(x.size),
+                     "episode": {"task": evaluator.task, "duration": evaluator.duration}}
         samples = None if self.period is not None else 4 * (tent.num_nodes - 1)
-        if self.threshold is not None:
-            artefacts["abstraction"] = abstract(tent, self.threshold, samples).to_dict()
-            return artefacts
 
         def score(controllers):
             actions = np.stack([PeriodicPlayer(c, self.period).actions(
                 evaluator.dt, evaluator.steps) for c in controllers])
-            return -evaluator.evaluate(actions)[0]
+            return evaluator.evaluate(actions)
 
-        chosen, report = most_compact(tent, score, samples=samples)
-        artefacts["abstraction"], artefacts["abstraction_report"] = chosen.to_dict(), report
-        action = PeriodicPlayer(chosen, self.period).actions(evaluator.dt, evaluator.steps)
-        returns, metrics = evaluator.evaluate(action[None])
+        if self.threshold is not None:
+            chosen = abstract(tent, self.threshold, samples)
+        else:
+            chosen, artefacts["abstraction_report"] = most_compact(
+                tent, lambda cs: -score(cs)[0], samples=samples)
+        returns, metrics = score([chosen])
+        artefacts["abstraction"] = chosen.to_dict()
         artefacts["abstraction_metrics"] = {
             "eval/return": float(returns[0]), **{f"eval/{k}": float(v[0]) for k, v in
                                                 metrics.items()},

@@ -76,7 +76,9 @@ class PPOLearner(Learner):
 
     def evaluate(self, model, venv) -> dict[str, float]:
         """Deterministic episode from the black-box learners' start state."""
-        env = gym.make_vec(self.env_id, num_envs=1, **self.env_kwargs)
+        if getattr(self, "_eval_env", None) is None:
+            self._eval_env = gym.make_vec(self.env_id, num_envs=1, **self.env_kwargs)
+        env = self._eval_env
         obs, _ = env.reset(seed=[self.seed])
         total, summary = 0.0, EpisodeSummary(env.core.task.name, 1)
         for _ in range(env.core.episode_steps):

@@ -20,7 +20,6 @@ from learners.abstraction import AbstractController
 from learners.base import Learner, LearnResult, atomic_write, unknown_params
 from learners.blackbox import AnnealingLearner
 from learners.logger import Logger
-from learners.rollout import BatchEvaluator
 
 FISH_REGIMEN = [
     {"name": "swim_slow", "env_id": "Animat/FishSwim-v0",
@@ -97,18 +96,20 @@ def learn_skill(spec: dict, env_steps: int, seed: int, threshold: float | None,
     learner = AnnealingLearner(spec["env_id"], spec.get("env_kwargs", {}), params, seed,
                                Logger([_Prefixed(logger, f"skill/{spec['name']}/")]))
     result = learner.learn(env_steps, checkpoint_dir)
-    abstracted = AbstractController.from_dict(result.artefacts["abstraction"])
-    evaluator = BatchEvaluator(spec["env_id"], spec.get("env_kwargs", {}), 1, seed)
-    returns, metrics = evaluator.evaluate(abstracted.actions(evaluator.dt, evaluator.steps)[None])
+    artefacts = result.artefacts
+    abstracted = AbstractController.from_dict(artefacts["abstraction"])
+    scored = artefacts["abstraction_metrics"]
     metadata = {
-        "task": evaluator.task, "env_id": spec["env_id"], "env_kwargs": spec.get("env_kwargs", {}),
-        "objective": "E = -return (paper Eq. 1)", "duration": evaluator.duration,
-        "learned_E": -result.metrics["eval/return"], "abstracted_E": float(-returns[0]),
+        "task": artefacts["episode"]["task"], "env_id": spec["env_id"],
+        "env_kwargs": spec.get("env_kwargs", {}), "objective": "E = -return (paper Eq. 1)",
+        "duration": artefacts["episode"]["duration"],
+        "learned_E": -result.metrics["eval/return"], "abstracted_E": -scored["eval/return"],
         "parameters_learned": result.artefacts["parameters"],
         "parameters_abstracted": abstracted.num_parameters,
         "coefficients_kept": abstracted.num_coefficients,
         "learned_metrics": {k: v for k, v in result.metrics.items() if k != "eval/return"},
-        "abstracted_metrics": {f"eval/{k}": float(v[0]) for k, v in metrics.items()},
+        "abstracted_metrics": {k: v for k, v in scored.items() if k.startswith("eval/")
+                               and k != "eval/return"},
         "env_steps": result.env_steps, "threshold": threshold,
     }
     return Skill(spec["name"], abstracted, metadata)

@@ -1,7 +1,5 @@
 """Physics: rest, equilibrium, energy, momentum, robustness."""
 
-import dataclasses
-
 import numpy as np
 
 from envs.fish import fish_body
@@ -120,7 +118,6 @@ def test_system_rejects_bad_parameters():
         System(fish_body(), dt=-1.0)
     with pytest.raises(ValueError, match="fluid_coefficient"):
         Water(fluid_coefficient=float("nan"))
-    assert dataclasses.is_dataclass(System)
 
 
 def test_above_the_surface_a_body_falls_ballistically():
