@@ -1,6 +1,7 @@
 """``animat compare``: read run folders' TensorBoard events back (TensorBoard's own reader,
-keeping every scalar), group runs by learner, aggregate over seeds and write a Markdown table
-and a PNG plot (mean curve with a shaded +-std band per learner, x = env steps)."""
+keeping every scalar), group runs by learner (its ``label`` where the config gives one),
+aggregate over seeds and write a Markdown table and a PNG plot (mean curve with a shaded +-std
+band per learner, x = env steps)."""
 
 from __future__ import annotations
 
@@ -55,7 +56,8 @@ def read_scalars(folder: Path) -> dict[str, tuple[np.ndarray, np.ndarray]]:
 
 def load_run(folder: Path) -> RunCurves:
     config = yaml.safe_load((folder / "config.yaml").read_text())
-    return RunCurves(folder, config["learner"]["name"], config["env"]["id"],
+    learner = config["learner"].get("label") or config["learner"]["name"]
+    return RunCurves(folder, learner, config["env"]["id"],
                      int(config.get("seed", 0)), read_status(folder), read_scalars(folder))
 
 

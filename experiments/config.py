@@ -47,8 +47,17 @@ class EnvConfig(_Strict):
 
 
 class LearnerConfig(_Strict):
+    """``name`` (registered learner), ``params`` (its own), ``label``: what run folders and
+    ``animat compare`` call this variant (default: the name), e.g. to set an ablation of a
+    learner beside the learner itself."""
+
     name: str
     params: dict[str, Any] = Field(default_factory=dict)
+    label: str | None = Field(default=None, pattern=r"^[A-Za-z0-9_.+-]+$")
+
+    @property
+    def display_name(self) -> str:
+        return self.label or self.name
 
     @field_validator("name")
     @classmethod
@@ -127,6 +136,19 @@ def validate(data: Any, source: str) -> ExperimentConfig:
         raise ConfigError(source, path, message) from None
 
 
+def check_learner_params(config: ExperimentConfig, source: str) -> None:
+    """Build the learner (cheap: no env, no files written) so that a parameter it does not take
+    or cannot use stops the run before any work, as ConfigError on ``learner.params``."""
+    from learners.registry import make_learner
+
+    try:
+        make_learner(config.learner.name, config.env.id, config.env.kwargs,
+                     config.learner.params, config.seed)
+    except (ValueError, TypeError, KeyError, OSError) as error:
+        message = error.args[0] if isinstance(error, KeyError) and error.args else str(error)
+        raise ConfigError(source, "learner.params", str(message)) from None
+
+
 def load_config(path: str | Path, overrides: list[str] | None = None) -> ExperimentConfig:
     """Read, override and validate a YAML config file."""
     source = str(path)
@@ -143,7 +165,9 @@ def load_config(path: str | Path, overrides: list[str] | None = None) -> Experim
         if not isinstance(data, dict):
             break
         apply_override(data, override, source)
-    return validate(data, source)
+    config = validate(data, source)
+    check_learner_params(config, source)
+    return config
 
 
 def to_yaml(config: ExperimentConfig) -> str:

@@ -43,7 +43,7 @@ def write_json(path: Path, data: dict) -> None:
 def default_run_dir(config: ExperimentConfig, root: Path = Path("runs")) -> Path:
     env = config.env.id.replace("/", "_")
     stamp = time.strftime("%Y%m%d-%H%M%S")
-    base = root / env / config.learner.name / f"seed{config.seed}-{stamp}"
+    base = root / env / config.learner.display_name / f"seed{config.seed}-{stamp}"
     candidate, k = base, 1
     while candidate.exists():
         candidate, k = base.with_name(f"{base.name}-{k}"), k + 1

@@ -59,6 +59,32 @@ class AbstractController:
         """(steps, N) float32 env actions a_k = 2 u(t0 + (k + 1) dt) - 1, any number of steps."""
         return play(self, dt, steps, t0)
 
+    def frequency_parameters(self) -> np.ndarray:
+        """The controller's real parameters as one vector in [0, 1]^(N + 2K), the space the
+        optimisers search when they refine an abstraction (the paper's "frequency
+        parameters"): the N means, then per actuator the real parts and then the imaginary
+        parts of its kept coefficients, each shifted by +0.5 (|Re c|, |Im c| <= 0.5 bounds a
+        harmonic's amplitude by sqrt(2)); clipped to the box."""
+        parts = [self.mean]
+        for c in self.coefficients:
+            parts += [c.real + 0.5, c.imag + 0.5]
+        return np.clip(np.concatenate(parts), 0.0, 1.0)
+
+    def with_frequency_parameters(self, vector: np.ndarray) -> AbstractController:
+        """The controller with the same kept harmonics and the parameters ``vector``
+        (the layout of :meth:`frequency_parameters`)."""
+        vector = np.asarray(vector, dtype=float)
+        if vector.shape != (self.num_parameters,):
+            raise ValueError(f"expected {self.num_parameters} frequency parameters, got shape "
+                             f"{vector.shape}")
+        coefficients, k = [], self.num_actuators
+        for h in self.harmonics:
+            n = len(h)
+            coefficients.append((vector[k:k + n] - 0.5) + 1j * (vector[k + n:k + 2 * n] - 0.5))
+            k += 2 * n
+        return AbstractController(vector[:self.num_actuators].copy(), self.harmonics,
+                                  tuple(coefficients), self.period)
+
     def to_dict(self) -> dict:
         """JSON-ready description (lists of floats and ints)."""
         return {

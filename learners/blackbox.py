@@ -6,12 +6,19 @@ period and repeats (its last node equals its first, so the repetition is seamles
 natural form for locomotion, which the FFT abstraction then compresses; without, it spans the
 episode. Candidates are evaluated together on the native vector env (the budget counts every
 simulated env step); E = -return.
+
+With ``refine`` set, the learner goes on as the paper's abstraction suggests: the learned
+controller's FFT abstraction at ``refine.threshold`` (a handful of harmonics) becomes the
+starting point of a second search over its frequency parameters (the kept harmonics' means
+and complex coefficients; :meth:`AbstractController.frequency_parameters`), with
+``refine.env_steps`` of the budget. The result is a compact controller (tens of parameters,
+not 6 x nodes) that the repertoire keeps; what plain truncation kept is reported beside it.
 """
 
 from __future__ import annotations
 
 import time
-from dataclasses import fields
+from dataclasses import fields, replace
 from pathlib import Path
 from types import ModuleType
 
@@ -24,7 +31,9 @@ from learners.controller import TentController, play
 from learners.rollout import BatchEvaluator
 
 NUM_ACTUATORS = 6
-CONTROLLER_KEYS = {"nodes", "period", "init", "abstraction_threshold", "checkpoint_every"}
+CONTROLLER_KEYS = {"nodes", "period", "init", "abstraction_threshold", "checkpoint_every",
+                   "refine"}
+REFINE_KEYS = {"env_steps", "threshold"}
 
 
 def controller_from_vector(vector: np.ndarray, nodes: int, period: float | None,
@@ -71,6 +80,7 @@ class BlackBoxLearner(Learner):
         opt_params = {k: v for k, v in self.params.items() if k not in self.own_keys}
         self._configure(opt_params)
         self.opt_params = self.params_class(**opt_params)
+        self.refine = self._configure_refine(self.params.get("refine"))
 
     def _configure(self, opt_params: dict) -> None:
         self.nodes = int(self.params.get("nodes", 20))
@@ -83,6 +93,26 @@ class BlackBoxLearner(Learner):
             raise ValueError("nodes must be >= 2 and init one of random, relaxed, half")
         if opt_params.get("smoothing") and "block" not in opt_params:
             opt_params["block"] = self.nodes  # smooth along each actuator's nodes
+
+    def _configure_refine(self, refine: dict | None) -> dict | None:
+        """``refine``: {``env_steps`` (taken from the budget), ``threshold`` (the FFT threshold
+        of the abstraction refined, default 0.5), and optimiser parameters that differ in the
+        frequency space (e.g. ``step_size``)}; smoothing is off there."""
+        if not refine:
+            return None
+        if not isinstance(refine, dict):
+            raise ValueError(f"learner {self.name!r}: refine must be a mapping, got {refine!r}")
+        option_names = {f.name for f in fields(self.params_class)}
+        unknown_params(refine, REFINE_KEYS | option_names, f"{self.name}.refine")
+        env_steps, threshold = int(refine.get("env_steps", 0)), float(refine.get("threshold", 0.5))
+        if env_steps < 0 or not 0.0 <= threshold < 1.0:
+            raise ValueError(f"learner {self.name!r}: refine needs env_steps >= 0 and threshold "
+                             f"in [0, 1), got {env_steps}, {threshold}")
+        options = {k: v for k, v in refine.items() if k not in REFINE_KEYS}
+        if "smoothing" in option_names:
+            options = {"smoothing": 0.0, "block": 0, **options}
+        return {"env_steps": env_steps, "threshold": threshold,
+                "params": replace(self.opt_params, **options)}
 
     @property
     def population(self) -> int:
@@ -102,65 +132,117 @@ class BlackBoxLearner(Learner):
 
     def learn(self, budget_env_steps: int, checkpoint_dir: str | Path | None = None
               ) -> LearnResult:
+        """Phase "learn" searches the encoding of :meth:`controller` with the budget less
+        ``refine.env_steps``; phase "refine" (when configured) then searches the frequency
+        parameters of the learned controller's FFT abstraction with the rest."""
         evaluator = BatchEvaluator(self.env_id, self.env_kwargs, self.population, self.seed)
         path = Path(checkpoint_dir) / "checkpoint.pkl" if checkpoint_dir else None
-        saved = load_checkpoint(path) if path else None
-        if saved is None:
+        run = load_checkpoint(path) if path else None
+        if run is None:
             self.log_hparams()
-            run = {"state": self.optimizer.init(self.opt_params, self._x0(), self.seed),
-                   "env_steps": 0, "wall": 0.0, "best": None, "rounds": 0}
-        else:
-            run = saved
+            run = {"phases": [self._phase(self.opt_params, self._x0(), self.seed)],
+                   "env_steps": 0, "wall": 0.0, "rounds": 0}
         start = time.perf_counter() - run["wall"]
-        cost = self.population * evaluator.steps
-        while (run["env_steps"] + cost <= budget_env_steps
-               and not self.optimizer.finished(self.opt_params, run["state"])):
-            candidates, state = self.optimizer.ask(self.opt_params, run["state"])
-            actions = np.stack([self.controller(c, evaluator.duration).actions(
-                evaluator.dt, evaluator.steps) for c in candidates])
-            returns, metrics = evaluator.evaluate(actions)
-            run["state"] = self.optimizer.tell(self.opt_params, state, candidates, -returns)
-            run["env_steps"] += len(candidates) * evaluator.steps
-            run["rounds"] += 1
-            self._track_best(run, candidates, returns, metrics)
-            self._log(run)
-            run["wall"] = time.perf_counter() - start
-            if path and run["rounds"] % self.checkpoint_every == 0:
-                save_checkpoint(path, run)
+        refine_steps = self.refine["env_steps"] if self.refine else 0
+        self._run_phase(run, 0, evaluator, budget_env_steps - refine_steps, path, start)
+        learned = run["phases"][0]["best"]
+        if self.refine and learned is not None:
+            if len(run["phases"]) == 1:
+                support = self._abstract(learned["x"], evaluator.duration,
+                                         self.refine["threshold"])
+                run["phases"].append(self._phase(self.refine["params"],
+                                                 support.frequency_parameters(),
+                                                 self.seed + 1, support))
+            self._run_phase(run, 1, evaluator, budget_env_steps, path, start)
         if path:
             save_checkpoint(path, run)
         return self._result(run, evaluator)
 
-    def _track_best(self, run: dict, candidates, returns, metrics) -> None:
-        k = int(np.argmax(returns))
-        if run["best"] is None or returns[k] > run["best"]["return"]:
-            run["best"] = {"x": np.array(candidates[k]), "return": float(returns[k]),
-                           "metrics": {name: float(v[k]) for name, v in metrics.items()}}
+    def _phase(self, params, x0: np.ndarray, seed: int, support=None) -> dict:
+        """One optimisation: its optimiser params and state, its best, and (refining) the
+        abstraction whose frequency parameters it searches."""
+        return {"params": params, "state": self.optimizer.init(params, x0, seed),
+                "best": None, "support": support}
 
-    def _log(self, run: dict) -> None:
-        best, step = run["best"], run["env_steps"]
+    def _decode(self, phase: dict, vector: np.ndarray, duration: float):
+        if phase["support"] is None:
+            return self.controller(vector, duration)
+        return PeriodicPlayer(phase["support"].with_frequency_parameters(vector), self.period)
+
+    def _run_phase(self, run: dict, index: int, evaluator: BatchEvaluator, limit: int,
+                   path: Path | None, start: float) -> None:
+        """ask -> simulate -> tell until ``limit`` env steps or the optimiser's stopping rule."""
+        phase = run["phases"][index]
+        params = phase["params"]
+        cost = int(getattr(params, self.population_key)) * evaluator.steps
+        while (run["env_steps"] + cost <= limit
+               and not self.optimizer.finished(params, phase["state"])):
+            candidates, state = self.optimizer.ask(params, phase["state"])
+            actions = np.stack([self._decode(phase, c, evaluator.duration).actions(
+                evaluator.dt, evaluator.steps) for c in candidates])
+            returns, metrics = evaluator.evaluate(actions)
+            phase["state"] = self.optimizer.tell(params, state, candidates, -returns)
+            run["env_steps"] += len(candidates) * evaluator.steps
+            run["rounds"] += 1
+            self._track_best(phase, candidates, returns, metrics)
+            self._log(run, phase)
+            run["wall"] = time.perf_counter() - start
+            if path and run["rounds"] % self.checkpoint_every == 0:
+                save_checkpoint(path, run)
+
+    def _track_best(self, phase: dict, candidates, returns, metrics) -> None:
+        k = int(np.argmax(returns))
+        if phase["best"] is None or returns[k] > phase["best"]["return"]:
+            phase["best"] = {"x": np.array(candidates[k]), "return": float(returns[k]),
+                             "metrics": {name: float(v[k]) for name, v in metrics.items()}}
+
+    @staticmethod
+    def _overall_best(run: dict) -> dict | None:
+        bests = [p["best"] for p in run["phases"] if p["best"] is not None]
+        return max(bests, key=lambda b: b["return"]) if bests else None
+
+    def _log(self, run: dict, phase: dict) -> None:
+        """The best controller so far (of either phase) as ``eval/*``."""
+        best, step = self._overall_best(run), run["env_steps"]
         self.logger.scalar("eval/return", best["return"], step)
         for name, value in best["metrics"].items():
             self.logger.scalar(f"eval/{name}", value, step)
-        temperature = getattr(run["state"], "temperature", None)
+        temperature = getattr(phase["state"], "temperature", None)
         if temperature is not None:
             self.logger.scalar("train/temperature", temperature, step)
 
     def _result(self, run: dict, evaluator: BatchEvaluator) -> LearnResult:
-        best = run["best"]
-        if best is None:
+        learned, best = run["phases"][0]["best"], self._overall_best(run)
+        if learned is None:
             raise ValueError(f"budget too small: one round of {self.name} needs "
                              f"{self.population * evaluator.steps} env steps")
-        artefacts = self._artefacts(best["x"], evaluator.duration, evaluator)
-        metrics = {"eval/return": best["return"],
-                   **{f"eval/{k}": v for k, v in best["metrics"].items()}}
+        artefacts = self._artefacts(learned["x"], evaluator.duration, evaluator)
+        artefacts["learned_metrics"] = _eval_metrics(learned)
+        if len(run["phases"]) > 1:
+            artefacts.update(self._refined_artefacts(run["phases"][1], artefacts, evaluator))
         return LearnResult(env_steps=run["env_steps"], wall_seconds=run["wall"],
-                           metrics=metrics, artefacts=artefacts)
+                           metrics=_eval_metrics(best), artefacts=artefacts)
 
+    def _abstract(self, x: np.ndarray, duration: float, threshold: float):
+        """The FFT abstraction of the tent controller ``x`` at ``threshold`` (over the period,
+        or over the whole window for a non-periodic controller, sampled 4x finer than its
+        nodes)."""
+        tent = controller_from_vector(x, self.nodes, self.period, duration)
+        return abstract(tent, threshold, self._samples(tent))
+
+    def _samples(self, tent: TentController) -> int | None:
+        return None if self.period is not None else 4 * (tent.num_nodes - 1)
+
+    def _score(self, controllers, evaluator: BatchEvaluator) -> list[dict]:
+        """``eval/*`` metrics of each controller, played periodically (not charged)."""
+        actions = np.stack([PeriodicPlayer(c, self.period).actions(
+            evaluator.dt, evaluator.steps) for c in controllers])
+        returns, metrics = evaluator.evaluate(actions)
+        return [{"eval/return": float(r), **{f"eval/{k}": float(v[j]) for k, v in
+                                              metrics.items()}} for j, r in enumerate(returns)]
 
     def _artefacts(self, x: np.ndarray, duration: float, evaluator: BatchEvaluator) -> dict:
-        """The best controller and its FFT abstraction (over the period, or over the whole
-        window for a non-periodic controller, sampled 4x finer than its nodes): at the fixed
+        """The best learned controller and its FFT abstraction: at the fixed
         ``abstraction_threshold`` if one is given, else the most compact one within 10% of the
         learned objective; with what the abstraction scores (each simulation here is not
         charged to the budget)."""
@@ -169,25 +251,39 @@ class BlackBoxLearner(Learner):
                                     "periodic": self.period is not None},
                      "parameters": int(x.size),
                      "episode": {"task": evaluator.task, "duration": evaluator.duration}}
-        samples = None if self.period is not None else 4 * (tent.num_nodes - 1)
-
-        def score(controllers):
-            actions = np.stack([PeriodicPlayer(c, self.period).actions(
-                evaluator.dt, evaluator.steps) for c in controllers])
-            return evaluator.evaluate(actions)
-
         if self.threshold is not None:
-            chosen = abstract(tent, self.threshold, samples)
+            chosen = abstract(tent, self.threshold, self._samples(tent))
         else:
             chosen, artefacts["abstraction_report"] = most_compact(
-                tent, lambda cs: -score(cs)[0], samples=samples)
-        returns, metrics = score([chosen])
+                tent, lambda cs: [-m["eval/return"] for m in self._score(cs, evaluator)],
+                samples=self._samples(tent))
         artefacts["abstraction"] = chosen.to_dict()
         artefacts["abstraction_metrics"] = {
-            "eval/return": float(returns[0]), **{f"eval/{k}": float(v[0]) for k, v in
-                                                metrics.items()},
-            "parameters": chosen.num_parameters, "coefficients": chosen.num_coefficients}
+            **self._score([chosen], evaluator)[0], "parameters": chosen.num_parameters,
+            "coefficients": chosen.num_coefficients, "refined": False}
         return artefacts
+
+    def _refined_artefacts(self, phase: dict, artefacts: dict, evaluator: BatchEvaluator
+                           ) -> dict:
+        """The refined abstraction becomes the learner's ``abstraction``; the truncation the
+        "learn" phase chose moves to ``truncated_abstraction``; ``abstraction_metrics`` also
+        report the abstraction refinement started from, before refining."""
+        support = phase["support"]
+        refined = support.with_frequency_parameters(phase["best"]["x"])
+        return {
+            "truncated_abstraction": artefacts["abstraction"],
+            "truncated_abstraction_metrics": artefacts["abstraction_metrics"],
+            "abstraction": refined.to_dict(),
+            "abstraction_metrics": {
+                **_eval_metrics(phase["best"]), "parameters": refined.num_parameters,
+                "coefficients": refined.num_coefficients, "refined": True,
+                "threshold": self.refine["threshold"],
+                "before_refining": self._score([support], evaluator)[0]}}
+
+
+def _eval_metrics(best: dict) -> dict[str, float]:
+    """A phase's best as ``eval/*`` metrics."""
+    return {"eval/return": best["return"], **{f"eval/{k}": v for k, v in best["metrics"].items()}}
 
 
 class AnnealingLearner(BlackBoxLearner):

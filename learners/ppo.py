@@ -42,6 +42,30 @@ def parse_policy_kwargs(value) -> dict:
     return {kw.arg: ast.literal_eval(kw.value) for kw in tree.keywords}
 
 
+def check_types(hp: dict) -> None:
+    """Raise ValueError naming a hyperparameter whose value is not of its default's kind
+    (integers stay integers, rates are numbers, ``normalize`` a bool, ``policy_kwargs`` a
+    dict or its zoo string), so that a bad value stops the run before any training."""
+    for key, default in DEFAULTS.items():
+        value = hp[key]
+        if key == "policy_kwargs":
+            parse_policy_kwargs(value)
+            continue
+        if isinstance(default, bool):
+            ok = isinstance(value, bool)
+        elif isinstance(default, int):
+            ok = isinstance(value, int) and not isinstance(value, bool) and value > 0
+        elif isinstance(default, float):
+            ok = isinstance(value, (int, float)) and not isinstance(value, bool)
+        else:
+            ok = isinstance(value, str)
+        if not ok:
+            kind = ("a bool" if isinstance(default, bool) else "a positive integer"
+                    if isinstance(default, int) else "a number" if isinstance(default, float)
+                    else "a string")
+            raise ValueError(f"learner 'ppo': {key} must be {kind}, got {value!r}")
+
+
 class PPOLearner(Learner):
     name = "ppo"
 
@@ -49,6 +73,7 @@ class PPOLearner(Learner):
         super().__init__(*args, **kwargs)
         unknown_params(self.params, ZOO_KEYS | OWN_KEYS, self.name)
         self.hp = {**DEFAULTS, **self.params}
+        check_types(self.hp)
 
     def _model(self, venv, checkpoint: Path | None):
         import torch

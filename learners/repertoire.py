@@ -98,19 +98,20 @@ def learn_skill(spec: dict, env_steps: int, seed: int, threshold: float | None,
     result = learner.learn(env_steps, checkpoint_dir)
     artefacts = result.artefacts
     abstracted = AbstractController.from_dict(artefacts["abstraction"])
-    scored = artefacts["abstraction_metrics"]
+    scored, learned = artefacts["abstraction_metrics"], artefacts["learned_metrics"]
     metadata = {
         "task": artefacts["episode"]["task"], "env_id": spec["env_id"],
         "env_kwargs": spec.get("env_kwargs", {}), "objective": "E = -return (paper Eq. 1)",
         "duration": artefacts["episode"]["duration"],
-        "learned_E": -result.metrics["eval/return"], "abstracted_E": -scored["eval/return"],
+        "learned_E": -learned["eval/return"], "abstracted_E": -scored["eval/return"],
         "parameters_learned": result.artefacts["parameters"],
         "parameters_abstracted": abstracted.num_parameters,
         "coefficients_kept": abstracted.num_coefficients,
-        "learned_metrics": {k: v for k, v in result.metrics.items() if k != "eval/return"},
+        "learned_metrics": {k: v for k, v in learned.items() if k != "eval/return"},
         "abstracted_metrics": {k: v for k, v in scored.items() if k.startswith("eval/")
                                and k != "eval/return"},
-        "env_steps": result.env_steps, "threshold": threshold,
+        "env_steps": result.env_steps, "refined": scored["refined"],
+        "threshold": scored.get("threshold", threshold),
     }
     return Skill(spec["name"], abstracted, metadata)
 
@@ -149,6 +150,9 @@ class BasicTrainingLearner(Learner):
         threshold = self.params.get("threshold")
         self.threshold = None if threshold is None else float(threshold)
         self.annealing = dict(self.params.get("annealing", {"chains": 64}))
+        for spec in self.regimen:  # every skill's settings are checked before any learning
+            AnnealingLearner(spec["env_id"], spec.get("env_kwargs", {}),
+                             {**self.annealing, **spec.get("params", {})}, self.seed)
 
     def learn(self, budget_env_steps: int, checkpoint_dir: str | Path | None = None
               ) -> LearnResult:

@@ -58,16 +58,18 @@ def test_compare_two_learners_writes_table_and_plot(tmp_path):
     animat("run", config, "--out", tmp_path / "runs" / "a")
     animat("run", config, "--out", tmp_path / "runs" / "b", "--set", "learner.name=cmaes",
            "--set", "learner.params={popsize: 8, nodes: 4, period: 0.5}")
+    animat("run", config, "--out", tmp_path / "runs" / "c", "--set", "learner.label=hot",
+           "--set", "learner.params.initial_temperature=1.0")  # a variant, labelled
     report = tmp_path / "report" / "swim.md"
     animat("compare", tmp_path / "runs", "--metric", "eval/speed_bl_per_s", "--threshold",
            "0.0", "-o", report)
     text = report.read_text()
-    assert "| annealing |" in text and "| cmaes |" in text
+    assert "| annealing | 1 (1) |" in text and "| cmaes |" in text and "| hot | 1 (1) |" in text
     png = report.with_suffix(".png")
     assert png.exists() and png.stat().st_size > 5000
     summary = json.loads(report.with_suffix(".json").read_text())
-    assert {row["learner"] for row in summary["rows"]} == {"annealing", "cmaes"}
-    assert summary["plotted"] == ["annealing", "cmaes"]  # both curves are in the plot
+    assert {row["learner"] for row in summary["rows"]} == {"annealing", "cmaes", "hot"}
+    assert summary["plotted"] == ["annealing", "cmaes", "hot"]  # every curve is in the plot
 
 
 @pytest.mark.parametrize("change, message", [
@@ -76,6 +78,9 @@ def test_compare_two_learners_writes_table_and_plot(tmp_path):
     (lambda d: d.pop("learner"), "learner: required field is missing"),
     (lambda d: d["env"].update(id="Animat/Nope-v0"), "env.id: unknown env id"),
     (lambda d: d["learner"].update(name="sgd"), "learner.name: unknown learner 'sgd'"),
+    (lambda d: d["learner"].update(label="a b/c"), "learner.label: String should match"),
+    (lambda d: d["learner"]["params"].update(chainz=3),
+     "learner.params: learner 'annealing' does not take parameter(s) ['chainz']"),
 ])
 def test_malformed_configs_fail_in_one_line(tmp_path, change, message):
     data = json.loads(json.dumps(TINY))

@@ -58,6 +58,21 @@ def test_abstraction_round_trips_through_json():
     assert again.num_parameters == abstracted.num_parameters == 6 + 2 * 6
 
 
+def test_frequency_parameters_round_trip_and_name_a_wrong_length():
+    abstracted = abstract(_sinusoid(), threshold=0.05)
+    vector = abstracted.frequency_parameters()
+    assert vector.shape == (abstracted.num_parameters,)
+    assert np.all((vector >= 0) & (vector <= 1))
+    t = np.linspace(0, 3, 70)
+    np.testing.assert_allclose(abstracted.with_frequency_parameters(vector)(t), abstracted(t),
+                               atol=1e-12)
+    moved = abstracted.with_frequency_parameters(np.where(np.arange(vector.size) < 6, vector,
+                                                          0.5))  # every harmonic zeroed
+    np.testing.assert_allclose(moved(t), np.broadcast_to(abstracted.mean, (70, 6)), atol=1e-12)
+    with pytest.raises(ValueError, match="expected 18 frequency parameters"):
+        abstracted.with_frequency_parameters(vector[:-1])
+
+
 def test_abstraction_rejects_bad_threshold():
     with pytest.raises(ValueError, match="threshold"):
         abstract(_sinusoid(), threshold=1.5)

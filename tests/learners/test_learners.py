@@ -4,8 +4,11 @@ import numpy as np
 import pytest
 
 from learners import annealing
+from learners.abstraction import AbstractController
+from learners.blackbox import PeriodicPlayer
 from learners.logger import Logger, MemorySink
 from learners.registry import LEARNERS, make_learner
+from learners.rollout import BatchEvaluator
 
 ENV = "Animat/FishSwim-v0"
 TINY_ENV = {"duration": 0.5}  # 10 env steps per episode
@@ -65,12 +68,16 @@ def test_unknown_learner_and_parameter_are_named():
         make_learner("annealing", ENV, TINY_ENV, {"temprature": 1.0})
 
 
-def _anneal(budget, checkpoint_dir=None, seed=3):
+def _anneal(budget, checkpoint_dir=None, seed=3, **params):
     sink = MemorySink()
     learner = make_learner("annealing", ENV, TINY_ENV, {"chains": 8, "nodes": 4,
-                                                       "checkpoint_every": 1},
+                                                       "checkpoint_every": 1, **params},
                            seed=seed, logger=Logger([sink]))
     return learner.learn(budget, checkpoint_dir), sink
+
+
+REFINE = {"period": 0.5, "nodes": 10, "refine": {"env_steps": 400, "threshold": 0.3,
+                                                  "step_size": 0.1}}
 
 
 def test_annealing_is_bit_for_bit_reproducible():
@@ -89,6 +96,59 @@ def test_annealing_resumed_from_a_checkpoint_ends_identical(tmp_path):
     assert resumed.env_steps == whole.env_steps
     assert resumed.metrics == whole.metrics
     assert resumed.artefacts["controller"] == whole.artefacts["controller"]
+
+
+def test_refinement_searches_the_abstraction_with_its_share_of_the_budget():
+    result, sink = _anneal(1200, **REFINE)
+    learned, refined = result.artefacts["learned_metrics"], result.artefacts["abstraction_metrics"]
+    assert result.env_steps == 1200 and refined["refined"]
+    assert refined["parameters"] < result.artefacts["parameters"] == 60
+    # refining starts from the truncated abstraction itself, so it can only improve on it
+    assert refined["eval/return"] >= refined["before_refining"]["eval/return"]
+    assert result.metrics["eval/return"] == max(learned["eval/return"], refined["eval/return"])
+    steps = [step for step, _ in sink.series("eval/return")]
+    assert steps[-1] == 1200 and any(step > 800 for step in steps)  # logged while refining
+    # the stored abstraction plays back to the score reported for it
+    player = PeriodicPlayer(AbstractController.from_dict(result.artefacts["abstraction"]), 0.5)
+    evaluator = BatchEvaluator(ENV, TINY_ENV, 8, seed=3)
+    returns, _ = evaluator.evaluate(player.actions(evaluator.dt, evaluator.steps)[None])
+    assert returns[0] == pytest.approx(refined["eval/return"], abs=1e-9)
+
+
+class _Crash(Exception):
+    pass
+
+
+class _CrashingSink(MemorySink):
+    """Dies (like a killed process) once the run has logged past ``step``."""
+
+    def __init__(self, step: int) -> None:
+        super().__init__()
+        self.step = step
+
+    def scalar(self, tag: str, value: float, step: int) -> None:
+        if step > self.step:
+            raise _Crash
+        super().scalar(tag, value, step)
+
+
+def test_refinement_resumed_from_a_checkpoint_ends_identical(tmp_path):
+    whole, _ = _anneal(1200, **REFINE)
+    params = {"chains": 8, "nodes": 4, "checkpoint_every": 1, **REFINE}
+    crashing = make_learner("annealing", ENV, TINY_ENV, params, seed=3,
+                            logger=Logger([_CrashingSink(1000)]))
+    with pytest.raises(_Crash):  # dies while refining (the phase split is at 800)
+        crashing.learn(1200, tmp_path)
+    resumed, _ = _anneal(1200, tmp_path, **REFINE)
+    assert resumed.metrics == whole.metrics
+    assert resumed.artefacts["abstraction"] == whole.artefacts["abstraction"]
+
+
+def test_bad_refinement_settings_are_named():
+    with pytest.raises(ValueError, match="stepsize"):
+        make_learner("annealing", ENV, TINY_ENV, {"refine": {"stepsize": 0.1}})
+    with pytest.raises(ValueError, match="threshold in"):
+        make_learner("cmaes", ENV, TINY_ENV, {"refine": {"env_steps": 10, "threshold": 2}})
 
 
 def test_annealing_accepts_downhill_and_cools():
