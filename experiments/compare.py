@@ -1,7 +1,8 @@
 """``animat compare``: read run folders' TensorBoard events back (TensorBoard's own reader,
 keeping every scalar), group runs by learner (its ``label`` where the config gives one),
 aggregate over seeds and write a Markdown table and a PNG plot (mean curve with a shaded +-std
-band per learner, x = env steps)."""
+band per learner, x = env steps), then the runs' abstractions
+(:mod:`experiments.abstraction_table`)."""
 
 from __future__ import annotations
 
@@ -12,6 +13,7 @@ from pathlib import Path
 import numpy as np
 import yaml
 
+from experiments.abstraction_table import abstraction_markdown, abstraction_rows
 from experiments.runs import read_status
 
 
@@ -160,16 +162,19 @@ def compare(paths: list[str | Path], metric: str = "eval/return", threshold: flo
     """Compare runs; returns the Markdown and the plot's path (beside ``report`` if given)."""
     runs = [load_run(folder) for folder in find_runs(paths)]
     rows = summarise(runs, metric, threshold)
+    abstractions = abstraction_rows(runs, metric)
     envs = sorted({r.env_id for r in runs})
     text = f"Runs of {', '.join(envs)}; metric `{metric}` (x = env steps).\n\n" + markdown(
         rows, metric, threshold)
+    table = abstraction_markdown(abstractions, metric)
     image = None
     if report:
         report = Path(report)
         report.parent.mkdir(parents=True, exist_ok=True)
         image = report.with_suffix(".png")
         drawn = plot(runs, metric, image)
-        report.write_text(text + f"\n![{metric}]({image.name})\n")
-        (report.with_suffix(".json")).write_text(json.dumps({"rows": rows, "plotted": drawn},
-                                                            indent=1))
-    return text, image
+        report.write_text(text + f"\n![{metric}]({image.name})\n" + (
+            f"\n{table}" if table else ""))
+        (report.with_suffix(".json")).write_text(json.dumps(
+            {"rows": rows, "plotted": drawn, "abstraction": abstractions}, indent=1))
+    return text + (f"\n{table}" if table else ""), image

@@ -104,10 +104,11 @@ class BlackBoxLearner(Learner):
             raise ValueError(f"learner {self.name!r}: refine must be a mapping, got {refine!r}")
         option_names = {f.name for f in fields(self.params_class)}
         unknown_params(refine, REFINE_KEYS | option_names, f"{self.name}.refine")
-        env_steps, threshold = int(refine.get("env_steps", 0)), float(refine.get("threshold", 0.5))
-        if env_steps < 0 or not 0.0 <= threshold < 1.0:
-            raise ValueError(f"learner {self.name!r}: refine needs env_steps >= 0 and threshold "
-                             f"in [0, 1), got {env_steps}, {threshold}")
+        env_steps, threshold = refine.get("env_steps"), refine.get("threshold", 0.5)
+        if not (isinstance(env_steps, int) and env_steps > 0 and isinstance(threshold, float | int)
+                and 0.0 <= threshold < 1.0):
+            raise ValueError(f"learner {self.name!r}: refine needs env_steps, an integer > 0, and "
+                             f"threshold in [0, 1); got {env_steps!r}, {threshold!r}")
         options = {k: v for k, v in refine.items() if k not in REFINE_KEYS}
         if "smoothing" in option_names:
             options = {"smoothing": 0.0, "block": 0, **options}
@@ -144,6 +145,9 @@ class BlackBoxLearner(Learner):
                    "env_steps": 0, "wall": 0.0, "rounds": 0}
         start = time.perf_counter() - run["wall"]
         refine_steps = self.refine["env_steps"] if self.refine else 0
+        if refine_steps >= budget_env_steps:
+            raise ValueError(f"refine.env_steps ({refine_steps}) must be less than the budget "
+                             f"({budget_env_steps}): the first phase needs some")
         self._run_phase(run, 0, evaluator, budget_env_steps - refine_steps, path, start)
         learned = run["phases"][0]["best"]
         if self.refine and learned is not None:
@@ -218,7 +222,7 @@ class BlackBoxLearner(Learner):
                              f"{self.population * evaluator.steps} env steps")
         artefacts = self._artefacts(learned["x"], evaluator.duration, evaluator)
         artefacts["learned_metrics"] = _eval_metrics(learned)
-        if len(run["phases"]) > 1:
+        if len(run["phases"]) > 1 and run["phases"][1]["best"] is not None:
             artefacts.update(self._refined_artefacts(run["phases"][1], artefacts, evaluator))
         return LearnResult(env_steps=run["env_steps"], wall_seconds=run["wall"],
                            metrics=_eval_metrics(best), artefacts=artefacts)

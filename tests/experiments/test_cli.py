@@ -59,7 +59,8 @@ def test_compare_two_learners_writes_table_and_plot(tmp_path):
     animat("run", config, "--out", tmp_path / "runs" / "b", "--set", "learner.name=cmaes",
            "--set", "learner.params={popsize: 8, nodes: 4, period: 0.5}")
     animat("run", config, "--out", tmp_path / "runs" / "c", "--set", "learner.label=hot",
-           "--set", "learner.params.initial_temperature=1.0")  # a variant, labelled
+           "--set", "learner.params.initial_temperature=1.0",  # a variant, labelled
+           "--set", "learner.params.refine={env_steps: 400}")
     report = tmp_path / "report" / "swim.md"
     animat("compare", tmp_path / "runs", "--metric", "eval/speed_bl_per_s", "--threshold",
            "0.0", "-o", report)
@@ -70,6 +71,12 @@ def test_compare_two_learners_writes_table_and_plot(tmp_path):
     summary = json.loads(report.with_suffix(".json").read_text())
     assert {row["learner"] for row in summary["rows"]} == {"annealing", "cmaes", "hot"}
     assert summary["plotted"] == ["annealing", "cmaes", "hot"]  # every curve is in the plot
+    # the abstraction table: one row per run, the refined variant with its refined columns
+    rows = {row["learner"]: row for row in summary["abstraction"]}
+    assert set(rows) == {"annealing", "cmaes", "hot"}
+    assert rows["annealing"]["refined"] is None and rows["hot"]["refined"]["parameters"] < 24
+    assert rows["hot"]["refined"]["E"] <= rows["hot"]["before_refining"]["E"]
+    assert "Abstractions, per run" in text and text.count("| hot | 0 | 24 |") == 1
 
 
 @pytest.mark.parametrize("change, message", [

@@ -149,6 +149,11 @@ def test_bad_refinement_settings_are_named():
         make_learner("annealing", ENV, TINY_ENV, {"refine": {"stepsize": 0.1}})
     with pytest.raises(ValueError, match="threshold in"):
         make_learner("cmaes", ENV, TINY_ENV, {"refine": {"env_steps": 10, "threshold": 2}})
+    with pytest.raises(ValueError, match="env_steps, an integer > 0"):
+        make_learner("annealing", ENV, TINY_ENV, {"refine": {"env_steps": "lots"}})
+    learner = make_learner("annealing", ENV, TINY_ENV, {"refine": {"env_steps": 800}})
+    with pytest.raises(ValueError, match="must be less than the budget"):
+        learner.learn(800)
 
 
 def test_annealing_accepts_downhill_and_cools():
