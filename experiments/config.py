@@ -136,11 +136,18 @@ def validate(data: Any, source: str) -> ExperimentConfig:
         raise ConfigError(source, path, message) from None
 
 
-def check_learner_params(config: ExperimentConfig, source: str) -> None:
-    """Build the learner (cheap: no env, no files written) so that a parameter it does not take
-    or cannot use stops the run before any work, as ConfigError on ``learner.params``."""
+def check_buildable(config: ExperimentConfig, source: str) -> None:
+    """Build the env and the learner once (cheap: no learning, no files written) so that an env
+    keyword or a learner parameter that cannot be used stops the run before any work, as
+    ConfigError on ``env.kwargs`` or ``learner.params``."""
+    import gymnasium as gym
+
     from learners.registry import make_learner
 
+    try:
+        gym.make(config.env.id, **config.env.kwargs).close()
+    except (ValueError, TypeError) as error:
+        raise ConfigError(source, "env.kwargs", str(error)) from None
     try:
         make_learner(config.learner.name, config.env.id, config.env.kwargs,
                      config.learner.params, config.seed)
@@ -166,7 +173,7 @@ def load_config(path: str | Path, overrides: list[str] | None = None) -> Experim
             break
         apply_override(data, override, source)
     config = validate(data, source)
-    check_learner_params(config, source)
+    check_buildable(config, source)
     return config
 
 

@@ -86,6 +86,8 @@ def test_compare_two_learners_writes_table_and_plot(tmp_path):
     (lambda d: d["env"].update(id="Animat/Nope-v0"), "env.id: unknown env id"),
     (lambda d: d["learner"].update(name="sgd"), "learner.name: unknown learner 'sgd'"),
     (lambda d: d["learner"].update(label="a b/c"), "learner.label: String should match"),
+    (lambda d: d["env"]["kwargs"].update(duration=-1),
+     "env.kwargs: duration must be > 0 seconds, got -1"),
     (lambda d: d["learner"]["params"].update(chainz=3),
      "learner.params: learner 'annealing' does not take parameter(s) ['chainz']"),
 ])
