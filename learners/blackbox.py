@@ -139,6 +139,9 @@ class BlackBoxLearner(Learner):
         evaluator = BatchEvaluator(self.env_id, self.env_kwargs, self.population, self.seed)
         path = Path(checkpoint_dir) / "checkpoint.pkl" if checkpoint_dir else None
         run = load_checkpoint(path) if path else None
+        if run is not None and "phases" not in run:  # a checkpoint from before phases existed
+            run["phases"] = [{"params": self.opt_params, "state": run.pop("state"),
+                              "best": run.pop("best"), "support": None}]
         if run is None:
             self.log_hparams()
             run = {"phases": [self._phase(self.opt_params, self._x0(), self.seed)],
