@@ -4,8 +4,9 @@ and what its FFT abstractions kept (read from each run folder's ``artefacts.json
 For every run whose artefacts hold an abstraction (the black-box learners'): the learned
 controller's metric, E and parameter count; the truncated abstraction (plain FFT
 thresholding: parameters, metric, its share of the learned metric); and, where the learner
-refined it over its frequency parameters, the refined abstraction likewise. A share above
-100% means the compact controller does better than the one it came from.
+refined it over its frequency parameters, the refined abstraction likewise. Shares are the
+value over the learned controller's (for speed, above 100% is faster; for a distance or an
+error, above 100% is worse).
 """
 
 from __future__ import annotations

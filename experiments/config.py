@@ -53,7 +53,7 @@ class LearnerConfig(_Strict):
 
     name: str
     params: dict[str, Any] = Field(default_factory=dict)
-    label: str | None = Field(default=None, pattern=r"^[A-Za-z0-9_.+-]+$")
+    label: str | None = Field(default=None, pattern=r"^[A-Za-z0-9][A-Za-z0-9_.+-]*$")
 
     @property
     def display_name(self) -> str:
@@ -150,7 +150,7 @@ def check_buildable(config: ExperimentConfig, source: str) -> None:
         raise ConfigError(source, "env.kwargs", str(error)) from None
     try:
         make_learner(config.learner.name, config.env.id, config.env.kwargs,
-                     config.learner.params, config.seed)
+                     config.learner.params, config.seed).check_budget(config.budget.env_steps)
     except (ValueError, TypeError, KeyError, OSError) as error:
         message = error.args[0] if isinstance(error, KeyError) and error.args else str(error)
         raise ConfigError(source, "learner.params", str(message)) from None

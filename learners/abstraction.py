@@ -23,12 +23,15 @@ class AbstractController:
     """Per actuator: ``mean`` (N,) and the kept harmonics ``harmonics`` (list of (K_i,) int
     arrays) with complex coefficients ``coefficients`` (list of (K_i,) complex arrays), over
     ``period`` s. Coefficients follow ``numpy.fft.rfft`` normalised so that a harmonic of
-    amplitude A has |c| = A / 2."""
+    amplitude A has |c| = A / 2. ``nyquist``: the harmonic at the Nyquist rate of the grid the
+    controller was abstracted on (an even number of samples), or None; where kept, it is a
+    cosine (its coefficient is real: one parameter, not two)."""
 
     mean: np.ndarray
     harmonics: tuple[np.ndarray, ...]
     coefficients: tuple[np.ndarray, ...]
     period: float
+    nyquist: int | None = None
 
     @property
     def num_actuators(self) -> int:
@@ -36,13 +39,20 @@ class AbstractController:
 
     @property
     def num_coefficients(self) -> int:
-        """Kept harmonics over all actuators (each a complex number: 2 reals)."""
+        """Kept harmonics over all actuators."""
         return int(sum(len(h) for h in self.harmonics))
+
+    def _complex(self, harmonics: np.ndarray) -> np.ndarray:
+        """Which of an actuator's kept harmonics have an imaginary part (all but Nyquist)."""
+        return harmonics != self.nyquist if self.nyquist is not None else np.ones(
+            len(harmonics), dtype=bool)
 
     @property
     def num_parameters(self) -> int:
-        """Real numbers that define the controller: means + 2 per kept harmonic."""
-        return self.num_actuators + 2 * self.num_coefficients
+        """Real numbers that define the controller: means + 2 per kept harmonic (1 for the
+        Nyquist harmonic, a cosine)."""
+        return self.num_actuators + sum(len(h) + int(self._complex(h).sum())
+                                        for h in self.harmonics)
 
     def __call__(self, t: np.ndarray | float) -> np.ndarray:
         """u(t), shape t.shape + (N,), clipped to [0, 1]; periodic with ``period``."""
@@ -63,11 +73,12 @@ class AbstractController:
         """The controller's real parameters as one vector in [0, 1]^(N + 2K), the space the
         optimisers search when they refine an abstraction (the paper's "frequency
         parameters"): the N means, then per actuator the real parts and then the imaginary
-        parts of its kept coefficients, each shifted by +0.5 (|Re c|, |Im c| <= 0.5 bounds a
-        harmonic's amplitude by sqrt(2)); clipped to the box."""
+        parts of its kept coefficients (none for the Nyquist harmonic), each shifted by +0.5
+        (|Re c|, |Im c| <= 0.5 bounds a harmonic's amplitude by sqrt(2); a signal in [0, 1]
+        has |c| <= 1 / pi); clipped to the box."""
         parts = [self.mean]
-        for c in self.coefficients:
-            parts += [c.real + 0.5, c.imag + 0.5]
+        for h, c in zip(self.harmonics, self.coefficients):
+            parts += [c.real + 0.5, c.imag[self._complex(h)] + 0.5]
         return np.clip(np.concatenate(parts), 0.0, 1.0)
 
     def with_frequency_parameters(self, vector: np.ndarray) -> AbstractController:
@@ -79,11 +90,13 @@ class AbstractController:
                              f"{vector.shape}")
         coefficients, k = [], self.num_actuators
         for h in self.harmonics:
-            n = len(h)
-            coefficients.append((vector[k:k + n] - 0.5) + 1j * (vector[k + n:k + 2 * n] - 0.5))
-            k += 2 * n
+            n, has_imag = len(h), self._complex(h)
+            imag = np.zeros(n)
+            imag[has_imag] = vector[k + n:k + n + int(has_imag.sum())] - 0.5
+            coefficients.append((vector[k:k + n] - 0.5) + 1j * imag)
+            k += n + int(has_imag.sum())
         return AbstractController(vector[:self.num_actuators].copy(), self.harmonics,
-                                  tuple(coefficients), self.period)
+                                  tuple(coefficients), self.period, self.nyquist)
 
     def to_dict(self) -> dict:
         """JSON-ready description (lists of floats and ints)."""
@@ -93,6 +106,7 @@ class AbstractController:
             "harmonics": [[int(k) for k in h] for h in self.harmonics],
             "coefficients": [[[float(z.real), float(z.imag)] for z in c]
                              for c in self.coefficients],
+            "nyquist": self.nyquist,
         }
 
     @classmethod
@@ -103,6 +117,7 @@ class AbstractController:
             coefficients=tuple(np.array([complex(re, im) for re, im in c], dtype=complex)
                                for c in data["coefficients"]),
             period=float(data["period"]),
+            nyquist=data.get("nyquist"),
         )
 
 
@@ -122,17 +137,19 @@ def abstract(controller: TentController, threshold: float = 0.1,
     t = controller.t0 + controller.duration * np.arange(count) / count
     values = controller(t)  # (count, N)
     spectrum = np.fft.rfft(values, axis=0) / count  # (count // 2 + 1, N)
-    largest = np.abs(spectrum[1:]).max() if count > 2 else 0.0
+    nyquist = count // 2 if count % 2 == 0 else None
+    if nyquist is not None:  # the Nyquist term appears once in the series, not twice
+        spectrum[-1] = 0.5 * spectrum[-1].real
+    largest = np.abs(spectrum[1:]).max() if count > 1 else 0.0
     harmonics, coefficients = [], []
     for i in range(controller.num_actuators):
         amplitudes = np.abs(spectrum[1:, i])
         keep = np.flatnonzero((amplitudes >= threshold * largest) & (amplitudes > 1e-12)) + 1
-        if count % 2 == 0:  # the Nyquist term counts once, not twice
-            spectrum[-1, i] *= 0.5
         harmonics.append(keep)
         coefficients.append(spectrum[keep, i].copy())
     return AbstractController(mean=spectrum[0].real.copy(), harmonics=tuple(harmonics),
-                              coefficients=tuple(coefficients), period=controller.duration)
+                              coefficients=tuple(coefficients), period=controller.duration,
+                              nyquist=nyquist)
 
 
 DEFAULT_THRESHOLDS = (0.5, 0.4, 0.3, 0.2, 0.15, 0.1, 0.05, 0.0)

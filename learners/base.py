@@ -58,6 +58,11 @@ class Learner(ABC):
         """Learn with at most ``budget_env_steps`` env steps. With ``checkpoint_dir``, save
         checkpoints there as it goes and resume from the last one if present."""
 
+    def check_budget(self, budget_env_steps: int) -> None:
+        """Raise ValueError if the learner cannot work with this budget (checked before any
+        work; the default takes any)."""
+        return None
+
     def log_hparams(self) -> None:
         self.logger.text("hparams", json.dumps({"learner": self.name, "env_id": self.env_id,
                                                 "env_kwargs": self.env_kwargs,

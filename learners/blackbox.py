@@ -98,14 +98,15 @@ class BlackBoxLearner(Learner):
         """``refine``: {``env_steps`` (taken from the budget), ``threshold`` (the FFT threshold
         of the abstraction refined, default 0.5), and optimiser parameters that differ in the
         frequency space (e.g. ``step_size``)}; smoothing is off there."""
-        if not refine:
+        if refine is None:
             return None
         if not isinstance(refine, dict):
             raise ValueError(f"learner {self.name!r}: refine must be a mapping, got {refine!r}")
-        option_names = {f.name for f in fields(self.params_class)}
+        # the population stays: one batch width for both phases, every row a candidate
+        option_names = {f.name for f in fields(self.params_class)} - {self.population_key}
         unknown_params(refine, REFINE_KEYS | option_names, f"{self.name}.refine")
         env_steps, threshold = refine.get("env_steps"), refine.get("threshold", 0.5)
-        if not (isinstance(env_steps, int) and env_steps > 0 and isinstance(threshold, float | int)
+        if not (type(env_steps) is int and env_steps > 0 and type(threshold) in (float, int)
                 and 0.0 <= threshold < 1.0):
             raise ValueError(f"learner {self.name!r}: refine needs env_steps, an integer > 0, and "
                              f"threshold in [0, 1); got {env_steps!r}, {threshold!r}")
@@ -136,6 +137,7 @@ class BlackBoxLearner(Learner):
         """Phase "learn" searches the encoding of :meth:`controller` with the budget less
         ``refine.env_steps``; phase "refine" (when configured) then searches the frequency
         parameters of the learned controller's FFT abstraction with the rest."""
+        self.check_budget(budget_env_steps)
         evaluator = BatchEvaluator(self.env_id, self.env_kwargs, self.population, self.seed)
         path = Path(checkpoint_dir) / "checkpoint.pkl" if checkpoint_dir else None
         run = load_checkpoint(path) if path else None
@@ -148,22 +150,35 @@ class BlackBoxLearner(Learner):
                    "env_steps": 0, "wall": 0.0, "rounds": 0}
         start = time.perf_counter() - run["wall"]
         refine_steps = self.refine["env_steps"] if self.refine else 0
-        if refine_steps >= budget_env_steps:
-            raise ValueError(f"refine.env_steps ({refine_steps}) must be less than the budget "
-                             f"({budget_env_steps}): the first phase needs some")
         self._run_phase(run, 0, evaluator, budget_env_steps - refine_steps, path, start)
         learned = run["phases"][0]["best"]
-        if self.refine and learned is not None:
-            if len(run["phases"]) == 1:
-                support = self._abstract(learned["x"], evaluator.duration,
-                                         self.refine["threshold"])
-                run["phases"].append(self._phase(self.refine["params"],
-                                                 support.frequency_parameters(),
-                                                 self.seed + 1, support))
+        if (self.refine and learned is not None and len(run["phases"]) == 1
+                and run["env_steps"] + evaluator.steps <= budget_env_steps):
+            self._start_refining(run, learned["x"], evaluator)
+        if len(run["phases"]) > 1:
             self._run_phase(run, 1, evaluator, budget_env_steps, path, start)
         if path:
             save_checkpoint(path, run)
         return self._result(run, evaluator)
+
+    def check_budget(self, budget_env_steps: int) -> None:
+        """Raise ValueError if ``refine`` leaves the first phase nothing."""
+        if self.refine and self.refine["env_steps"] >= budget_env_steps:
+            raise ValueError(f"refine.env_steps ({self.refine['env_steps']}) must be less than "
+                             f"the budget ({budget_env_steps}): the first phase needs some")
+
+    def _start_refining(self, run: dict, x: np.ndarray, evaluator: BatchEvaluator) -> None:
+        """Phase 2 starts at the truncated abstraction, which is scored first (one episode,
+        charged), so that the refined controller is never worse than the one it came from."""
+        support = self._abstract(x, evaluator.duration, self.refine["threshold"])
+        x0 = support.frequency_parameters()
+        phase = self._phase(self.refine["params"], x0, self.seed + 1, support)
+        returns, metrics = evaluator.evaluate(self._decode(phase, x0, evaluator.duration).actions(
+            evaluator.dt, evaluator.steps)[None])
+        run["env_steps"] += evaluator.steps
+        self._track_best(phase, [x0], returns, metrics)
+        phase["start"] = _eval_metrics(phase["best"])
+        run["phases"].append(phase)
 
     def _phase(self, params, x0: np.ndarray, seed: int, support=None) -> dict:
         """One optimisation: its optimiser params and state, its best, and (refining) the
@@ -225,8 +240,9 @@ class BlackBoxLearner(Learner):
                              f"{self.population * evaluator.steps} env steps")
         artefacts = self._artefacts(learned["x"], evaluator.duration, evaluator)
         artefacts["learned_metrics"] = _eval_metrics(learned)
-        if len(run["phases"]) > 1 and run["phases"][1]["best"] is not None:
-            artefacts.update(self._refined_artefacts(run["phases"][1], artefacts, evaluator))
+        if len(run["phases"]) > 1:
+            artefacts.update(self._refined_artefacts(run["phases"][1], artefacts))
+        artefacts["result_from"] = "learned" if best is learned else "refined abstraction"
         return LearnResult(env_steps=run["env_steps"], wall_seconds=run["wall"],
                            metrics=_eval_metrics(best), artefacts=artefacts)
 
@@ -270,8 +286,7 @@ class BlackBoxLearner(Learner):
             "coefficients": chosen.num_coefficients, "refined": False}
         return artefacts
 
-    def _refined_artefacts(self, phase: dict, artefacts: dict, evaluator: BatchEvaluator
-                           ) -> dict:
+    def _refined_artefacts(self, phase: dict, artefacts: dict) -> dict:
         """The refined abstraction becomes the learner's ``abstraction``; the truncation the
         "learn" phase chose moves to ``truncated_abstraction``; ``abstraction_metrics`` also
         report the abstraction refinement started from, before refining."""
@@ -285,7 +300,7 @@ class BlackBoxLearner(Learner):
                 **_eval_metrics(phase["best"]), "parameters": refined.num_parameters,
                 "coefficients": refined.num_coefficients, "refined": True,
                 "threshold": self.refine["threshold"],
-                "before_refining": self._score([support], evaluator)[0]}}
+                "before_refining": phase["start"]}}
 
 
 def _eval_metrics(best: dict) -> dict[str, float]:

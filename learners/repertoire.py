@@ -150,12 +150,19 @@ class BasicTrainingLearner(Learner):
         threshold = self.params.get("threshold")
         self.threshold = None if threshold is None else float(threshold)
         self.annealing = dict(self.params.get("annealing", {"chains": 64}))
-        for spec in self.regimen:  # every skill's settings are checked before any learning
-            AnnealingLearner(spec["env_id"], spec.get("env_kwargs", {}),
-                             {**self.annealing, **spec.get("params", {})}, self.seed)
+        # every skill's settings are checked before any learning
+        self._skill_learners = [AnnealingLearner(spec["env_id"], spec.get("env_kwargs", {}),
+                                                 {**self.annealing, **spec.get("params", {})},
+                                                 self.seed) for spec in self.regimen]
+
+    def check_budget(self, budget_env_steps: int) -> None:
+        """Each skill gets an equal share; its learner must be able to use it."""
+        for learner in self._skill_learners:
+            learner.check_budget(budget_env_steps // len(self.regimen))
 
     def learn(self, budget_env_steps: int, checkpoint_dir: str | Path | None = None
               ) -> LearnResult:
+        self.check_budget(budget_env_steps)
         start = time.perf_counter()
         self.log_hparams()
         folder = Path(checkpoint_dir) if checkpoint_dir else None

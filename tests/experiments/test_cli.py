@@ -86,6 +86,9 @@ def test_compare_two_learners_writes_table_and_plot(tmp_path):
     (lambda d: d["env"].update(id="Animat/Nope-v0"), "env.id: unknown env id"),
     (lambda d: d["learner"].update(name="sgd"), "learner.name: unknown learner 'sgd'"),
     (lambda d: d["learner"].update(label="a b/c"), "learner.label: String should match"),
+    (lambda d: d["learner"].update(label=".."), "learner.label: String should match"),
+    (lambda d: d["learner"]["params"].update(refine={"env_steps": 800}),
+     "learner.params: refine.env_steps (800) must be less than the budget (800)"),
     (lambda d: d["env"]["kwargs"].update(duration=-1),
      "env.kwargs: duration must be > 0 seconds, got -1"),
     (lambda d: d["learner"]["params"].update(chainz=3),
@@ -118,8 +121,8 @@ def test_every_shipped_config_takes_seed_and_budget_overrides():
         "fish_swim_ppo.yaml", "fish_swim_handmc.yaml", "fish_basic_training.yaml",
         "fish_reach_macro.yaml"}
     for path in configs:
-        config = load_config(path, ["seed=3", "budget.env_steps=20000"])
-        assert config.seed == 3 and config.budget.env_steps == 20000
+        config = load_config(path, ["seed=3", "budget.env_steps=5000000"])
+        assert config.seed == 3 and config.budget.env_steps == 5_000_000
 
 
 def test_config_error_names_file_and_path(tmp_path):

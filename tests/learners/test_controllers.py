@@ -73,6 +73,19 @@ def test_frequency_parameters_round_trip_and_name_a_wrong_length():
         abstracted.with_frequency_parameters(vector[:-1])
 
 
+def test_full_abstraction_of_a_periodic_controller_has_its_parameter_count():
+    values = np.random.default_rng(0).uniform(0, 1, (6, 20))  # Nyquist content included
+    tent = TentController(np.concatenate([values, values[:, :1]], axis=1), 0.0, 1.0)
+    whole = abstract(tent, threshold=0.0)
+    assert whole.nyquist == 10 and whole.num_parameters == 120  # the 120 nodal values
+    nodes = tent.node_times
+    np.testing.assert_allclose(whole(nodes), tent(nodes), atol=1e-12)
+    vector = whole.frequency_parameters()
+    assert vector.shape == (120,)
+    t = np.linspace(0, 3, 77)
+    np.testing.assert_allclose(whole.with_frequency_parameters(vector)(t), whole(t), atol=1e-12)
+
+
 def test_abstraction_rejects_bad_threshold():
     with pytest.raises(ValueError, match="threshold"):
         abstract(_sinusoid(), threshold=1.5)

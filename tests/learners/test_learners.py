@@ -69,15 +69,21 @@ def test_unknown_learner_and_parameter_are_named():
 
 
 def _anneal(budget, checkpoint_dir=None, seed=3, **params):
-    sink = MemorySink()
-    learner = make_learner("annealing", ENV, TINY_ENV, {"chains": 8, "nodes": 4,
-                                                       "checkpoint_every": 1, **params},
+    return _learn("annealing", budget, checkpoint_dir, seed, chains=8, **params)
+
+
+def _learn(name, budget, checkpoint_dir=None, seed=3, logger_sink=None, **params):
+    sink = logger_sink or MemorySink()
+    learner = make_learner(name, ENV, TINY_ENV, {"nodes": 4, "checkpoint_every": 1, **params},
                            seed=seed, logger=Logger([sink]))
     return learner.learn(budget, checkpoint_dir), sink
 
 
-REFINE = {"period": 0.5, "nodes": 10, "refine": {"env_steps": 400, "threshold": 0.3,
-                                                  "step_size": 0.1}}
+REFINE = {"period": 0.5, "nodes": 10}
+REFINE_BY = {"annealing": {"chains": 8, "refine": {"env_steps": 400, "threshold": 0.3,
+                                                   "step_size": 0.1}},
+             "cmaes": {"popsize": 8, "refine": {"env_steps": 400, "threshold": 0.3,
+                                                "sigma0": 0.1}}}
 
 
 def test_annealing_is_bit_for_bit_reproducible():
@@ -98,16 +104,22 @@ def test_annealing_resumed_from_a_checkpoint_ends_identical(tmp_path):
     assert resumed.artefacts["controller"] == whole.artefacts["controller"]
 
 
-def test_refinement_searches_the_abstraction_with_its_share_of_the_budget():
-    result, sink = _anneal(1200, **REFINE)
+@pytest.mark.parametrize("name", ["annealing", "cmaes"])
+def test_refinement_searches_the_abstraction_with_its_share_of_the_budget(name):
+    result, sink = _learn(name, 1200, **REFINE, **REFINE_BY[name])
+    alone, _ = _learn(name, 800, **REFINE, **{k: v for k, v in REFINE_BY[name].items()
+                                              if k != "refine"})
     learned, refined = result.artefacts["learned_metrics"], result.artefacts["abstraction_metrics"]
-    assert result.env_steps == 1200 and refined["refined"]
+    assert learned == alone.metrics  # phase 1 had exactly the budget less refine.env_steps
+    assert 1200 - 80 < result.env_steps <= 1200 and refined["refined"]
     assert refined["parameters"] < result.artefacts["parameters"] == 60
-    # refining starts from the truncated abstraction itself, so it can only improve on it
+    # refining starts by scoring the truncated abstraction itself: it can only improve on it
     assert refined["eval/return"] >= refined["before_refining"]["eval/return"]
     assert result.metrics["eval/return"] == max(learned["eval/return"], refined["eval/return"])
+    assert result.artefacts["result_from"] == (
+        "learned" if result.metrics == learned else "refined abstraction")
     steps = [step for step, _ in sink.series("eval/return")]
-    assert steps[-1] == 1200 and any(step > 800 for step in steps)  # logged while refining
+    assert steps[-1] == result.env_steps and any(step > 810 for step in steps)  # refining
     # the stored abstraction plays back to the score reported for it
     player = PeriodicPlayer(AbstractController.from_dict(result.artefacts["abstraction"]), 0.5)
     evaluator = BatchEvaluator(ENV, TINY_ENV, 8, seed=3)
@@ -132,14 +144,15 @@ class _CrashingSink(MemorySink):
         super().scalar(tag, value, step)
 
 
-def test_refinement_resumed_from_a_checkpoint_ends_identical(tmp_path):
-    whole, _ = _anneal(1200, **REFINE)
-    params = {"chains": 8, "nodes": 4, "checkpoint_every": 1, **REFINE}
-    crashing = make_learner("annealing", ENV, TINY_ENV, params, seed=3,
-                            logger=Logger([_CrashingSink(1000)]))
-    with pytest.raises(_Crash):  # dies while refining (the phase split is at 800)
-        crashing.learn(1200, tmp_path)
-    resumed, _ = _anneal(1200, tmp_path, **REFINE)
+@pytest.mark.parametrize("name", ["annealing", "cmaes"])
+@pytest.mark.parametrize("crash_after", [500, 800, 1000])  # learning, at the switch, refining
+def test_refinement_resumed_from_a_checkpoint_ends_identical(tmp_path, name, crash_after):
+    params = {**REFINE, **REFINE_BY[name], "checkpoint_every": 3}
+    whole, _ = _learn(name, 1200, **params)
+    with pytest.raises(_Crash):
+        _learn(name, 1200, tmp_path, logger_sink=_CrashingSink(crash_after), **params)
+    resumed, _ = _learn(name, 1200, tmp_path, **params)
+    assert resumed.env_steps == whole.env_steps
     assert resumed.metrics == whole.metrics
     assert resumed.artefacts["abstraction"] == whole.artefacts["abstraction"]
 
