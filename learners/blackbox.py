@@ -173,8 +173,8 @@ class BlackBoxLearner(Learner):
         support = self._abstract(x, evaluator.duration, self.refine["threshold"])
         x0 = support.frequency_parameters()
         phase = self._phase(self.refine["params"], x0, self.seed + 1, support)
-        returns, metrics = evaluator.evaluate(self._decode(phase, x0, evaluator.duration).actions(
-            evaluator.dt, evaluator.steps)[None])
+        player = self._decode(phase, x0, evaluator.duration)
+        returns, metrics = evaluator.evaluate_players([player])
         run["env_steps"] += evaluator.steps
         self._track_best(phase, [x0], returns, metrics)
         phase["start"] = _eval_metrics(phase["best"])
@@ -200,9 +200,8 @@ class BlackBoxLearner(Learner):
         while (run["env_steps"] + cost <= limit
                and not self.optimizer.finished(params, phase["state"])):
             candidates, state = self.optimizer.ask(params, phase["state"])
-            actions = np.stack([self._decode(phase, c, evaluator.duration).actions(
-                evaluator.dt, evaluator.steps) for c in candidates])
-            returns, metrics = evaluator.evaluate(actions)
+            returns, metrics = evaluator.evaluate_players(
+                [self._decode(phase, c, evaluator.duration) for c in candidates])
             phase["state"] = self.optimizer.tell(params, state, candidates, -returns)
             run["env_steps"] += len(candidates) * evaluator.steps
             run["rounds"] += 1
@@ -258,9 +257,8 @@ class BlackBoxLearner(Learner):
 
     def _score(self, controllers, evaluator: BatchEvaluator) -> list[dict]:
         """``eval/*`` metrics of each controller, played periodically (not charged)."""
-        actions = np.stack([PeriodicPlayer(c, self.period).actions(
-            evaluator.dt, evaluator.steps) for c in controllers])
-        returns, metrics = evaluator.evaluate(actions)
+        returns, metrics = evaluator.evaluate_players(
+            [PeriodicPlayer(c, self.period) for c in controllers])
         return [{"eval/return": float(r), **{f"eval/{k}": float(v[j]) for k, v in
                                               metrics.items()}} for j, r in enumerate(returns)]
 

@@ -77,6 +77,11 @@ class BatchEvaluator:
         merged = {k: np.concatenate([m[k] for m in metrics]) for k in metrics[0]}
         return np.concatenate(returns), merged
 
+    def evaluate_players(self, players) -> tuple[np.ndarray, dict[str, np.ndarray]]:
+        """:meth:`evaluate` the action sequences of ``players`` (anything with
+        ``actions(dt, steps)``: controllers, macro sequences)."""
+        return self.evaluate(np.stack([p.actions(self.dt, self.steps) for p in players]))
+
     def _evaluate_chunk(self, chunk: np.ndarray):
         count = len(chunk)
         padded = np.zeros((self.num_envs,) + chunk.shape[1:], dtype=np.float32)
