@@ -1,8 +1,10 @@
 """Swim demo: the hand-designed motor controllers drive the fish; prints what they achieve.
 
-``python -m envs.demo [--seconds 10] [--video DIR]``: swims at full speed with the swim-MC, turns
-left and right with the turn-MCs, and rises and dives with the fin-MC, printing speed (body
-lengths per second), heading and depth change; with ``--video`` it records the swim to DIR.
+``python -m envs.demo [--seconds 10] [--video DIR]``: swims at full speed with the swim-MC and
+prints the biology figures of its cruise (tail-beat frequency f, peak-to-peak tail amplitude A,
+speed U along the start heading, Strouhal number fA/U, stride U/f), turns left and right with
+the turn-MCs, and rises and dives with the fin-MC (fin angles through the action space);
+with ``--video`` it records the swim to DIR.
 """
 
 from __future__ import annotations
@@ -14,19 +16,39 @@ import numpy as np
 
 import envs  # noqa: F401
 from envs.fish_env import FishEnv
-from envs.motor import fin_mc, swim_mc, to_action, turn_mc
+from envs.motor import SwimParams, fin_mc, swim_mc, to_action, turn_duration, turn_mc
+
+TAIL_TIPS = [21, 22]
 
 
-def play(env: gym.Env, actuation, seconds: float, fins=None) -> list[dict]:
-    """Run ``actuation(t) -> u (6,)`` for ``seconds``; returns the per-step infos."""
-    core = env.unwrapped.core
+def play(env: gym.Env, actuation, seconds: float, fins=None) -> tuple[list[dict], np.ndarray]:
+    """Run ``actuation(t) -> u (6,)`` for ``seconds`` (with fin commands ``fins`` (2,) in
+    [-1, 1] appended when given); returns the per-step infos and the tail tip's track (T, 3)."""
     env.reset(seed=0)
-    infos = []
+    infos, tail = [], []
     for k in range(int(round(seconds / env.unwrapped.dt))):
+        action = to_action(actuation((k + 1) * env.unwrapped.dt))
         if fins is not None:
-            core.fins[0] = fins
-        infos.append(env.step(to_action(actuation((k + 1) * env.unwrapped.dt)))[4])
-    return infos
+            action = np.append(action, fins).astype(np.float32)
+        infos.append(env.step(action)[4])
+        tail.append(env.unwrapped.core.x[0, TAIL_TIPS].mean(axis=0))
+    return infos, np.array(tail)
+
+
+def cruise_figures(infos: list[dict], tail: np.ndarray, dt: float, length: float,
+                   hz: float, start: float) -> dict[str, float]:
+    """Biology figures over the part of a swim after ``start`` s: U (BL/s, net travel per
+    second), A (BL, the tail tip's peak-to-peak excursion across the travel direction), f (Hz),
+    St = fA/U and the stride U/f (BL per beat)."""
+    first = int(round(start / dt))
+    com = np.array([i["com"] for i in infos])[first:, :2]
+    travel = com[-1] - com[0]
+    speed = np.linalg.norm(travel) / ((len(com) - 1) * dt)
+    across = np.array([-travel[1], travel[0]]) / np.linalg.norm(travel)
+    sway = (tail[first:, :2] - com) @ across
+    amplitude = sway.max() - sway.min()
+    return {"U": speed / length, "A": amplitude / length, "f": hz,
+            "St": hz * amplitude / speed, "stride": speed / length / hz}
 
 
 def main(argv: list[str] | None = None) -> None:
@@ -38,32 +60,32 @@ def main(argv: list[str] | None = None) -> None:
     if args.video:
         env = gym.wrappers.RecordVideo(env, args.video, episode_trigger=lambda e: e == 0,
                                        disable_logger=True)
-    infos = play(env, lambda t: swim_mc(1.0, t), args.seconds)
     length, dt = env.unwrapped.body_length, env.unwrapped.dt
-    com = np.array([i["com"] for i in infos])
-    per_second = int(round(1.0 / dt))
-    travel = np.diff(np.concatenate([[com[0]], com[per_second - 1::per_second]]), axis=0)
-    direction = np.degrees(np.arctan2(travel[:, 1], travel[:, 0]))
-    speed = np.linalg.norm(com[-1, :2] - com[2 * per_second, :2]) / (
-        len(com) * dt - 2.0) / length
-    print(f"swim-MC, speed 1: {speed:.2f} BL/s after the first 2 s; travel direction of each "
-          f"second within {np.abs(direction).max():.1f} deg of +x; {com[-1, 0] / length:.2f} BL "
-          "travelled")
+    infos, tail = play(env, lambda t: swim_mc(1.0, t), args.seconds)
+    fig = cruise_figures(infos, tail, dt, length, SwimParams().max_hz, args.seconds / 2)
+    along = infos[-1]["com"][0] - infos[len(infos) // 2 - 1]["com"][0]
+    print(f"swim-MC, speed 1, over the last {args.seconds / 2:g} s: U {fig['U']:.2f} BL/s "
+          f"({along / length / (args.seconds / 2):.2f} along the start heading), tail beat "
+          f"f {fig['f']:.1f} Hz, amplitude A {fig['A']:.2f} BL (peak to peak), "
+          f"Strouhal fA/U {fig['St']:.2f}, stride {fig['stride']:.2f} BL per beat; heading "
+          f"{infos[-1]['heading_deg']:+.1f} deg at {args.seconds:g} s")
     env.close()
+    end = turn_duration(np.pi / 2)
     for left in (True, False):
         sign = 1.0 if left else -1.0
-        turn = FishEnv("turn", duration=3.0)
-        headings = sign * np.array([i["heading_deg"] for i in play(
-            turn, lambda t, left=left: turn_mc(np.pi / 2, t, left), 3.0)])
-        first = np.flatnonzero(headings >= 90.0)
-        when = f"reached 90 deg at {(first[0] + 1) * dt:.2f} s" if first.size else "not reached"
-        print(f"{'left' if left else 'right'}-turn-MC, 90 deg: {when}; "
-              f"{headings[-1]:.1f} deg when the controller ends at 3 s")
+        turn = FishEnv("turn", duration=end + 3.0)
+        turn_infos, _ = play(turn, lambda t, left=left: turn_mc(np.pi / 2, t, left), end + 3.0)
+        headings = sign * np.array([i["heading_deg"] for i in turn_infos])
+        at_end = headings[int(round(end / dt)) - 1]
+        print(f"{'left' if left else 'right'}-turn-MC, 90 deg: {at_end:.1f} deg when it ends at "
+              f"{end:.1f} s, {headings.max():.1f} at most, {headings[-1]:.1f} 3 s later")
     for pitch in (1.0, -1.0):
-        dive = FishEnv("swim", duration=6.0)
-        infos = play(dive, lambda t: swim_mc(1.0, t), 6.0, fins=fin_mc(pitch=pitch))
-        change = (infos[-1]["com"][2] - infos[0]["com"][2]) / length
-        print(f"fin-MC pitch {pitch:+.0f} while swimming: depth change {change:+.2f} BL in 6 s")
+        dive = FishEnv("swim", duration=6.0, fins=True)
+        fin_infos, _ = play(dive, lambda t: swim_mc(1.0, t), 6.0,
+                            fins=fin_mc(pitch=pitch) / fin_mc(pitch=1.0)[0])
+        z = np.array([i["com"][2] for i in fin_infos]) / length
+        print(f"fin-MC pitch {pitch:+.0f} while swimming: depth change {z[-1] - z[0]:+.2f} BL "
+              f"in 6 s, {(z[-1] - z[59]) / 3.0:+.3f} BL/s over the last 3 s")
 
 
 if __name__ == "__main__":

@@ -1,10 +1,14 @@
 """The artificial fish of Tu & Terzopoulos (1994), as a :class:`~envs.body.BodySpec` in SI units.
 
-Topology (23 nodes, 91 elements, 12 muscles in 6 actuators) is the data sheet's
-(``shared/spec/fish-body.md``). The model's 26 units are scaled to a 0.30 m fish. Masses follow
-the body's volume (each ring gets half of the two frusta beside it), so that the fish is
-neutrally buoyant in fresh water (1000 kg/m^3): 0.52 kg for 0.30 m, like a stocky carp or trout.
-Stiffnesses keep the data sheet's order (cross > ordinary > muscle).
+Topology (23 nodes, 91 elements, 12 muscles in 6 actuators) is the data sheet's (the
+project's ``shared/spec/fish-body.md``). The model's 26 units are scaled to a 0.30 m fish. The
+total mass is the hull's volume of water (0.51 kg for 0.30 m, like a stocky carp or trout),
+shared among the nodes in the data sheet's proportions; each node displaces its own mass of
+water, so the fish is neutrally buoyant (with a small righting lift on the upper nodes).
+Stiffnesses keep the data sheet's order (cross > ordinary > muscle), with the ring edges
+(hoops) stiffest, so that every passive element stays within 0.78-1.23 of its rest length under
+random actions (``tests/envs/test_tissue.py``). The stiffest mode sets the integrator's step
+bound (:func:`envs.physics.system.stable_step`, 1.69 ms).
 """
 
 from __future__ import annotations
@@ -36,7 +40,8 @@ _ORDINARY = """0-1 0-2 0-3 0-4 1-2 1-4 2-3 3-4 5-6 5-8 6-7 7-8 9-10 9-12 10-11 1
 
 # Stiffness (N/m) and damping (N s/m) per kind, for the 0.30 m fish.
 _STIFFNESS = {CROSS: 600.0, ORDINARY: 450.0, MUSCLE: 350.0}
-_DAMPING = {CROSS: 2.0, ORDINARY: 1.5, MUSCLE: 1.5}
+HOOP_STIFFNESS = 1200.0  # N/m: the four edges of each ring, which keep its cross-section
+_DAMPING = {CROSS: 0.2, ORDINARY: 0.15, MUSCLE: 0.15}
 
 
 def _pairs(text: str) -> list[tuple[int, int]]:
@@ -51,33 +56,46 @@ def _rest_positions_units() -> np.ndarray:
     return np.array(nodes)
 
 
-def _station_volumes_units() -> np.ndarray:
-    """(6,) volume attributed to the nose and each ring: half of each adjacent frustum."""
-    xs = [0.0] + [x for x, _ in _STATIONS]
-    areas = [0.0] + [(2 * h) ** 2 for _, h in _STATIONS]
-    shares = np.zeros(len(xs))
-    for k in range(len(xs) - 1):
-        a0, a1, dx = areas[k], areas[k + 1], xs[k] - xs[k + 1]
-        frustum = dx / 3.0 * (a0 + a1 + np.sqrt(a0 * a1))
-        shares[k] += frustum / 2
-        shares[k + 1] += frustum / 2
-    return shares
+# Mass per node by station (nose, the five rings, the caudal-fin tips), in the data sheet's
+# units: most of the mass in the middle of the body, a light peduncle and tail.
+STATION_MASSES = (1.1, 6.6, 11.0, 6.6, 1.1, 1.1, 1.1)
 
 
-def _node_volumes(scale: float, fin_fraction: float, buoyancy_lift: float) -> np.ndarray:
-    """(23,) displaced volume per node, m^3; upper nodes carry slightly more (``buoyancy_lift``)
-    so the centre of buoyancy sits above the centre of mass and the fish floats upright."""
-    stations = _station_volumes_units() * scale**3
-    per_node = [stations[0]]
-    for share in stations[1:]:
-        per_node += [share / 4] * 4
-    per_node = np.array(per_node + [0.0, 0.0])
-    fin = fin_fraction * per_node.sum()
-    per_node[21:] = fin
+def _node_masses(total: float, station_masses: tuple[float, ...]) -> np.ndarray:
+    """(23,) nodal masses, kg, in the data sheet's proportions, summing to ``total``; the
+    caudal-fin tips get the peduncle ring's share (the sheet's 0.165 would make them the
+    stiffest, fastest-vibrating part of the body and set the step of the whole simulation)."""
+    nose, *rings, tail = station_masses
+    units = np.array([nose] + [m for m in rings for _ in range(4)] + [tail, tail])
+    return total * units / units.sum()
+
+
+def _node_volumes(masses: np.ndarray, buoyancy_lift: float) -> np.ndarray:
+    """(23,) displaced volume per node, m^3: each node neutrally buoyant, then a fraction
+    ``buoyancy_lift`` of each lower node's volume moved to the upper node above it, so the
+    centre of buoyancy sits above the centre of mass and the fish floats upright."""
+    volumes = masses / WATER_DENSITY
     upper = np.array([False] + [sz > 0 for _ in _STATIONS for _, sz in _RING_SIGNS] + [True, False])
     lower = np.array([False] + [sz < 0 for _ in _STATIONS for _, sz in _RING_SIGNS] + [False, True])
-    shift = buoyancy_lift * per_node
-    return per_node + np.where(upper, shift, 0.0) - np.where(lower, shift, 0.0)
+    shift = buoyancy_lift * volumes
+    return volumes + np.where(upper, shift, 0.0) - np.where(lower, shift, 0.0)
+
+
+def _body_volume(scale: float) -> float:
+    """Volume of the body's hull (nose pyramid and ring-to-ring frusta), m^3."""
+    xs = [0.0] + [x for x, _ in _STATIONS]
+    areas = [0.0] + [(2 * h) ** 2 for _, h in _STATIONS]
+    total = 0.0
+    for k in range(len(xs) - 1):
+        a0, a1, dx = areas[k], areas[k + 1], xs[k] - xs[k + 1]
+        total += dx / 3.0 * (a0 + a1 + np.sqrt(a0 * a1))
+    return total * scale**3
+
+
+def _is_hoop(pair: tuple[int, int]) -> bool:
+    """Whether an element is an edge of one ring (both nodes in the same ring of four)."""
+    i, j = pair
+    return 1 <= i <= 20 and 1 <= j <= 20 and (i - 1) // 4 == (j - 1) // 4
 
 
 def _outward(faces: np.ndarray, positions: np.ndarray) -> np.ndarray:
@@ -106,9 +124,10 @@ def _faces() -> tuple[np.ndarray, np.ndarray]:
     return faces, weights
 
 
-def fish_body(length: float = 0.30, max_contraction: float = 0.6,
-              fin_area: float = 6e-4, buoyancy_lift: float = 0.05,
-              stiffness_scale: float = 1.0) -> BodySpec:
+def fish_body(length: float = 0.30, max_contraction: float = 0.5,
+              fin_area: float = 1e-3, buoyancy_lift: float = 0.05,
+              stiffness_scale: float = 1.0, station_masses: tuple[float, ...] = STATION_MASSES
+              ) -> BodySpec:
     """The artificial fish as a body description.
 
     Args:
@@ -119,8 +138,9 @@ def fish_body(length: float = 0.30, max_contraction: float = 0.6,
             (raises the centre of buoyancy above the centre of mass: righting moment).
     """
     scale = length / MODEL_LENGTH_UNITS
-    masses = WATER_DENSITY * _node_volumes(scale, fin_fraction=0.004, buoyancy_lift=0.0)
-    volumes = _node_volumes(scale, fin_fraction=0.004, buoyancy_lift=buoyancy_lift)
+    masses = _node_masses(WATER_DENSITY * _body_volume(scale) * 1.004,  # hull + caudal fin
+                          station_masses)
+    volumes = _node_volumes(masses, buoyancy_lift)
 
     muscles = [(pair, act) for act, pairs in _MUSCLES.items() for pair in pairs]
     elements = ([p for p, _ in muscles] + _pairs(_CROSS) + _pairs(_ORDINARY))
@@ -135,7 +155,8 @@ def fish_body(length: float = 0.30, max_contraction: float = 0.6,
         volumes=volumes,
         elements=np.array(elements),
         kinds=np.array(kinds),
-        stiffness=stiffness_scale * np.array([_STIFFNESS[k] for k in kinds]),
+        stiffness=stiffness_scale * np.array([HOOP_STIFFNESS if _is_hoop(pair) else _STIFFNESS[k]
+                                              for pair, k in zip(elements, kinds)]),
         damping=np.array([_DAMPING[k] for k in kinds]),
         actuator=np.array(actuator),
         actuator_names=ACTUATOR_NAMES,

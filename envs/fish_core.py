@@ -19,12 +19,14 @@ from numba import njit
 
 from envs.body import BodySpec
 from envs.fish import fish_body
+from envs.motor import FinParams
 from envs.physics.integrator import step_batch
-from envs.physics.observe import body_state, proprioception
-from envs.physics.system import System, Water
+from envs.physics.observe import body_state, momenta, proprioception
+from envs.physics.system import DEFAULT_DT, System, Water
 from envs.tasks import Task
 
 OBS_LIMIT = 1e4  # observation entries are clipped to +-OBS_LIMIT
+DEFAULT_FRAME_SKIP = 35  # integration steps per env step: 35 x 1.43 ms = 0.05 s
 
 
 @dataclass(frozen=True)
@@ -85,24 +87,30 @@ class FishBatch:
         num_envs: B.
         task: the :class:`~envs.tasks.Task`.
         body: the body description (default: :func:`envs.fish.fish_body`).
-        water: the medium (default: still fresh water, no surface).
+        water: the medium, a :class:`~envs.physics.system.Water` or a dict of its fields
+            (default: still fresh water, no surface).
         physics_dt: integration step, s.
         frame_skip: integration steps per env step (env ``dt = physics_dt * frame_skip``).
         duration: simulated seconds per episode (then truncated).
         reset_noise_scale: uniform noise on each start node coordinate, body lengths.
         weights: reward weights.
+        fins: if True the actions carry the pectoral fin angles too: (B, A + P), the last P
+            entries in [-1, 1] setting fin p to ``fin_max_angle`` (rad) times the entry.
+        fin_max_angle: rad, the fin angle of an action entry of 1 (the fin-MC's gain).
     """
 
     def __init__(self, num_envs: int, task: Task, body: BodySpec | None = None,
-                 water: Water | None = None, physics_dt: float = 0.025, frame_skip: int = 2,
+                 water: Water | dict | None = None, physics_dt: float = DEFAULT_DT,
+                 frame_skip: int = DEFAULT_FRAME_SKIP,
                  duration: float = 10.0, reset_noise_scale: float = 0.005,
-                 weights: RewardWeights = RewardWeights()) -> None:
+                 weights: RewardWeights = RewardWeights(), fins: bool = False,
+                 fin_max_angle: float = FinParams().max_angle) -> None:
         if int(frame_skip) < 1:
             raise ValueError(f"frame_skip must be >= 1, got {frame_skip!r}")
         if not duration > 0:
             raise ValueError(f"duration must be > 0 seconds, got {duration!r}")
         self.task, self.weights = task, weights
-        self.system = System(body or fish_body(), water or Water(), dt=physics_dt)
+        self.system = System(body or fish_body(), Water.from_dict(water), dt=physics_dt)
         self.body = self.system.body
         self.frame_skip = int(frame_skip)
         self.dt = self.system.dt * self.frame_skip
@@ -118,6 +126,9 @@ class FishBatch:
         self.origin = np.zeros((num_envs, 3))
         self.targets = np.zeros((num_envs, task.target_size))
         self.obs_size = 2 * n * 3 + 6 + a + task.obs_size
+        self.fin_actions = bool(fins)
+        self.fin_max_angle = float(fin_max_angle)
+        self.action_size = a + (self.fins.shape[1] if self.fin_actions else 0)
 
     @property
     def num_envs(self) -> int:
@@ -145,9 +156,12 @@ class FishBatch:
         return b.frame_front, b.frame_back, b.frame_up, b.frame_down
 
     def step(self, actions: np.ndarray) -> tuple[np.ndarray, dict[str, np.ndarray]]:
-        """Advance every fish one env step with actions (B, A) in [-1, 1] (already validated).
-        Returns the reward (B,) and the info arrays (each (B, ...)), and sets ``truncated``."""
-        u = 0.5 * (actions + 1.0)
+        """Advance every fish one env step with actions (B, ``action_size``) in [-1, 1] (already
+        validated). Returns the reward (B,) and the info arrays (each (B, ...))."""
+        a = self.body.num_actuators
+        u = 0.5 * (actions[:, :a] + 1.0)
+        if self.fin_actions:
+            self.fins[:] = self.fin_max_angle * actions[:, a:]
         step_batch(self.x, self.v, self.u_prev, u, self.fins, self.frame_skip,
                    self.system.kernel_args)
         w = self.weights
@@ -166,14 +180,18 @@ class FishBatch:
         return self.steps >= self.episode_steps
 
     def measure(self, last: np.ndarray | None = None) -> dict[str, np.ndarray]:
-        """Info arrays: ``com`` (B, 3) m, ``forward`` (B, 3), ``time`` (B,) s, ``E_v`` (B,) and
-        the task's metrics (B,); caches what :meth:`observe` needs."""
+        """Info arrays: ``com`` (B, 3) m, ``forward`` (B, 3), ``linear_momentum`` (B, 3) kg m/s
+        and ``angular_momentum`` (B, 3) kg m^2/s (world frame, about the centre of mass),
+        ``time`` (B,) s, ``E_v`` (B,) and the task's metrics (B,); caches what :meth:`observe`
+        needs."""
         com, com_vel, frames = body_state(self.x, self.v, self.body.masses, *self._frame_nodes())
+        linear, angular = momenta(self.x, self.v, self.body.masses, com)
         self._cache = (com, com_vel, frames)
         last = np.zeros(self.num_envs, dtype=bool) if last is None else last
         e_v, metrics = self.task.terms(com - self.origin, com_vel, frames, self.targets,
                                        self.body.length, last)
-        return {"com": com, "forward": frames[:, 0].copy(), "time": self.steps * self.dt,
+        return {"com": com, "forward": frames[:, 0].copy(), "linear_momentum": linear,
+                "angular_momentum": angular, "time": self.steps * self.dt,
                 "E_v": e_v, **metrics}
 
     def observe(self) -> np.ndarray:

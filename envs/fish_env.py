@@ -58,7 +58,14 @@ from gymnasium.utils import seeding
 from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
-from envs.fish_core import OBS_LIMIT, FishBatch, RewardWeights, validate_actions
+from envs.fish_core import (
+    DEFAULT_FRAME_SKIP,
+    OBS_LIMIT,
+    FishBatch,
+    RewardWeights,
+    validate_actions,
+)
+from envs.physics.system import DEFAULT_DT
 from envs.render import BodyRenderer
 from envs.tasks import ReachTask, SwimTask, TurnTask
 
@@ -70,19 +77,20 @@ RENDER_FPS = 20
 
 def _make_core(num_envs: int, task: str, task_kwargs: dict, duration: float | None,
                physics_dt: float, frame_skip: int, reset_noise_scale: float,
-               reward_weights: RewardWeights | dict | None) -> FishBatch:
+               reward_weights: RewardWeights | dict | None, water: dict | None,
+               fins: bool) -> FishBatch:
     if task not in TASKS:
         raise ValueError(f"unknown task {task!r}; choose one of {sorted(TASKS)}")
     weights = reward_weights if isinstance(reward_weights, RewardWeights) else RewardWeights(
         **(reward_weights or {}))
-    return FishBatch(num_envs, TASKS[task](**task_kwargs), physics_dt=physics_dt,
+    return FishBatch(num_envs, TASKS[task](**task_kwargs), water=water, physics_dt=physics_dt,
                      frame_skip=frame_skip, reset_noise_scale=reset_noise_scale,
                      duration=DEFAULT_DURATION[task] if duration is None else duration,
-                     weights=weights)
+                     weights=weights, fins=fins)
 
 
 def _spaces(core: FishBatch) -> tuple[gym.spaces.Box, gym.spaces.Box]:
-    action = gym.spaces.Box(-1.0, 1.0, (core.body.num_actuators,), np.float32)
+    action = gym.spaces.Box(-1.0, 1.0, (core.action_size,), np.float32)
     observation = gym.spaces.Box(-OBS_LIMIT, OBS_LIMIT, (core.obs_size,), np.float32)
     return action, observation
 
@@ -93,13 +101,15 @@ class FishEnv(gym.Env):
     metadata = {"render_modes": ["rgb_array"], "render_fps": RENDER_FPS}
 
     def __init__(self, task: str = "swim", render_mode: str | None = None,
-                 duration: float | None = None, physics_dt: float = 0.025, frame_skip: int = 2,
+                 duration: float | None = None, physics_dt: float = DEFAULT_DT,
+                 frame_skip: int = DEFAULT_FRAME_SKIP, water: dict | None = None,
+                 fins: bool = False,
                  reset_noise_scale: float = 0.005,
                  reward_weights: RewardWeights | dict | None = None, **task_kwargs: Any) -> None:
         if render_mode not in (None, "rgb_array"):
             raise ValueError(f"render_mode must be None or 'rgb_array', got {render_mode!r}")
         self.core = _make_core(1, task, task_kwargs, duration, physics_dt, frame_skip,
-                               reset_noise_scale, reward_weights)
+                               reset_noise_scale, reward_weights, water, fins)
         self.action_space, self.observation_space = _spaces(self.core)
         self.render_mode = render_mode
         self.dt = self.core.dt
@@ -176,7 +186,9 @@ class FishVectorEnv(VectorEnv):
                 "autoreset_mode": AutoresetMode.NEXT_STEP}
 
     def __init__(self, num_envs: int = 1, task: str = "swim", render_mode: str | None = None,
-                 duration: float | None = None, physics_dt: float = 0.025, frame_skip: int = 2,
+                 duration: float | None = None, physics_dt: float = DEFAULT_DT,
+                 frame_skip: int = DEFAULT_FRAME_SKIP, water: dict | None = None,
+                 fins: bool = False,
                  reset_noise_scale: float = 0.005,
                  reward_weights: RewardWeights | dict | None = None,
                  autoreset_mode: str | AutoresetMode = AutoresetMode.NEXT_STEP,
@@ -190,7 +202,7 @@ class FishVectorEnv(VectorEnv):
             raise ValueError(f"render_mode must be None or 'rgb_array', got {render_mode!r}")
         self.num_envs = int(num_envs)
         self.core = _make_core(self.num_envs, task, task_kwargs, duration, physics_dt,
-                               frame_skip, reset_noise_scale, reward_weights)
+                               frame_skip, reset_noise_scale, reward_weights, water, fins)
         self.single_action_space, self.single_observation_space = _spaces(self.core)
         self.action_space = batch_space(self.single_action_space, self.num_envs)
         self.observation_space = batch_space(self.single_observation_space, self.num_envs)

@@ -42,9 +42,9 @@ class TurnParams:
     out: the water resists the fast half more, so each stroke yaws the body toward the turn
     side). The number of strokes is ``ceil(angle / angle_per_stroke)``."""
 
-    period: float = 0.5
-    rise: float = 0.1
-    angle_per_stroke: float = np.radians(15.0)
+    period: float = 0.4
+    rise: float = 0.08
+    angle_per_stroke: float = np.radians(13.0)
     amplitude: float = 1.0
 
 

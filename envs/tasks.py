@@ -53,9 +53,11 @@ class Task:
 
 @dataclass
 class SwimTask(Task):
-    """Swim forward. u is the swimming speed: the centre of mass's horizontal velocity along
-    the fish's own horizontal heading, BL/s (so a fish that veers still swims; whether it goes
-    straight is the ``distance_bl`` metric's business). Without ``target_speed`` E_v = -u
+    """Swim forward. u is the swimming speed: the centre of mass's velocity along the start
+    heading (+x, where every episode starts facing), BL/s, so that its mean over an episode is
+    the net displacement along the start heading per second: a fish that veers or circles
+    scores only what it makes good (the paper's E_v, "deviation from desired speed", holds as
+    is). Without ``target_speed`` E_v = -u
     (faster is better); with it E_v = (u - target_speed)^2. Metrics: ``speed_bl_per_s`` (u),
     ``distance_bl`` (net horizontal distance from the start, BL), ``heading_deg``."""
 
@@ -74,7 +76,7 @@ class SwimTask(Task):
 
     def terms(self, com, com_vel, frames, targets, length, last):
         yaw = heading_yaw(frames)
-        speed = (com_vel[:, 0] * np.cos(yaw) + com_vel[:, 1] * np.sin(yaw)) / length
+        speed = com_vel[:, 0] / length
         if self.target_speed is None:
             e_v = -speed
         else:

@@ -28,11 +28,11 @@ from learners import annealing, cmaes
 from learners.abstraction import abstract, most_compact
 from learners.base import Learner, LearnResult, load_checkpoint, save_checkpoint, unknown_params
 from learners.controller import TentController, play
-from learners.rollout import BatchEvaluator
+from learners.rollout import START_STATES, BatchEvaluator
 
 NUM_ACTUATORS = 6
 CONTROLLER_KEYS = {"nodes", "period", "init", "abstraction_threshold", "checkpoint_every",
-                   "refine"}
+                   "refine", "start_states"}
 REFINE_KEYS = {"env_steps", "threshold"}
 
 
@@ -138,7 +138,8 @@ class BlackBoxLearner(Learner):
         ``refine.env_steps``; phase "refine" (when configured) then searches the frequency
         parameters of the learned controller's FFT abstraction with the rest."""
         self.check_budget(budget_env_steps)
-        evaluator = BatchEvaluator(self.env_id, self.env_kwargs, self.population, self.seed)
+        evaluator = BatchEvaluator(self.env_id, self.env_kwargs, self.population, self.seed,
+                                   self.params.get("start_states", START_STATES))
         path = Path(checkpoint_dir) / "checkpoint.pkl" if checkpoint_dir else None
         run = load_checkpoint(path) if path else None
         if run is not None and "phases" not in run:  # a checkpoint from before phases existed
@@ -153,7 +154,7 @@ class BlackBoxLearner(Learner):
         self._run_phase(run, 0, evaluator, budget_env_steps - refine_steps, path, start)
         learned = run["phases"][0]["best"]
         if (self.refine and learned is not None and len(run["phases"]) == 1
-                and run["env_steps"] + evaluator.steps <= budget_env_steps):
+                and run["env_steps"] + evaluator.episode_cost <= budget_env_steps):
             self._start_refining(run, learned["x"], evaluator)
         if len(run["phases"]) > 1:
             self._run_phase(run, 1, evaluator, budget_env_steps, path, start)
@@ -175,7 +176,7 @@ class BlackBoxLearner(Learner):
         phase = self._phase(self.refine["params"], x0, self.seed + 1, support)
         player = self._decode(phase, x0, evaluator.duration)
         returns, metrics = evaluator.evaluate_players([player])
-        run["env_steps"] += evaluator.steps
+        run["env_steps"] += evaluator.episode_cost
         self._track_best(phase, [x0], returns, metrics)
         phase["start"] = _eval_metrics(phase["best"])
         run["phases"].append(phase)
@@ -196,14 +197,14 @@ class BlackBoxLearner(Learner):
         """ask -> simulate -> tell until ``limit`` env steps or the optimiser's stopping rule."""
         phase = run["phases"][index]
         params = phase["params"]
-        cost = int(getattr(params, self.population_key)) * evaluator.steps
+        cost = int(getattr(params, self.population_key)) * evaluator.episode_cost
         while (run["env_steps"] + cost <= limit
                and not self.optimizer.finished(params, phase["state"])):
             candidates, state = self.optimizer.ask(params, phase["state"])
             returns, metrics = evaluator.evaluate_players(
                 [self._decode(phase, c, evaluator.duration) for c in candidates])
             phase["state"] = self.optimizer.tell(params, state, candidates, -returns)
-            run["env_steps"] += len(candidates) * evaluator.steps
+            run["env_steps"] += len(candidates) * evaluator.episode_cost
             run["rounds"] += 1
             self._track_best(phase, candidates, returns, metrics)
             self._log(run, phase)
@@ -236,7 +237,7 @@ class BlackBoxLearner(Learner):
         learned, best = run["phases"][0]["best"], self._overall_best(run)
         if learned is None:
             raise ValueError(f"budget too small: one round of {self.name} needs "
-                             f"{self.population * evaluator.steps} env steps")
+                             f"{self.population * evaluator.episode_cost} env steps")
         artefacts = self._artefacts(learned["x"], evaluator.duration, evaluator)
         artefacts["learned_metrics"] = _eval_metrics(learned)
         if len(run["phases"]) > 1:

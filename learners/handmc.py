@@ -11,18 +11,19 @@ import numpy as np
 from envs.motor import swim_mc, turn_mc
 from learners.base import Learner, LearnResult, unknown_params
 from learners.controller import play
-from learners.rollout import BatchEvaluator
+from learners.rollout import START_STATES, BatchEvaluator
 
 
 class HandMCLearner(Learner):
-    """Plays the task's hand-designed MC: swim -> swim-MC at ``speed`` (default 1); turn ->
-    the turn-MC for the env's angle and direction. Uses one episode of env steps."""
+    """Plays the task's hand-designed MC: swim -> swim-MC at ``speed`` (default 1), ease-in
+    included (scored from t = 0 like every learned controller); turn -> the turn-MC for the
+    env's angle and direction. Uses one episode from each start state."""
 
     name = "handmc"
 
     def __init__(self, *args, **kwargs) -> None:
         super().__init__(*args, **kwargs)
-        unknown_params(self.params, {"speed"}, self.name)
+        unknown_params(self.params, {"speed", "start_states"}, self.name)
         self.speed = float(self.params.get("speed", 1.0))
 
     def _actuation(self, evaluator: BatchEvaluator):
@@ -37,9 +38,10 @@ class HandMCLearner(Learner):
     def learn(self, budget_env_steps: int, checkpoint_dir: str | Path | None = None
               ) -> LearnResult:
         start = time.perf_counter()
-        evaluator = BatchEvaluator(self.env_id, self.env_kwargs, num_envs=1, seed=self.seed)
-        if budget_env_steps < evaluator.steps:
-            raise ValueError(f"budget too small: one episode needs {evaluator.steps} env steps")
+        evaluator = BatchEvaluator(self.env_id, self.env_kwargs, num_envs=1, seed=self.seed,
+                                   num_starts=self.params.get("start_states", START_STATES))
+        if budget_env_steps < evaluator.episode_cost:
+            raise ValueError(f"budget too small: scoring needs {evaluator.episode_cost} env steps")
         self.log_hparams()
         actions = play(self._actuation(evaluator), evaluator.dt, evaluator.steps)[None]
         returns, metrics = evaluator.evaluate(actions)

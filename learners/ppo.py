@@ -16,9 +16,10 @@ import time
 from pathlib import Path
 
 import gymnasium as gym
+import numpy as np
 
 from learners.base import Learner, LearnResult, unknown_params
-from learners.rollout import EpisodeSummary
+from learners.rollout import START_STATES, EpisodeSummary
 
 ZOO_KEYS = {"n_envs", "n_steps", "batch_size", "n_epochs", "gamma", "gae_lambda",
             "learning_rate", "clip_range", "ent_coef", "vf_coef", "max_grad_norm", "policy",
@@ -100,21 +101,24 @@ class PPOLearner(Learner):
         return VecNormalize(venv, gamma=float(self.hp["gamma"]))
 
     def evaluate(self, model, venv) -> dict[str, float]:
-        """Deterministic episode from the black-box learners' start state."""
+        """Deterministic episodes from the black-box learners' start states (seeds ``seed`` ..
+        ``seed + START_STATES - 1``): means, and ``_std`` the spread over them."""
         if getattr(self, "_eval_env", None) is None:
-            self._eval_env = gym.make_vec(self.env_id, num_envs=1, **self.env_kwargs)
+            self._eval_env = gym.make_vec(self.env_id, num_envs=START_STATES, **self.env_kwargs)
         env = self._eval_env
-        obs, _ = env.reset(seed=[self.seed])
-        total, summary = 0.0, EpisodeSummary(env.core.task.name, 1)
+        obs, _ = env.reset(seed=[self.seed + k for k in range(START_STATES)])
+        total, summary = np.zeros(START_STATES), EpisodeSummary(env.core.task.name, START_STATES)
         for _ in range(env.core.episode_steps):
             if hasattr(venv, "normalize_obs"):
                 obs = venv.normalize_obs(obs)
             action, _ = model.predict(obs, deterministic=True)
             obs, reward, _, _, info = env.step(action)
-            total += float(reward[0])
+            total += reward
             summary.update(info)
         metrics = summary.summary()
-        return {"eval/return": total, **{f"eval/{k}": float(v[0]) for k, v in metrics.items()}}
+        return {"eval/return": float(total.mean()),
+                **{f"eval/{k}": float(v.mean()) for k, v in metrics.items()},
+                **{f"eval/{k}_std": float(v.std()) for k, v in metrics.items()}}
 
     def learn(self, budget_env_steps: int, checkpoint_dir: str | Path | None = None
               ) -> LearnResult:

@@ -1,8 +1,12 @@
 """Evaluating open-loop controllers by simulation, many at once on the native vector env.
 
-Every candidate starts from the same seeded start state, so the objective E = -return is a
-deterministic function of the controller (simulated annealing and CMA-ES need that; the
-native batch gives every row the numbers a single env would, so batching never changes E).
+Every candidate is played from the same ``num_starts`` seeded start states (seeds ``seed``,
+``seed + 1``, ...; default :data:`START_STATES`), and its return and metrics are the means over
+them, with the spread (``<metric>_std``) beside each: the objective E = -return is a
+deterministic function of the controller (simulated annealing and CMA-ES need that), and no
+controller is scored on one lucky start. The native batch gives every row the numbers a
+single env would, so batching never changes E. Every learner, PPO and the hand MC included,
+is scored by this protocol.
 """
 
 from __future__ import annotations
@@ -11,6 +15,8 @@ import gymnasium as gym
 import numpy as np
 
 import envs  # noqa: F401  (registers Animat/*)
+
+START_STATES = 4  # start states every candidate and every final result is scored over
 
 
 class EpisodeSummary:
@@ -40,17 +46,23 @@ class EpisodeSummary:
 
 
 class BatchEvaluator:
-    """Plays action sequences (P, T, 6) on ``num_envs``-wide native vector envs.
+    """Plays action sequences (P, T, A) on a native vector env.
 
     Args:
         env_id: a registered ``Animat/*`` id; env_kwargs: its keyword arguments.
-        num_envs: batch width (P is split into chunks of it).
-        seed: the start-state seed every candidate shares.
+        num_envs: candidates per batch (P is split into chunks of it; the vector env is
+            ``num_envs * num_starts`` wide).
+        seed: the first start-state seed (candidates share seeds ``seed .. seed + num_starts - 1``).
+        num_starts: start states per candidate.
     """
 
     def __init__(self, env_id: str, env_kwargs: dict | None = None, num_envs: int = 64,
-                 seed: int = 0) -> None:
-        self.env = gym.make_vec(env_id, num_envs=num_envs, **(env_kwargs or {}))
+                 seed: int = 0, num_starts: int = START_STATES) -> None:
+        if type(num_starts) is not int or num_starts < 1:
+            raise ValueError(f"start_states must be an integer >= 1, got {num_starts!r}")
+        self.num_starts, self.candidates_per_batch = num_starts, int(num_envs)
+        self.env = gym.make_vec(env_id, num_envs=self.candidates_per_batch * num_starts,
+                                **(env_kwargs or {}))
         self.seed = int(seed)
         self.dt = float(self.env.dt)
         self.steps = int(self.env.core.episode_steps)
@@ -59,23 +71,32 @@ class BatchEvaluator:
         self.env_steps = 0
 
     @property
-    def num_envs(self) -> int:
-        return self.env.num_envs
+    def episode_cost(self) -> int:
+        """Env steps it takes to score one candidate (an episode from every start state)."""
+        return self.steps * self.num_starts
 
     def evaluate(self, actions: np.ndarray) -> tuple[np.ndarray, dict[str, np.ndarray]]:
-        """Returns (P,) episode returns and the task's summary metrics (P,) each; adds the
-        env steps simulated (P * T) to ``env_steps``."""
+        """Returns (P,) mean episode returns over the start states, and the task's summary
+        metrics (P,) each, as means with their standard deviations over the start states
+        (``<metric>_std``); adds the env steps simulated (P * num_starts * T) to
+        ``env_steps``."""
         actions = np.asarray(actions, dtype=np.float32)
-        if actions.ndim != 3 or actions.shape[1] != self.steps:
-            raise ValueError(f"actions must have shape (P, {self.steps}, 6), got {actions.shape}")
+        size = self.env.single_action_space.shape[0]
+        if actions.ndim != 3 or actions.shape[1:] != (self.steps, size):
+            raise ValueError(f"actions must have shape (P, {self.steps}, {size}), got "
+                             f"{actions.shape}")
+        rows = np.repeat(actions, self.num_starts, axis=0)  # row p * S + s: start s
         returns, metrics = [], []
-        for start in range(0, len(actions), self.num_envs):
-            chunk = actions[start:start + self.num_envs]
-            ret, met = self._evaluate_chunk(chunk)
+        for start in range(0, len(rows), self.env.num_envs):
+            ret, met = self._evaluate_chunk(rows[start:start + self.env.num_envs])
             returns.append(ret)
             metrics.append(met)
-        merged = {k: np.concatenate([m[k] for m in metrics]) for k in metrics[0]}
-        return np.concatenate(returns), merged
+        per_start = (len(actions), self.num_starts)
+        merged = {}
+        for k in metrics[0]:
+            values = np.concatenate([m[k] for m in metrics]).reshape(per_start)
+            merged[k], merged[f"{k}_std"] = values.mean(axis=1), values.std(axis=1)
+        return np.concatenate(returns).reshape(per_start).mean(axis=1), merged
 
     def evaluate_players(self, players) -> tuple[np.ndarray, dict[str, np.ndarray]]:
         """:meth:`evaluate` the action sequences of ``players`` (anything with
@@ -83,12 +104,12 @@ class BatchEvaluator:
         return self.evaluate(np.stack([p.actions(self.dt, self.steps) for p in players]))
 
     def _evaluate_chunk(self, chunk: np.ndarray):
-        count = len(chunk)
-        padded = np.zeros((self.num_envs,) + chunk.shape[1:], dtype=np.float32)
+        count, width = len(chunk), self.env.num_envs
+        padded = np.zeros((width,) + chunk.shape[1:], dtype=np.float32)
         padded[:count] = chunk
-        self.env.reset(seed=[self.seed] * self.num_envs)  # every row: the same start
-        total = np.zeros(self.num_envs)
-        summary = EpisodeSummary(self.task, self.num_envs)
+        self.env.reset(seed=[self.seed + r % self.num_starts for r in range(width)])
+        total = np.zeros(width)
+        summary = EpisodeSummary(self.task, width)
         for k in range(self.steps):
             _, reward, _, _, info = self.env.step(padded[:, k])
             total += reward

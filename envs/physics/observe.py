@@ -23,8 +23,28 @@ def body_state(x, v, masses, frame_front, frame_back, frame_up, frame_down):
             for a in range(3):
                 com[b, a] += masses[i] * x[b, i, a] / total
                 com_vel[b, a] += masses[i] * v[b, i, a] / total
-        body_frame_into(x[b], frame_front, frame_back, frame_up, frame_down, frames[b])
+        body_frame_into(x[b].reshape(n, 3, 1), 0, frame_front, frame_back, frame_up,
+                        frame_down, frames[b])
     return com, com_vel, frames
+
+
+@njit(cache=True)
+def momenta(x, v, masses, com):
+    """Linear momentum (B, 3), kg m/s, and angular momentum about the centre of mass (B, 3),
+    kg m^2/s, in the world frame, of bodies with nodes x, v (B, N, 3) and centres com (B, 3)."""
+    linear, angular = np.zeros((x.shape[0], 3)), np.zeros((x.shape[0], 3))
+    for b in range(x.shape[0]):
+        for i in range(x.shape[1]):
+            m = masses[i]
+            r0, r1, r2 = x[b, i, 0] - com[b, 0], x[b, i, 1] - com[b, 1], x[b, i, 2] - com[b, 2]
+            p0, p1, p2 = m * v[b, i, 0], m * v[b, i, 1], m * v[b, i, 2]
+            linear[b, 0] += p0
+            linear[b, 1] += p1
+            linear[b, 2] += p2
+            angular[b, 0] += r1 * p2 - r2 * p1
+            angular[b, 1] += r2 * p0 - r0 * p2
+            angular[b, 2] += r0 * p1 - r1 * p0
+    return linear, angular
 
 
 @njit(cache=True, inline="always")

@@ -1,20 +1,23 @@
-"""Fixed physical parameters of a simulation (the frozen ``System``) and the per-step ``State``.
+"""Fixed physical parameters of a simulation: the frozen :class:`Water` and :class:`System`.
 
 Following Brax's split, everything that does not change during a rollout (the body, the
-water, the integration step, the matrices derived from them) lives in a frozen
-:class:`System`; the moving parts (node positions and velocities, time) live in a
-:class:`State` of batched arrays. ``System.kernel_args`` packs the constants in the order the
-compiled step kernel (:mod:`envs.physics.integrator`) expects.
+water, the integration step, the constants derived from them) lives in a frozen
+:class:`System`; the moving parts (node positions and velocities) are the batched arrays the
+env core keeps. ``System.kernel_args`` hands the constants to the compiled step kernel
+(:mod:`envs.physics.integrator`) as one named tuple.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import asdict, dataclass, field
 from functools import cached_property
+from typing import NamedTuple
 
 import numpy as np
 
 from envs.body import BodySpec, frozen_array
+
+REACTION_LAWS = ("crossflow", "paper")
 
 
 @dataclass(frozen=True)
@@ -22,101 +25,184 @@ class Water:
     """The medium the body moves in.
 
     Attributes:
-        fluid_coefficient: scales the face reaction force ``-A (n.v)|v| n``, kg/m^3.
-            ``0.5 * rho * C_d`` with rho = 1000 kg/m^3 and a flat-plate C_d of 1 gives 500.
+        fluid_coefficient: kappa of the face reaction force, kg/m^3 (``0.5 rho C_d``; a flat
+            plate's C_d of 1 in water gives 500).
         air_coefficient: the same above the surface (0.5 * 1.2 kg/m^3 * 1).
+        friction_coefficient: kappa_f of the skin friction along each face, kg/m^3
+            (``0.5 rho C_f``; C_f = 0.006, turbulent flat plate at Re ~ 1e5, gives 3).
+        air_friction_coefficient: the same above the surface.
+        reaction: ``"crossflow"`` (normal force ``kappa A (n.w)^2``) or ``"paper"`` (the data
+            sheet's ``kappa A (n.w) |w|``); see :mod:`envs.physics.forces`.
         density: water density for buoyancy, kg/m^3.
         gravity: m/s^2, acting along -z.
         surface_z: height of the water surface, m (``inf``: no surface, everything submerged).
         current: (3,) water velocity in the world frame, m/s.
+
+    ``Water(fluid_coefficient=0, air_coefficient=0, friction_coefficient=0, gravity=0)`` is a
+    vacuum (:func:`vacuum`).
     """
 
     fluid_coefficient: float = 500.0
     air_coefficient: float = 0.6
+    friction_coefficient: float = 3.0
+    air_friction_coefficient: float = 0.0036
+    reaction: str = "crossflow"
     density: float = 1000.0
     gravity: float = 9.81
     surface_z: float = float("inf")
     current: tuple[float, float, float] = (0.0, 0.0, 0.0)
 
     def __post_init__(self) -> None:
-        for name in ("fluid_coefficient", "air_coefficient", "density", "gravity"):
+        for name in ("fluid_coefficient", "air_coefficient", "friction_coefficient",
+                     "air_friction_coefficient", "density", "gravity"):
             value = getattr(self, name)
-            if not np.isfinite(value) or value < 0:
-                raise ValueError(f"Water.{name} must be finite and >= 0, got {value!r}")
-        if len(self.current) != 3 or not np.all(np.isfinite(self.current)):
+            if not isinstance(value, (int, float)) or not np.isfinite(value) or value < 0:
+                raise ValueError(f"Water.{name} must be a finite number >= 0, got {value!r}")
+        if self.reaction not in REACTION_LAWS:
+            raise ValueError(f"Water.reaction must be one of {REACTION_LAWS}, got "
+                             f"{self.reaction!r}")
+        if isinstance(self.surface_z, bool) or not isinstance(self.surface_z, (int, float)) or (
+                np.isnan(self.surface_z)):
+            raise ValueError(f"Water.surface_z must be a number (inf: no surface), got "
+                             f"{self.surface_z!r}")
+        current = tuple(self.current)
+        if len(current) != 3 or not all(isinstance(c, (int, float)) and np.isfinite(c)
+                                        for c in current):
             raise ValueError(f"Water.current must be 3 finite numbers, got {self.current!r}")
+        object.__setattr__(self, "current", tuple(float(c) for c in current))
+
+    @classmethod
+    def from_dict(cls, fields: dict | Water | None) -> Water:
+        """A Water from a dict of its fields (unknown names are an error naming them)."""
+        if fields is None:
+            return cls()
+        if isinstance(fields, Water):
+            return fields
+        if not isinstance(fields, dict):
+            raise ValueError(f"water must be a dict of Water fields, got {fields!r}")
+        unknown = sorted(set(fields) - set(asdict(cls())))
+        if unknown:
+            raise ValueError(f"water: unknown field(s) {unknown}; known: "
+                             f"{sorted(asdict(cls()))}")
+        return cls(**fields)
+
+    def as_args(self) -> np.ndarray:
+        """(11,) the numbers the compiled force terms read, in their order."""
+        return np.array([self.fluid_coefficient, self.air_coefficient,
+                         self.friction_coefficient, self.air_friction_coefficient,
+                         1.0 if self.reaction == "crossflow" else 0.0, self.surface_z,
+                         *self.current, self.density, self.gravity], dtype=np.float64)
+
+
+def vacuum() -> Water:
+    """No fluid, no friction, no gravity: internal forces only."""
+    return Water(fluid_coefficient=0.0, air_coefficient=0.0, friction_coefficient=0.0,
+                 air_friction_coefficient=0.0, gravity=0.0)
+
+
+class KernelArgs(NamedTuple):
+    """What the compiled step reads (see :class:`~envs.body.BodySpec` for the body's arrays)."""
+
+    masses: np.ndarray
+    volumes: np.ndarray
+    elements: np.ndarray
+    stiffness: np.ndarray
+    damping: np.ndarray
+    rest_lengths: np.ndarray
+    actuator: np.ndarray
+    max_contraction: float
+    faces: np.ndarray
+    face_weights: np.ndarray
+    face_mass: np.ndarray
+    fin_nodes: np.ndarray
+    fin_areas: np.ndarray
+    fin_mass: np.ndarray
+    frame_front: np.ndarray
+    frame_back: np.ndarray
+    frame_up: np.ndarray
+    frame_down: np.ndarray
+    water: np.ndarray
+    dt: float
+
+
+DEFAULT_DT = 0.05 / 35  # s; 35 steps per 0.05 s env step (README: convergence table)
 
 
 @dataclass(frozen=True, eq=False)
 class System:
-    """A body in water, integrated with a fixed step ``dt`` (s) and ``iterations`` solver sweeps
-    (Chebyshev-accelerated with spectral-radius estimate ``chebyshev_rho``; 0 turns it off).
+    """A body in water, integrated by symplectic Euler with a fixed step ``dt`` (s).
+
+    ``dt`` must lie within the explicit stability bound of the body (:func:`stable_step`, with
+    a 10% margin); a larger one is refused with the bound in the message.
 
     Derived constants (computed once):
-        inverse_matrix: (N, N) inverse of ``M/dt^2 + L_c + L_gamma/dt``, the constant matrix of
-            the implicit step (M: masses, L_c and L_gamma: stiffness- and damping-weighted
-            graph Laplacians of the elements). It is the same for x, y and z and every body.
-        face_mass: (F,) mass a face's normal motion meets in one implicit step, kg.
+        face_mass: (F,) mass a face's own force meets, ``1 / sum_k w_k^2 / m_k``, kg.
         fin_mass: (P,) the same for each fin, kg.
     """
 
     body: BodySpec
     water: Water = field(default_factory=Water)
-    dt: float = 0.025
-    iterations: int = 10
-    chebyshev_rho: float = 0.9
-    inverse_matrix: np.ndarray = field(init=False, repr=False)
+    dt: float = DEFAULT_DT
     face_mass: np.ndarray = field(init=False, repr=False)
     fin_mass: np.ndarray = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
         if not (np.isfinite(self.dt) and self.dt > 0):
             raise ValueError(f"System.dt must be a positive number of seconds, got {self.dt!r}")
-        if int(self.iterations) < 1:
-            raise ValueError(f"System.iterations must be >= 1, got {self.iterations!r}")
-        inverse = np.linalg.inv(implicit_matrix(self.body, self.dt))
+        limit = 0.9 * stable_step(self.body)
+        if self.dt > limit:
+            raise ValueError(f"System.dt = {self.dt:g} s is above the stability bound of body "
+                             f"{self.body.name!r} for this integrator ({limit:.3g} s); use a "
+                             "smaller physics_dt")
         fin_weights = np.full(self.body.fin_nodes.shape, 1.0 / self.body.fin_nodes.shape[1])
-        object.__setattr__(self, "inverse_matrix", frozen_array(inverse))
-        object.__setattr__(self, "face_mass", frozen_array(implicit_masses(
-            inverse, self.body.faces, self.body.face_weights, self.dt)))
-        object.__setattr__(self, "fin_mass", frozen_array(implicit_masses(
-            inverse, self.body.fin_nodes, fin_weights, self.dt)))
+        object.__setattr__(self, "face_mass", frozen_array(effective_masses(
+            self.body.masses, self.body.faces, self.body.face_weights)))
+        object.__setattr__(self, "fin_mass", frozen_array(effective_masses(
+            self.body.masses, self.body.fin_nodes, fin_weights)))
 
     @cached_property
-    def kernel_args(self) -> tuple:
-        """Constants for :func:`envs.physics.integrator.step_batch`, in its argument order."""
-        b, w = self.body, self.water
-        return (
+    def kernel_args(self) -> KernelArgs:
+        """Constants for :func:`envs.physics.integrator.step_batch`."""
+        b = self.body
+        return KernelArgs(
             b.masses, b.volumes, b.elements, b.stiffness, b.damping, b.rest_lengths, b.actuator,
             float(b.max_contraction), b.faces, b.face_weights, self.face_mass, b.fin_nodes,
             b.fin_areas, self.fin_mass, b.frame_front, b.frame_back, b.frame_up, b.frame_down,
-            self.inverse_matrix, float(w.fluid_coefficient), float(w.air_coefficient),
-            float(w.density), float(w.gravity), float(w.surface_z),
-            np.asarray(w.current, dtype=np.float64), float(self.dt), int(self.iterations),
-            float(self.chebyshev_rho),
-        )
+            frozen_array(self.water.as_args()), float(self.dt))
 
 
-def implicit_matrix(body: BodySpec, dt: float) -> np.ndarray:
-    """(N, N) matrix ``M/dt^2 + L_c + L_gamma/dt`` of the projective implicit-Euler step."""
-    n = body.num_nodes
-    weights = body.stiffness + body.damping / dt
-    laplacian = np.zeros((n, n))
-    i, j = body.elements[:, 0], body.elements[:, 1]
-    np.add.at(laplacian, (i, i), weights)
-    np.add.at(laplacian, (j, j), weights)
-    np.add.at(laplacian, (i, j), -weights)
-    np.add.at(laplacian, (j, i), -weights)
-    return np.diag(body.masses / dt**2) + laplacian
-
-
-def implicit_masses(inverse: np.ndarray, nodes: np.ndarray, weights: np.ndarray,
-                    dt: float) -> np.ndarray:
-    """(F,) mass that a force spread over ``nodes`` (F, K) with ``weights`` (F, K) meets in one
-    implicit step, kg: ``dt^2 / (w' A^-1 w)``. It counts the nodes the elements tie to the
-    face, so the drag limiter of :mod:`envs.physics.forces` is the step's own response."""
+def effective_masses(masses: np.ndarray, nodes: np.ndarray, weights: np.ndarray) -> np.ndarray:
+    """(F,) the mass a force spread over ``nodes`` (F, K) with ``weights`` (F, K) meets: its
+    weighted mean velocity changes by ``F dt sum_k w_k^2 / m_k``, kg."""
     compliance = np.zeros(nodes.shape[0])
     for k in range(nodes.shape[1]):
-        for q in range(nodes.shape[1]):
-            compliance += weights[:, k] * weights[:, q] * inverse[nodes[:, k], nodes[:, q]]
-    return dt**2 / compliance
+        compliance += weights[:, k] ** 2 / masses[nodes[:, k]]
+    return 1.0 / compliance
+
+
+def element_matrix(body: BodySpec, coefficients: np.ndarray) -> np.ndarray:
+    """(3N, 3N) stiffness-like matrix ``sum_e k_e (d_e d_e')`` of the elements at rest, with
+    ``coefficients`` (E,) per element (the stiffness gives K, the damping D)."""
+    n, x = body.num_nodes, body.rest_positions
+    matrix = np.zeros((3 * n, 3 * n))
+    for (i, j), k in zip(body.elements, coefficients):
+        d = x[j] - x[i]
+        block = k * np.outer(d, d) / (d @ d)
+        for a, b, sign in ((i, i, 1.0), (j, j, 1.0), (i, j, -1.0), (j, i, -1.0)):
+            matrix[3 * a:3 * a + 3, 3 * b:3 * b + 3] += sign * block
+    return matrix
+
+
+def stable_step(body: BodySpec) -> float:
+    """Largest step (s) at which symplectic Euler is stable for the body at rest: the h with
+    ``h^2 omega^2 + 2 h c = 4`` for the stiffest mode omega^2 (of M^-1 K) and the fastest
+    damping rate c (of M^-1 D), from the damped oscillator's amplification matrix. Muscle
+    contraction and stretched springs move it by a few percent, hence the margin in
+    :class:`System`."""
+    inverse_mass = np.repeat(1.0 / body.masses, 3)
+    scale = np.sqrt(inverse_mass)
+    omega2 = np.linalg.eigvalsh(scale[:, None] * element_matrix(body, body.stiffness)
+                                * scale[None, :]).max()
+    rate = np.linalg.eigvalsh(scale[:, None] * element_matrix(body, body.damping)
+                              * scale[None, :]).max()
+    return float((-rate + np.sqrt(rate * rate + 4.0 * omega2)) / omega2)

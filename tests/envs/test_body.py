@@ -6,7 +6,7 @@ import pytest
 from envs.body import CROSS, MUSCLE, ORDINARY, BodySpec
 from envs.fish import fish_body
 from envs.physics.forces import add_face_forces
-from envs.physics.system import System
+from envs.physics.system import System, Water
 
 
 def test_counts_match_the_paper():
@@ -42,18 +42,40 @@ def test_faces_point_outward():
     assert np.all(np.einsum("fk,fk->f", normals, centres * [0, 1, 1]) > 0)
 
 
-def test_only_faces_moving_into_water_feel_force():
-    system = System(fish_body())
+@pytest.mark.parametrize("reaction", ["crossflow", "paper"])
+def test_only_faces_moving_into_water_feel_the_reaction_force(reaction):
+    system = System(fish_body(), Water(friction_coefficient=0.0, reaction=reaction))
     body = system.body
-    x = body.rest_positions.copy()
+    x = body.rest_positions[:, :, None].copy()  # lane layout, one body
     v = np.zeros_like(x)
     v[:, 1] = 0.5  # the whole fish moves to its left
     f = np.zeros_like(x)
-    add_face_forces(x, v, body.faces, body.face_weights, system.face_mass, 500.0, 0.6,
-                    np.inf, np.zeros(3), system.dt, f)
+    c = system.kernel_args
+    add_face_forces(x, v, c.faces, c.face_weights, c.face_mass, c.water, c.dt, f)
     assert f[:, 1].sum() < 0  # resisted
     left_nodes = body.rest_positions[:, 1] > 0
-    assert np.all(f[~left_nodes & (body.rest_positions[:, 1] < 0), 1] == 0)  # lee side free
+    lee = f[~left_nodes & (body.rest_positions[:, 1] < 0), 1]
+    assert np.all(np.abs(lee) < 1e-12 * abs(f[:, 1].sum()))  # lee side free (to round-off)
+
+
+def test_skin_friction_opposes_sliding_along_the_faces():
+    """A body towed nose first: the cross-flow reaction charges only the nose's inclined faces,
+    friction every face; both resist, and friction adds 0.5 rho C_f A U^2-scale drag."""
+    drags = {}
+    for friction in (0.0, 3.0):
+        system = System(fish_body(), Water(friction_coefficient=friction))
+        c = system.kernel_args
+        x = system.body.rest_positions[:, :, None].copy()
+        v = np.zeros_like(x)
+        v[:, 0] = 0.3
+        f = np.zeros_like(x)
+        add_face_forces(x, v, c.faces, c.face_weights, c.face_mass, c.water, 1e-9, f)
+        drags[friction] = -f[:, 0].sum()
+    p = system.body.rest_positions[system.body.faces]
+    wetted = 0.5 * np.linalg.norm(np.cross(p[:, 2] - p[:, 0], p[:, 3] - p[:, 1]), axis=1).sum()
+    assert drags[0.0] > 0
+    extra = drags[3.0] - drags[0.0]
+    assert 0.8 * 3.0 * wetted * 0.3**2 < extra <= 3.0 * wetted * 0.3**2 * (1 + 1e-9)
 
 
 def test_bad_body_is_rejected_with_its_field_named():

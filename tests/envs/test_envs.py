@@ -9,6 +9,7 @@ from gymnasium.utils.env_checker import check_env
 from stable_baselines3.common.env_checker import check_env as sb3_check_env
 
 import envs
+from envs.motor import swim_mc, to_action
 
 ENV_IDS = envs.ENV_IDS
 
@@ -125,3 +126,33 @@ def test_render_and_record_video(tmp_path):
     env.close()
     videos = list((tmp_path / "videos").glob("*.mp4"))
     assert videos and videos[0].stat().st_size > 1000
+
+
+def test_water_is_a_public_argument_and_momentum_is_in_info():
+    """``water=`` a dict of Water fields; in a vacuum the env's own info shows both momenta
+    staying put while the muscles work."""
+    vacuum = {"fluid_coefficient": 0, "air_coefficient": 0, "friction_coefficient": 0,
+              "gravity": 0}
+    env = gym.make("Animat/FishSwim-v0", water=vacuum)
+    _, info = env.reset(seed=0)
+    assert info["linear_momentum"].shape == (3,) and info["angular_momentum"].shape == (3,)
+    rng = np.random.default_rng(0)
+    for _ in range(40):
+        info = env.step(rng.uniform(-1, 1, 6).astype(np.float32))[4]
+    assert np.abs(info["linear_momentum"]).max() < 1e-12
+    assert np.abs(info["angular_momentum"]).max() < 1e-12
+    with pytest.raises(ValueError, match="unknown field"):
+        gym.make("Animat/FishSwim-v0", water={"gravty": 0})
+
+
+def test_fins_in_the_action_space_change_depth():
+    env = gym.make("Animat/FishSwim-v0", fins=True)
+    assert env.action_space.shape == (8,)
+    depths = []
+    for pitch in (1.0, -1.0):
+        env.reset(seed=0)
+        for k in range(60):
+            action = np.append(to_action(swim_mc(1.0, (k + 1) * 0.05)), [pitch, pitch])
+            info = env.step(action.astype(np.float32))[4]
+        depths.append(info["com"][2])
+    assert depths[0] > 0.05 * 0.3 and depths[1] < -0.05 * 0.3  # +-0.05 BL in 3 s at least

@@ -27,7 +27,9 @@ def test_swim_mc_swims_head_first_and_holds_heading():
     speed = np.linalg.norm(com[-1, :2] - com[2 * per_second, :2]) / 8.0 / env.body_length
     assert speed >= 0.5, speed
     assert infos[-1]["forward"] @ (com[-1] - com[0]) > 0  # head first
-    assert np.all(np.abs(direction) < 5.0), direction  # within 5 deg of +x for all 10 s
+    # once under way (the ease-in takes 1.25 s, and the first second's few mm go where the
+    # first strokes push), every second's travel is within 3 deg of +x
+    assert np.all(np.abs(direction[1:]) < 3.0), direction
 
 
 def test_swim_speed_grows_with_the_speed_parameter():
@@ -39,11 +41,13 @@ def test_swim_speed_grows_with_the_speed_parameter():
 
 
 @pytest.mark.parametrize("left", [True, False])
-def test_turn_mc_turns_90_degrees_within_3_seconds(left):
+def test_turn_mc_ends_within_10_degrees_of_90_and_holds_it(left):
     sign = 1.0 if left else -1.0
-    infos = _run(FishEnv("turn", duration=3.0), lambda t: turn_mc(np.pi / 2, t, left), 3.0)
+    infos = _run(FishEnv("turn", duration=6.0), lambda t: turn_mc(np.pi / 2, t, left), 6.0)
     headings = sign * np.array([i["heading_deg"] for i in infos])
-    assert headings.max() >= 90.0, headings.max()
+    end = int(round(turn_duration(np.pi / 2) / 0.05)) - 1
+    assert abs(headings[end] - 90.0) <= 10.0, headings[end]
+    assert headings[end:].max() - headings[-1] <= 10.0  # no glide back of more than 10 deg
 
 
 @pytest.mark.parametrize("left", [True, False])

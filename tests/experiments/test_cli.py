@@ -17,7 +17,7 @@ ROOT = Path(__file__).resolve().parents[2]
 TINY = {
     "env": {"id": "Animat/FishSwim-v0", "kwargs": {"duration": 0.5}},
     "learner": {"name": "annealing", "params": {"chains": 8, "nodes": 4, "period": 0.5}},
-    "budget": {"env_steps": 800},
+    "budget": {"env_steps": 3200},
     "seed": 0,
     "eval": {"metric": "eval/speed_bl_per_s"},
 }
@@ -45,8 +45,9 @@ def test_run_end_to_end_fills_the_run_folder(tmp_path):
         assert (folder / name).exists(), name
     assert list((folder / "tb").glob("events.out.tfevents.*"))
     result = json.loads((folder / "result.json").read_text())
-    assert result["status"] == "done" and 0 < result["env_steps"] <= 800
-    assert set(result["metrics"]) == {"eval/return", "eval/speed_bl_per_s"}
+    assert result["status"] == "done" and 0 < result["env_steps"] <= 3200
+    assert set(result["metrics"]) == {"eval/return", "eval/speed_bl_per_s",
+                                      "eval/speed_bl_per_s_std"}
     assert yaml.safe_load((folder / "config.yaml").read_text())["seed"] == 2
     assert "--set seed=2" in (folder / "command.txt").read_text()
     again = animat("run", config, "--out", folder, check=False)
@@ -60,7 +61,7 @@ def test_compare_two_learners_writes_table_and_plot(tmp_path):
            "--set", "learner.params={popsize: 8, nodes: 4, period: 0.5}")
     animat("run", config, "--out", tmp_path / "runs" / "c", "--set", "learner.label=hot",
            "--set", "learner.params.initial_temperature=1.0",  # a variant, labelled
-           "--set", "learner.params.refine={env_steps: 400}")
+           "--set", "learner.params.refine={env_steps: 1600}")
     report = tmp_path / "report" / "swim.md"
     animat("compare", tmp_path / "runs", "--metric", "eval/speed_bl_per_s", "--threshold",
            "0.0", "-o", report)
@@ -87,8 +88,8 @@ def test_compare_two_learners_writes_table_and_plot(tmp_path):
     (lambda d: d["learner"].update(name="sgd"), "learner.name: unknown learner 'sgd'"),
     (lambda d: d["learner"].update(label="a b/c"), "learner.label: String should match"),
     (lambda d: d["learner"].update(label=".."), "learner.label: String should match"),
-    (lambda d: d["learner"]["params"].update(refine={"env_steps": 800}),
-     "learner.params: refine.env_steps (800) must be less than the budget (800)"),
+    (lambda d: d["learner"]["params"].update(refine={"env_steps": 3200}),
+     "learner.params: refine.env_steps (3200) must be less than the budget (3200)"),
     (lambda d: d["env"]["kwargs"].update(duration=-1),
      "env.kwargs: duration must be > 0 seconds, got -1"),
     (lambda d: d["learner"]["params"].update(chainz=3),

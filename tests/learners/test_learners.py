@@ -11,19 +11,19 @@ from learners.registry import LEARNERS, make_learner
 from learners.rollout import BatchEvaluator
 
 ENV = "Animat/FishSwim-v0"
-TINY_ENV = {"duration": 0.5}  # 10 env steps per episode
+TINY_ENV = {"duration": 0.5}  # 10 env steps per episode, 40 per candidate (4 start states)
 TINY = {
-    "annealing": ({"chains": 8, "nodes": 4}, 240),
-    "cmaes": ({"popsize": 8, "nodes": 4}, 240),
+    "annealing": ({"chains": 8, "nodes": 4}, 960),
+    "cmaes": ({"popsize": 8, "nodes": 4}, 960),
     "ppo": ({"n_envs": 4, "n_steps": 16, "batch_size": 32, "n_epochs": 1, "eval_every": 64,
              "policy_kwargs": "dict(net_arch=[16])"}, 128),
-    "handmc": ({}, 10),
+    "handmc": ({}, 40),
     "basic_training": ({"regimen": [
         {"name": "swim", "env_id": "Animat/FishSwim-v0", "env_kwargs": {"duration": 0.5},
          "params": {"nodes": 4, "period": 0.5}},
         {"name": "turn", "env_id": "Animat/FishTurn-v0", "env_kwargs": {"duration": 0.5},
-         "params": {"nodes": 4, "period": None}}], "annealing": {"chains": 8}}, 480),
-    "macro": ({"chains": 8, "slots": 2}, 240),
+         "params": {"nodes": 4, "period": None}}], "annealing": {"chains": 8}}, 1920),
+    "macro": ({"chains": 8, "slots": 2}, 960),
 }
 
 
@@ -80,25 +80,25 @@ def _learn(name, budget, checkpoint_dir=None, seed=3, logger_sink=None, **params
 
 
 REFINE = {"period": 0.5, "nodes": 10}
-REFINE_BY = {"annealing": {"chains": 8, "refine": {"env_steps": 400, "threshold": 0.3,
+REFINE_BY = {"annealing": {"chains": 8, "refine": {"env_steps": 1600, "threshold": 0.3,
                                                    "step_size": 0.1}},
-             "cmaes": {"popsize": 8, "refine": {"env_steps": 400, "threshold": 0.3,
+             "cmaes": {"popsize": 8, "refine": {"env_steps": 1600, "threshold": 0.3,
                                                 "sigma0": 0.1}}}
 
 
 def test_annealing_is_bit_for_bit_reproducible():
-    (a, sink_a), (b, sink_b) = _anneal(800), _anneal(800)
+    (a, sink_a), (b, sink_b) = _anneal(3200), _anneal(3200)
     assert a.metrics == b.metrics
     assert a.artefacts["controller"] == b.artefacts["controller"]
     assert sink_a.records == sink_b.records
-    c, _ = _anneal(800, seed=4)
+    c, _ = _anneal(3200, seed=4)
     assert c.artefacts["controller"] != a.artefacts["controller"]
 
 
 def test_annealing_resumed_from_a_checkpoint_ends_identical(tmp_path):
-    whole, _ = _anneal(800)
+    whole, _ = _anneal(3200)
     _anneal(400, tmp_path)  # interrupted half way (its checkpoint stays)
-    resumed, _ = _anneal(800, tmp_path)
+    resumed, _ = _anneal(3200, tmp_path)
     assert resumed.env_steps == whole.env_steps
     assert resumed.metrics == whole.metrics
     assert resumed.artefacts["controller"] == whole.artefacts["controller"]
@@ -106,12 +106,12 @@ def test_annealing_resumed_from_a_checkpoint_ends_identical(tmp_path):
 
 @pytest.mark.parametrize("name", ["annealing", "cmaes"])
 def test_refinement_searches_the_abstraction_with_its_share_of_the_budget(name):
-    result, sink = _learn(name, 1200, **REFINE, **REFINE_BY[name])
-    alone, _ = _learn(name, 800, **REFINE, **{k: v for k, v in REFINE_BY[name].items()
+    result, sink = _learn(name, 4800, **REFINE, **REFINE_BY[name])
+    alone, _ = _learn(name, 3200, **REFINE, **{k: v for k, v in REFINE_BY[name].items()
                                               if k != "refine"})
     learned, refined = result.artefacts["learned_metrics"], result.artefacts["abstraction_metrics"]
     assert learned == alone.metrics  # phase 1 had exactly the budget less refine.env_steps
-    assert 1200 - 80 < result.env_steps <= 1200 and refined["refined"]
+    assert 4800 - 320 < result.env_steps <= 4800 and refined["refined"]
     assert refined["parameters"] < result.artefacts["parameters"] == 60
     # refining starts by scoring the truncated abstraction itself: it can only improve on it
     assert refined["eval/return"] >= refined["before_refining"]["eval/return"]
@@ -119,7 +119,7 @@ def test_refinement_searches_the_abstraction_with_its_share_of_the_budget(name):
     assert result.artefacts["result_from"] == (
         "learned" if result.metrics == learned else "refined abstraction")
     steps = [step for step, _ in sink.series("eval/return")]
-    assert steps[-1] == result.env_steps and any(step > 810 for step in steps)  # refining
+    assert steps[-1] == result.env_steps and any(step > 3240 for step in steps)  # refining
     # the stored abstraction plays back to the score reported for it
     player = PeriodicPlayer(AbstractController.from_dict(result.artefacts["abstraction"]), 0.5)
     evaluator = BatchEvaluator(ENV, TINY_ENV, 8, seed=3)
@@ -145,13 +145,13 @@ class _CrashingSink(MemorySink):
 
 
 @pytest.mark.parametrize("name", ["annealing", "cmaes"])
-@pytest.mark.parametrize("crash_after", [500, 800, 1000])  # learning, at the switch, refining
+@pytest.mark.parametrize("crash_after", [2000, 3200, 4000])  # learning, at the switch, refining
 def test_refinement_resumed_from_a_checkpoint_ends_identical(tmp_path, name, crash_after):
     params = {**REFINE, **REFINE_BY[name], "checkpoint_every": 3}
-    whole, _ = _learn(name, 1200, **params)
+    whole, _ = _learn(name, 4800, **params)
     with pytest.raises(_Crash):
-        _learn(name, 1200, tmp_path, logger_sink=_CrashingSink(crash_after), **params)
-    resumed, _ = _learn(name, 1200, tmp_path, **params)
+        _learn(name, 4800, tmp_path, logger_sink=_CrashingSink(crash_after), **params)
+    resumed, _ = _learn(name, 4800, tmp_path, **params)
     assert resumed.env_steps == whole.env_steps
     assert resumed.metrics == whole.metrics
     assert resumed.artefacts["abstraction"] == whole.artefacts["abstraction"]
@@ -164,9 +164,9 @@ def test_bad_refinement_settings_are_named():
         make_learner("cmaes", ENV, TINY_ENV, {"refine": {"env_steps": 10, "threshold": 2}})
     with pytest.raises(ValueError, match="env_steps, an integer > 0"):
         make_learner("annealing", ENV, TINY_ENV, {"refine": {"env_steps": "lots"}})
-    learner = make_learner("annealing", ENV, TINY_ENV, {"refine": {"env_steps": 800}})
+    learner = make_learner("annealing", ENV, TINY_ENV, {"refine": {"env_steps": 3200}})
     with pytest.raises(ValueError, match="must be less than the budget"):
-        learner.learn(800)
+        learner.learn(3200)
 
 
 def test_annealing_accepts_downhill_and_cools():
@@ -189,3 +189,18 @@ def test_ppo_resumes_from_its_checkpoint(tmp_path):
     assert (tmp_path / "model.zip").exists() and first.env_steps == 128
     resumed = make_learner("ppo", ENV, TINY_ENV, params, seed=0).learn(256, tmp_path)
     assert resumed.env_steps == 256  # continued from 128, not from 0
+
+
+def test_candidates_are_scored_over_several_start_states():
+    """The same actions from 4 seeded starts: the score is their mean, the spread is reported,
+    and all 4 episodes are charged."""
+    actions = np.random.default_rng(0).uniform(-1, 1, (2, 10, 6)).astype(np.float32)
+    several = BatchEvaluator(ENV, TINY_ENV, 2, seed=5, num_starts=4)
+    returns, metrics = several.evaluate(actions)
+    assert several.env_steps == 2 * 4 * 10
+    singles = [BatchEvaluator(ENV, TINY_ENV, 2, seed=5 + k, num_starts=1).evaluate(actions)
+               for k in range(4)]
+    np.testing.assert_allclose(returns, np.mean([r for r, _ in singles], axis=0), rtol=1e-12)
+    speeds = np.array([m["speed_bl_per_s"] for _, m in singles])
+    np.testing.assert_allclose(metrics["speed_bl_per_s_std"], speeds.std(axis=0), rtol=1e-9)
+    assert np.all(metrics["speed_bl_per_s_std"] > 0)  # the starts do differ

@@ -1,0 +1,45 @@
+"""The default step is converged: what a researcher reads does not change when it is refined.
+
+Swim speed (hand swim-MC, full speed, net displacement along the start heading over 5-10 s),
+the 90-degree turn-MC's heading when it ends, and the fin-MC's depth change, at the default step
+and at a step 4x smaller, agree within 5%.
+"""
+
+import numpy as np
+import pytest
+
+from envs.fish_core import DEFAULT_FRAME_SKIP, FishBatch
+from envs.motor import fin_mc, swim_mc, to_action, turn_duration, turn_mc
+from envs.physics.system import DEFAULT_DT
+from envs.tasks import SwimTask
+
+
+def _figures(refine: int) -> dict[str, float]:
+    core = FishBatch(3, SwimTask(), physics_dt=DEFAULT_DT / refine,
+                     frame_skip=DEFAULT_FRAME_SKIP * refine, duration=100.0)
+    core.reset_rows(np.arange(3), [np.random.default_rng(0) for _ in range(3)])
+    core.fins[2] = fin_mc(pitch=1.0)
+    dt, turn_end = core.dt, turn_duration(np.pi / 2)
+    coms, headings = [], []
+    for k in range(200):
+        t = (k + 1) * dt
+        swim = to_action(swim_mc(1.0, t))
+        actions = np.stack([swim, to_action(turn_mc(np.pi / 2, t, True)), swim])
+        _, info = core.step(actions.astype(np.float64))
+        coms.append(info["com"].copy())
+        headings.append(info["heading_deg"][1])
+    com = np.array(coms) / core.body.length
+    return {"swim speed BL/s": (com[-1, 0, 0] - com[99, 0, 0]) / 5.0,
+            "turn heading deg": headings[int(round(turn_end / dt)) - 1],
+            "fin depth change BL": com[119, 2, 2] - com[0, 2, 2]}
+
+
+@pytest.fixture(scope="module")
+def figures():
+    return _figures(1), _figures(4)
+
+
+@pytest.mark.parametrize("name", ["swim speed BL/s", "turn heading deg", "fin depth change BL"])
+def test_default_step_is_within_five_percent_of_a_step_four_times_smaller(figures, name):
+    default, fine = figures
+    assert abs(default[name] - fine[name]) <= 0.05 * abs(fine[name]), (default, fine)
