@@ -4,7 +4,8 @@ both thin shells over :class:`envs.fish_core.FishBatch` (the same step code).
 ## Description
 A 0.30 m, 0.52 kg mass-spring fish (23 nodes, 91 Voigt elements, 12 muscles in 6 actuators;
 :mod:`envs.fish`) in still water. It moves only by pushing water with its body faces (the
-paper's reaction force ``-A (n.v)|v| n``). Tasks: ``swim`` (forward, optionally at a target
+reaction force on faces moving into the water, in its cross-flow form by default, plus skin
+friction; :mod:`envs.physics.forces`). Tasks: ``swim`` (forward, optionally at a target
 speed), ``turn`` (by an angle, left or right), ``reach`` (a goal point). World frame: right
 handed, z up, gravity -z; the fish starts at the origin heading +x, its left is +y.
 
@@ -13,7 +14,8 @@ handed, z up, gravity -z; the fish starts at the origin heading +x, its left is 
 left-front, left-middle, left-back, right-front, right-middle, right-back. Within an env step
 the activation ramps linearly from the previous action to this one (actions are piecewise
 linear in time). Out-of-range values are clipped; a wrong shape, NaN or infinity raises
-``ValueError`` and leaves the state unchanged.
+``ValueError`` and leaves the state unchanged. With ``fins=True``: ``(8,)``, the last two
+the left and right pectoral fin angles, ``30 deg`` times the entry (held over the env step).
 
 ## Observation Space
 ``Box(-1e4, 1e4, (150 + task entries,), float32)`` (clipped): the 23 node positions and velocities
@@ -24,11 +26,13 @@ turn: sin and cos of the heading error, 2; reach: the goal in the body frame, BL
 
 ## Rewards
 ``r = -(mu1 E_u + mu2 E_v) dt`` (the paper's Eq. 1), ``E_u = (nu1 |du/dt|^2 + nu2 |d^2u/dt^2|^2)
-/ 2``. E_v: swim ``-u`` (u: horizontal speed along the fish's heading, BL/s) or
+/ 2``. E_v: swim ``-u`` (u: velocity along the start heading +x, BL/s) or
 ``(u - target)^2``; turn: squared heading
 error (rad^2); reach: distance to the goal (BL), plus ``final_weight`` times it on the last
 step. ``info`` holds ``E_u``, ``E_v``, ``reward_ctrl``, ``reward_task`` (the two summands of the
-reward), ``com`` (3,) m, ``forward`` (3,), ``time`` s, and the task's metrics (swim:
+reward), ``com`` (3,) m, ``forward`` (3,), ``linear_momentum`` (3,) kg m/s and
+``angular_momentum`` (3,) kg m^2/s (world frame, about the centre of mass), ``time`` s,
+and the task's metrics (swim:
 ``speed_bl_per_s``, ``heading_deg``, ``distance_bl``; turn: ``heading_deg``,
 ``heading_error_deg``; reach: ``distance_bl``).
 
@@ -40,8 +44,11 @@ The rest shape at the origin heading +x, each node coordinate moved by uniform n
 No termination; truncation after ``duration`` simulated seconds.
 
 ## Arguments
-``duration`` (s), ``physics_dt`` (s, integration step), ``frame_skip`` (integration steps per
-env step; ``dt = physics_dt * frame_skip``, default 0.05 s), ``reset_noise_scale`` (BL),
+``duration`` (s), ``physics_dt`` (s, integration step, default 1/700 s, refused above the
+body's stability bound), ``frame_skip`` (integration steps per env step, default 35;
+``dt = physics_dt * frame_skip`` = 0.05 s), ``water`` (dict of
+:class:`~envs.physics.system.Water` fields, e.g. a vacuum), ``fins`` (bool: fin angles in the
+action space), ``reset_noise_scale`` (BL),
 ``reward_weights`` (:class:`~envs.fish_core.RewardWeights`), ``render_mode`` (``"rgb_array"``),
 and the task's own arguments (swim: ``target_speed``; turn: ``angle_deg``, ``direction``;
 reach: ``distance_bl``, ``bearing_deg``, ``final_weight``). The env exposes ``dt`` and
