@@ -193,11 +193,3 @@ def add_gravity_buoyancy(x, masses, volumes, density, gravity, surface_z, f) -> 
         weight, lift = gravity * masses[i], gravity * density * volumes[i]
         for b in range(x.shape[2]):
             f[i, 2, b] += lift * submerged(x[i, 2, b], surface_z) - weight
-
-
-@njit(cache=True)
-def muscle_rest_lengths(rest, actuator, max_contraction, activation, out) -> None:
-    """Rest lengths (E,) with muscle e shortened to ``l0 (1 - max_contraction u)``, m."""
-    for e in range(rest.shape[0]):
-        a = actuator[e]
-        out[e] = rest[e] if a < 0 else rest[e] * (1.0 - max_contraction * activation[a])
