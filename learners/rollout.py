@@ -60,8 +60,8 @@ class BatchEvaluator:
                  seed: int = 0, num_starts: int = START_STATES) -> None:
         if type(num_starts) is not int or num_starts < 1:
             raise ValueError(f"start_states must be an integer >= 1, got {num_starts!r}")
-        self.num_starts, self.candidates_per_batch = num_starts, int(num_envs)
-        self.env = gym.make_vec(env_id, num_envs=self.candidates_per_batch * num_starts,
+        self.num_starts = num_starts
+        self.env = gym.make_vec(env_id, num_envs=int(num_envs) * num_starts,
                                 **(env_kwargs or {}))
         self.seed = int(seed)
         self.dt = float(self.env.dt)
