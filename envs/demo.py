@@ -4,7 +4,9 @@
 prints the biology figures of its cruise (tail-beat frequency f, peak-to-peak tail amplitude A,
 speed U along the start heading, Strouhal number fA/U, stride U/f), turns left and right with
 the turn-MCs, and rises and dives with the fin-MC (fin angles through the action space);
-with ``--video`` it records the swim to DIR.
+with ``--video`` it records the swim to DIR. ``--model-sweep`` prints how the Strouhal number
+and stride respond to the force model and the swim-MC's gains (the measurements behind the
+README's note that a resistive model alone cannot reach fish-like St).
 """
 
 from __future__ import annotations
@@ -16,7 +18,9 @@ import numpy as np
 
 import envs  # noqa: F401
 from envs.fish_env import FishEnv
+from envs.fish_core import FishBatch
 from envs.motor import SwimParams, fin_mc, swim_mc, to_action, turn_duration, turn_mc
+from envs.tasks import SwimTask
 
 TAIL_TIPS = [21, 22]
 
@@ -51,11 +55,50 @@ def cruise_figures(infos: list[dict], tail: np.ndarray, dt: float, length: float
             "St": hz * amplitude / speed, "stride": speed / length / hz}
 
 
+SWEEP = [  # (label, Water fields, SwimParams fields)
+    ("default", {}, {}),
+    ("no skin friction", {"friction_coefficient": 0.0}, {}),
+    ("the paper's reaction (n.w)|w|", {"reaction": "paper"}, {}),
+    ("fluid coefficient x0.5", {"fluid_coefficient": 250.0}, {}),
+    ("fluid coefficient x2", {"fluid_coefficient": 1000.0}, {}),
+    ("fluid coefficient x4", {"fluid_coefficient": 2000.0}, {}),
+    ("amplitude x0.6", {}, {"max_amplitude": 0.6}),
+    ("phase lag 0.5 pi", {}, {"phase_lag": 0.5 * np.pi}),
+    ("phase lag 0", {}, {"phase_lag": 0.0}),
+    ("5 Hz", {}, {"max_hz": 5.0}),
+]
+
+
+def model_sweep(seconds: float = 10.0) -> list[tuple[str, dict[str, float]]]:
+    """Cruise figures of the full-speed swim-MC for each row of ``SWEEP`` (seeded start)."""
+    rows = []
+    for label, water, gains in SWEEP:
+        params = SwimParams(**gains)
+        core = FishBatch(1, SwimTask(), water=water, duration=seconds)
+        core.reset_rows(np.array([0]), [np.random.default_rng(0)])
+        infos, tail = [], []
+        for k in range(int(round(seconds / core.dt))):
+            u = swim_mc(1.0, (k + 1) * core.dt, params)
+            infos.append({"com": core.step((2.0 * u - 1.0)[None])[1]["com"][0]})
+            tail.append(core.x[0, TAIL_TIPS].mean(axis=0))
+        rows.append((label, cruise_figures(infos, np.array(tail), core.dt, core.body.length,
+                                           params.max_hz, seconds / 2)))
+    return rows
+
+
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--seconds", type=float, default=10.0)
     parser.add_argument("--video", default=None, help="folder for an mp4 of the swim")
+    parser.add_argument("--model-sweep", action="store_true",
+                        help="print St and stride across force models and swim-MC gains")
     args = parser.parse_args(argv)
+    if args.model_sweep:
+        print(f"{'variant':<32} {'U BL/s':>7} {'A BL':>6} {'f Hz':>5} {'St':>5} {'stride':>7}")
+        for label, fig in model_sweep(args.seconds):
+            print(f"{label:<32} {fig['U']:>7.2f} {fig['A']:>6.2f} {fig['f']:>5.1f} "
+                  f"{fig['St']:>5.2f} {fig['stride']:>7.2f}")
+        return
     env = FishEnv("swim", duration=args.seconds, render_mode="rgb_array" if args.video else None)
     if args.video:
         env = gym.wrappers.RecordVideo(env, args.video, episode_trigger=lambda e: e == 0,

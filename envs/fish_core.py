@@ -26,7 +26,7 @@ from envs.physics.system import DEFAULT_DT, System, Water
 from envs.tasks import Task
 
 OBS_LIMIT = 1e4  # observation entries are clipped to +-OBS_LIMIT
-DEFAULT_FRAME_SKIP = 35  # integration steps per env step: 35 x 1.43 ms = 0.05 s
+DEFAULT_FRAME_SKIP = 40  # integration steps per env step: 40 x 1.25 ms = 0.05 s
 
 
 @dataclass(frozen=True)

@@ -44,8 +44,8 @@ The rest shape at the origin heading +x, each node coordinate moved by uniform n
 No termination; truncation after ``duration`` simulated seconds.
 
 ## Arguments
-``duration`` (s), ``physics_dt`` (s, integration step, default 1/700 s, refused above the
-body's stability bound), ``frame_skip`` (integration steps per env step, default 35;
+``duration`` (s), ``physics_dt`` (s, integration step, default 1/800 s, refused above 75% of
+the body's stability bound), ``frame_skip`` (integration steps per env step, default 40;
 ``dt = physics_dt * frame_skip`` = 0.05 s), ``water`` (dict of
 :class:`~envs.physics.system.Water` fields, e.g. a vacuum), ``fins`` (bool: fin angles in the
 action space), ``reset_noise_scale`` (BL),

@@ -57,9 +57,10 @@ def add_element_forces(x, v, elements, stiffness, damping, rest, f) -> None:
         for b in range(x.shape[2]):
             r0, r1, r2 = x[j, 0, b] - x[i, 0, b], x[j, 1, b] - x[i, 1, b], x[j, 2, b] - x[i, 2, b]
             length = np.sqrt(r0 * r0 + r1 * r1 + r2 * r2)
+            inverse = 1.0 / length
             rate = ((v[j, 0, b] - v[i, 0, b]) * r0 + (v[j, 1, b] - v[i, 1, b]) * r1
-                    + (v[j, 2, b] - v[i, 2, b]) * r2) / length
-            scale = (c * (length - rest[e, b]) + gamma * rate) / length
+                    + (v[j, 2, b] - v[i, 2, b]) * r2) * inverse
+            scale = (c * (length - rest[e, b]) + gamma * rate) * inverse
             f[i, 0, b] += scale * r0
             f[i, 1, b] += scale * r1
             f[i, 2, b] += scale * r2
@@ -69,56 +70,79 @@ def add_element_forces(x, v, elements, stiffness, damping, rest, f) -> None:
 
 
 @njit(**FAST)
-def add_face_forces(x, v, faces, weights, face_mass, water, dt, f) -> None:
+def _face_forces_into(x, v, faces, weights, face_mass, water, dt, g) -> None:
+    """g (F, 3, L): the force the water exerts on each face of every body, negated. The lane
+    loop is branch-free (blends and selects) and calls no function that takes an array, so it
+    runs in SIMD across the bodies."""
+    kappa_water, kappa_air, friction_water, friction_air, crossflow, surface_z = water[:6]
+    c0, c1, c2 = water[6], water[7], water[8]
+    cross = 1.0 if crossflow else 0.0
+    for k in range(faces.shape[0]):
+        _one_face_into(x, v, faces[k, 0], faces[k, 1], faces[k, 2], faces[k, 3], weights[k, 0],
+                       weights[k, 1], weights[k, 2], weights[k, 3], face_mass[k], kappa_water,
+                       kappa_air, friction_water, friction_air, cross, surface_z, c0, c1, c2,
+                       dt, g[k])
+
+
+@njit(**FAST)
+def _one_face_into(x, v, a, b, c, d, s0, s1, s2, s3, mass, kappa_water, kappa_air,
+                   friction_water, friction_air, cross, surface_z, c0, c1, c2, dt, g) -> None:
+    for lane in range(x.shape[2]):
+        p0, p1, p2 = (x[c, 0, lane] - x[a, 0, lane], x[c, 1, lane] - x[a, 1, lane],
+                      x[c, 2, lane] - x[a, 2, lane])
+        q0, q1, q2 = (x[d, 0, lane] - x[b, 0, lane], x[d, 1, lane] - x[b, 1, lane],
+                      x[d, 2, lane] - x[b, 2, lane])
+        n0, n1, n2 = 0.5 * (p1 * q2 - p2 * q1), 0.5 * (p2 * q0 - p0 * q2), 0.5 * (p0 * q1 - p1 * q0)
+        area = np.sqrt(n0 * n0 + n1 * n1 + n2 * n2)
+        inverse = 1.0 / max(area, 1e-300)
+        n0, n1, n2 = n0 * inverse, n1 * inverse, n2 * inverse
+        w0 = s0 * v[a, 0, lane] + s1 * v[b, 0, lane] + s2 * v[c, 0, lane] + s3 * v[d, 0, lane] - c0
+        w1 = s0 * v[a, 1, lane] + s1 * v[b, 1, lane] + s2 * v[c, 1, lane] + s3 * v[d, 1, lane] - c1
+        w2 = s0 * v[a, 2, lane] + s1 * v[b, 2, lane] + s2 * v[c, 2, lane] + s3 * v[d, 2, lane] - c2
+        height = s0 * x[a, 2, lane] + s1 * x[b, 2, lane] + s2 * x[c, 2, lane] + s3 * x[d, 2, lane]
+        wet = submerged(height, surface_z)
+        normal_speed = n0 * w0 + n1 * w1 + n2 * w2
+        t0, t1, t2 = w0 - normal_speed * n0, w1 - normal_speed * n1, w2 - normal_speed * n2
+        tangential = np.sqrt(t0 * t0 + t1 * t1 + t2 * t2)
+        pushing = max(normal_speed, 0.0)
+        along = cross * pushing + (1.0 - cross) * np.sqrt(w0 * w0 + w1 * w1 + w2 * w2)
+        kappa = kappa_air + (kappa_water - kappa_air) * wet
+        normal_force = limited_drag(kappa * area * along, pushing, mass, dt)
+        kappa_f = friction_air + (friction_water - friction_air) * wet
+        friction = limited_drag(kappa_f * area * tangential, 1.0, mass, dt)
+        g[0, lane] = normal_force * n0 + friction * t0
+        g[1, lane] = normal_force * n1 + friction * t1
+        g[2, lane] = normal_force * n2 + friction * t2
+
+
+@njit(**FAST)
+def add_face_forces(x, v, faces, weights, face_mass, water, dt, f, g) -> None:
     """Reaction force and skin friction on every face (``faces`` (F, 4), ``weights`` (F, 4)).
 
     A face's area vector is half the cross product of its diagonals (exact for a planar quad
     and for a triangle given as a quad with a repeated corner); its velocity and height are the
-    weighted means of its corners'. ``water`` is :attr:`envs.physics.system.System.water_args`."""
-    kappa_water, kappa_air, friction_water, friction_air, crossflow, surface_z = water[:6]
-    c0, c1, c2 = water[6], water[7], water[8]
-    lanes = x.shape[2]
+    weighted means of its corners'. ``water`` is :attr:`envs.physics.system.System.water_args`.
+    The forces go into ``g`` (F, 3, L) work space in SIMD passes over the bodies
+    (:func:`_face_forces_into`), then are shared out among each face's corners by
+    ``weights``."""
+    _face_forces_into(x, v, faces, weights, face_mass, water, dt, g)
     for k in range(faces.shape[0]):
         a, b, c, d = faces[k, 0], faces[k, 1], faces[k, 2], faces[k, 3]
-        for lane in range(lanes):
-            p0, p1, p2 = (x[c, 0, lane] - x[a, 0, lane], x[c, 1, lane] - x[a, 1, lane],
-                          x[c, 2, lane] - x[a, 2, lane])
-            q0, q1, q2 = (x[d, 0, lane] - x[b, 0, lane], x[d, 1, lane] - x[b, 1, lane],
-                          x[d, 2, lane] - x[b, 2, lane])
-            n0, n1, n2 = (0.5 * (p1 * q2 - p2 * q1), 0.5 * (p2 * q0 - p0 * q2),
-                          0.5 * (p0 * q1 - p1 * q0))
-            area = np.sqrt(n0 * n0 + n1 * n1 + n2 * n2)
-            if area == 0.0:
-                continue
-            n0, n1, n2 = n0 / area, n1 / area, n2 / area
-            w0, w1, w2, height = -c0, -c1, -c2, 0.0
-            for q in range(4):
-                node, share = faces[k, q], weights[k, q]
-                w0 += share * v[node, 0, lane]
-                w1 += share * v[node, 1, lane]
-                w2 += share * v[node, 2, lane]
-                height += share * x[node, 2, lane]
-            wet = submerged(height, surface_z)
-            normal_speed = n0 * w0 + n1 * w1 + n2 * w2
-            t0, t1, t2 = w0 - normal_speed * n0, w1 - normal_speed * n1, w2 - normal_speed * n2
-            tangential = np.sqrt(t0 * t0 + t1 * t1 + t2 * t2)
-            normal_force = 0.0
-            if normal_speed > 0.0:
-                kappa = kappa_air + (kappa_water - kappa_air) * wet
-                along = normal_speed if crossflow else np.sqrt(w0 * w0 + w1 * w1 + w2 * w2)
-                normal_force = limited_drag(kappa * area * along, normal_speed, face_mass[k], dt)
-            friction = 0.0
-            if tangential > 0.0:
-                kappa_f = friction_air + (friction_water - friction_air) * wet
-                friction = limited_drag(kappa_f * area * tangential, 1.0, face_mass[k], dt)
-            g0 = normal_force * n0 + friction * t0
-            g1 = normal_force * n1 + friction * t1
-            g2 = normal_force * n2 + friction * t2
-            for q in range(4):
-                node, share = faces[k, q], weights[k, q]
-                f[node, 0, lane] -= share * g0
-                f[node, 1, lane] -= share * g1
-                f[node, 2, lane] -= share * g2
+        s0, s1, s2, s3 = weights[k, 0], weights[k, 1], weights[k, 2], weights[k, 3]
+        for lane in range(x.shape[2]):
+            g0, g1, g2 = g[k, 0, lane], g[k, 1, lane], g[k, 2, lane]
+            f[a, 0, lane] -= s0 * g0
+            f[a, 1, lane] -= s0 * g1
+            f[a, 2, lane] -= s0 * g2
+            f[b, 0, lane] -= s1 * g0
+            f[b, 1, lane] -= s1 * g1
+            f[b, 2, lane] -= s1 * g2
+            f[c, 0, lane] -= s2 * g0
+            f[c, 1, lane] -= s2 * g1
+            f[c, 2, lane] -= s2 * g2
+            f[d, 0, lane] -= s3 * g0
+            f[d, 1, lane] -= s3 * g1
+            f[d, 2, lane] -= s3 * g2
 
 
 @njit(cache=True, inline="always")
@@ -150,40 +174,53 @@ def body_frame_into(x, lane, front, back, up, down, frame) -> None:
     frame[2, 0], frame[2, 1], frame[2, 2] = u0, u1, u2
 
 
-@njit(cache=True)
+@njit(**FAST)
 def add_fin_forces(x, v, frame_nodes, fin_nodes, fin_areas, fin_mass, sin_cos, water, dt, f,
-                   frame) -> None:
+                   scratch) -> None:
     """Pectoral fins as two-sided plates; fin p's normal is the body's up vector pitched by the
-    fin angle about the body's lateral axis (``sin_cos`` (L, P, 2) its sine and cosine),
+    fin angle about the body's lateral axis (``sin_cos`` (P, 2, L) its sine and cosine),
     leading edge up for a positive angle. Same angle on both fins: lift (pitch, depth);
     opposite angles: roll; a large angle on one side: drag on that side (yaw). ``frame_nodes``:
-    (front, back, up, down) node lists; ``frame`` (3, 3) scratch space."""
+    (front, back, up, down) node lists; ``scratch`` (16, L) work space."""
     kappa_water, kappa_air, surface_z = water[0], water[1], water[5]
     c0, c1, c2 = water[6], water[7], water[8]
     front, back, up, down = frame_nodes
+    frame = np.empty((3, 3))
     for lane in range(x.shape[2]):
         body_frame_into(x, lane, front, back, up, down, frame)
-        for p in range(fin_nodes.shape[0]):
-            sin_a, cos_a = sin_cos[lane, p, 0], sin_cos[lane, p, 1]
-            n0 = -sin_a * frame[0, 0] + cos_a * frame[2, 0]
-            n1 = -sin_a * frame[0, 1] + cos_a * frame[2, 1]
-            n2 = -sin_a * frame[0, 2] + cos_a * frame[2, 2]
-            nodes = fin_nodes[p]
-            count = nodes.shape[0]
-            w0, w1, w2 = -c0, -c1, -c2
-            for q in range(count):
-                w0 += v[nodes[q], 0, lane] / count
-                w1 += v[nodes[q], 1, lane] / count
-                w2 += v[nodes[q], 2, lane] / count
-            kappa = kappa_air + (kappa_water - kappa_air) * submerged(
-                _centroid(x, nodes, 2, lane), surface_z)
+        for row in range(3):
+            for axis in range(3):
+                scratch[3 * row + axis, lane] = frame[row, axis]
+    for p in range(fin_nodes.shape[0]):
+        nodes = fin_nodes[p]
+        share = 1.0 / nodes.shape[0]
+        scratch[9:13] = 0.0
+        for q in range(nodes.shape[0]):
+            node = nodes[q]
+            for lane in range(x.shape[2]):
+                scratch[9, lane] += share * v[node, 0, lane]
+                scratch[10, lane] += share * v[node, 1, lane]
+                scratch[11, lane] += share * v[node, 2, lane]
+                scratch[12, lane] += share * x[node, 2, lane]
+        area, mass = fin_areas[p], fin_mass[p]
+        for lane in range(x.shape[2]):
+            sin_a, cos_a = sin_cos[p, 0, lane], sin_cos[p, 1, lane]
+            n0 = -sin_a * scratch[0, lane] + cos_a * scratch[6, lane]
+            n1 = -sin_a * scratch[1, lane] + cos_a * scratch[7, lane]
+            n2 = -sin_a * scratch[2, lane] + cos_a * scratch[8, lane]
+            w0, w1, w2 = scratch[9, lane] - c0, scratch[10, lane] - c1, scratch[11, lane] - c2
+            kappa = kappa_air + (kappa_water - kappa_air) * submerged(scratch[12, lane], surface_z)
             speed = np.sqrt(w0 * w0 + w1 * w1 + w2 * w2)
-            magnitude = limited_drag(kappa * fin_areas[p] * speed, n0 * w0 + n1 * w1 + n2 * w2,
-                                     fin_mass[p], dt)
-            for q in range(count):
-                f[nodes[q], 0, lane] -= magnitude * n0 / count
-                f[nodes[q], 1, lane] -= magnitude * n1 / count
-                f[nodes[q], 2, lane] -= magnitude * n2 / count
+            magnitude = share * limited_drag(kappa * area * speed, n0 * w0 + n1 * w1 + n2 * w2,
+                                             mass, dt)
+            scratch[13, lane], scratch[14, lane] = magnitude * n0, magnitude * n1
+            scratch[15, lane] = magnitude * n2
+        for q in range(nodes.shape[0]):
+            node = nodes[q]
+            for lane in range(x.shape[2]):
+                f[node, 0, lane] -= scratch[13, lane]
+                f[node, 1, lane] -= scratch[14, lane]
+                f[node, 2, lane] -= scratch[15, lane]
 
 
 @njit(**FAST)

@@ -72,18 +72,22 @@ def step_chunk(x, v, u_start, u_end, fin_angles, substeps, c):
     rest = np.empty((c.rest_lengths.shape[0], lanes))
     for e in range(rest.shape[0]):
         rest[e, :] = c.rest_lengths[e]
-    sin_cos = np.empty((lanes, fin_angles.shape[1], 2))
-    sin_cos[:, :, 0], sin_cos[:, :, 1] = np.sin(fin_angles), np.cos(fin_angles)
-    frame = np.empty((3, 3))
+    sin_cos = np.empty((fin_angles.shape[1], 2, lanes))
+    for b in range(lanes):
+        for p in range(fin_angles.shape[1]):
+            sin_cos[p, 0, b], sin_cos[p, 1, b] = np.sin(fin_angles[b, p]), np.cos(fin_angles[b, p])
+    face_scratch = np.empty((c.faces.shape[0], 3, lanes))
+    fin_scratch = np.empty((16, lanes))
     frame_nodes = (c.frame_front, c.frame_back, c.frame_up, c.frame_down)
     for s in range(substeps):
         ramp_rest_lengths(c.rest_lengths, c.actuator, c.max_contraction, u_start, u_end,
                           s / substeps, rest)
         fl[:] = 0.0
         add_element_forces(xl, vl, c.elements, c.stiffness, c.damping, rest, fl)
-        add_face_forces(xl, vl, c.faces, c.face_weights, c.face_mass, c.water, c.dt, fl)
+        add_face_forces(xl, vl, c.faces, c.face_weights, c.face_mass, c.water, c.dt, fl,
+                        face_scratch)
         add_fin_forces(xl, vl, frame_nodes, c.fin_nodes, c.fin_areas, c.fin_mass, sin_cos,
-                       c.water, c.dt, fl, frame)
+                       c.water, c.dt, fl, fin_scratch)
         add_gravity_buoyancy(xl, c.masses, c.volumes, c.water[9], c.water[10], c.water[5], fl)
         kick_drift(xl, vl, fl, c.masses, c.dt)
     for b in range(lanes):

@@ -11,7 +11,7 @@ import pytest
 from envs.fish import fish_body
 from envs.physics.integrator import step_batch
 from envs.physics.observe import body_state, momenta
-from envs.physics.system import System, Water, stable_step, vacuum
+from envs.physics.system import STABILITY_MARGIN, System, Water, stable_step, vacuum
 
 
 def _batch(body, count=1):
@@ -107,28 +107,31 @@ def test_rigid_spin_in_vacuum_keeps_its_angular_momentum():
     assert np.linalg.norm(angular0) > 1e-4
 
 
-def test_energy_without_damping_stays_bounded_for_sixty_seconds():
+@pytest.mark.parametrize("seed", [4, 8])
+def test_energy_without_damping_has_no_trend_for_eight_minutes(seed):
     """Symplectic: an elastic body set vibrating in vacuum neither gains nor loses energy. The
     energy read at a step oscillates (symplectic Euler conserves a nearby 'shadow' energy, not
-    this one; its stiffest modes run at h omega ~ 1.5), but it has no trend: the mean of the
-    last 10 s is the mean of the first 10 s."""
+    this one; the stiffest modes run at h omega ~ 1.5), but it has no trend: every 10 s mean
+    of 480 s stays within 5% of the first (measured on seeds 4-11: 0.973-1.030). At 85% of the
+    linear stability bound (the old 35 steps per env step) it crept up and blew up after about
+    370 s on seed 8, which is why :data:`STABILITY_MARGIN` is 0.75."""
     import dataclasses
 
     body = fish_body()
     body = dataclasses.replace(body, damping=np.zeros_like(body.damping))
-    system = System(body, vacuum())
+    system = System(body, vacuum())  # the default step
     x, v = _batch(body)
-    rng = np.random.default_rng(4)
-    x += rng.normal(0.0, 2e-3, x.shape)
+    x += np.random.default_rng(seed).normal(0.0, 2e-3, x.shape)
     start = _energy(system, x, v)[0]
     zeros, energies = np.zeros((1, 6)), []
-    for _ in range(600):  # 60 s in 0.1 s slices
-        step_batch(x, v, zeros, zeros, np.zeros((1, 2)), 60, system.kernel_args)
+    slice_steps = int(round(0.1 / system.dt))
+    for _ in range(4800):  # 480 s in 0.1 s slices
+        step_batch(x, v, zeros, zeros, np.zeros((1, 2)), slice_steps, system.kernel_args)
         energies.append(_energy(system, x, v)[0])
     energies = np.array(energies)
     assert energies.max() < 1.5 * start and energies.min() > 0.5 * start
-    drift = energies[-100:].mean() / energies[:100].mean() - 1.0
-    assert abs(drift) < 0.01
+    means = energies.reshape(48, 100).mean(axis=1) / energies[:100].mean()
+    assert np.all(np.abs(means - 1.0) < 0.05), means.round(3)
 
 
 def test_dampers_only_remove_energy():
@@ -176,6 +179,9 @@ def test_system_refuses_a_step_beyond_the_stability_bound():
     body = fish_body()
     with pytest.raises(ValueError, match="stability bound"):
         System(body, dt=stable_step(body))
+    with pytest.raises(ValueError, match="stability bound"):
+        System(body, dt=0.05 / 35)  # 85% of the bound: undamped, it blows up after minutes
+    System(body, dt=0.99 * STABILITY_MARGIN * stable_step(body))
     with pytest.raises(ValueError, match="dt"):
         System(body, dt=-1.0)
     with pytest.raises(ValueError, match="fluid_coefficient"):
