@@ -27,12 +27,12 @@ FISH_REGIMEN = [
     {"name": "swim_fast", "env_id": "Animat/FishSwim-v0",
      "env_kwargs": {"duration": 4.0}, "params": {"period": 1.0}},
     {"name": "turn_left_90", "env_id": "Animat/FishTurn-v0",
-     "env_kwargs": {"duration": 2.0, "angle_deg": 90.0, "direction": "left"},
+     "env_kwargs": {"duration": 4.0, "angle_deg": 90.0, "direction": "left"},
      "params": {"period": None, "nodes": 11}},
     {"name": "turn_right_90", "env_id": "Animat/FishTurn-v0",
-     "env_kwargs": {"duration": 2.0, "angle_deg": 90.0, "direction": "right"},
+     "env_kwargs": {"duration": 4.0, "angle_deg": 90.0, "direction": "right"},
      "params": {"period": None, "nodes": 11}},
-]
+]  # turns get 4 s: the hand turn-MC needs 2.8 s for 90 deg on this physics
 
 
 @dataclass(frozen=True)

@@ -39,3 +39,32 @@ def test_macro_decodes_selection_order_and_durations(tmp_path):
     assert sequence.duration == pytest.approx(4.0 - 0.05)
     after = sequence(np.array([5.0]))
     np.testing.assert_array_equal(after, 0.0)  # relaxed after the sequence
+
+
+def _skill_score(skill, refine: int) -> float:
+    """A shipped skill's score from the 4 seeded start states, at the default step refined
+    ``refine`` times (same env step, so the same actions): swims their mean speed (BL/s),
+    turns the degrees of the 90 they achieve (90 - |final heading error|)."""
+    from envs.fish_core import DEFAULT_FRAME_SKIP
+    from envs.physics.system import DEFAULT_DT
+    from learners.rollout import BatchEvaluator
+
+    kwargs = {**skill.metadata["env_kwargs"], "physics_dt": DEFAULT_DT / refine,
+              "frame_skip": DEFAULT_FRAME_SKIP * refine}
+    evaluator = BatchEvaluator(skill.metadata["env_id"], kwargs, num_envs=1, seed=0)
+    _, metrics = evaluator.evaluate_players([skill.controller])
+    if skill.metadata["task"] == "swim":
+        return float(metrics["speed_bl_per_s"][0])
+    return 90.0 - float(metrics["final_heading_error_deg"][0])
+
+
+def test_shipped_skills_keep_their_score_at_half_the_step():
+    """Learned skills are the animal's, not the solver's: each skill of the shipped
+    repertoire keeps at least 80% of its score when the physics step is halved."""
+    from pathlib import Path
+
+    path = Path(__file__).resolve().parents[2] / "repertoires" / "fish.json"
+    for name, skill in Repertoire.load(path).skills.items():
+        default, finer = _skill_score(skill, 1), _skill_score(skill, 2)
+        assert default > 0, (name, default)
+        assert finer >= 0.8 * default, (name, default, finer)
