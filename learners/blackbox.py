@@ -30,7 +30,6 @@ from learners.base import Learner, LearnResult, load_checkpoint, save_checkpoint
 from learners.controller import TentController, play
 from learners.rollout import START_STATES, BatchEvaluator
 
-NUM_ACTUATORS = 6
 CONTROLLER_KEYS = {"nodes", "period", "init", "abstraction_threshold", "checkpoint_every",
                    "refine", "start_states"}
 REFINE_KEYS = {"env_steps", "threshold"}
@@ -38,9 +37,10 @@ REFINE_KEYS = {"env_steps", "threshold"}
 
 def controller_from_vector(vector: np.ndarray, nodes: int, period: float | None,
                            duration: float) -> TentController:
-    """The tent controller of a parameter vector (6 * nodes,). Periodic: ``nodes`` free values
-    per actuator on [0, period), closed by repeating the first."""
-    values = np.asarray(vector, dtype=float).reshape(NUM_ACTUATORS, nodes)
+    """The tent controller of a parameter vector (A * nodes,), A actuators (the env's action
+    size). Periodic: ``nodes`` free values per actuator on [0, period), closed by repeating
+    the first."""
+    values = np.asarray(vector, dtype=float).reshape(-1, nodes)
     if period is None:
         return TentController(values, 0.0, duration)
     return TentController(np.concatenate([values, values[:, :1]], axis=1), 0.0, period)
@@ -120,8 +120,8 @@ class BlackBoxLearner(Learner):
     def population(self) -> int:
         return int(getattr(self.opt_params, self.population_key))
 
-    def _x0(self) -> np.ndarray:
-        dims = NUM_ACTUATORS * self.nodes
+    def _x0(self, num_actuators: int) -> np.ndarray:
+        dims = num_actuators * self.nodes
         if self.init_mode == "relaxed":
             return np.zeros(dims)
         if self.init_mode == "half":
@@ -147,7 +147,8 @@ class BlackBoxLearner(Learner):
                               "best": run.pop("best"), "support": None}]
         if run is None:
             self.log_hparams()
-            run = {"phases": [self._phase(self.opt_params, self._x0(), self.seed)],
+            run = {"phases": [self._phase(self.opt_params, self._x0(evaluator.action_size),
+                                           self.seed)],
                    "env_steps": 0, "wall": 0.0, "rounds": 0}
         start = time.perf_counter() - run["wall"]
         refine_steps = self.refine["env_steps"] if self.refine else 0
@@ -272,7 +273,8 @@ class BlackBoxLearner(Learner):
         artefacts = {"controller": {"nodes": tent.nodes.tolist(), "t0": tent.t0, "t1": tent.t1,
                                     "periodic": self.period is not None},
                      "parameters": int(x.size),
-                     "episode": {"task": evaluator.task, "duration": evaluator.duration}}
+                     "episode": {"task": evaluator.task.name,
+                                 "duration": evaluator.duration}}
         if self.threshold is not None:
             chosen = abstract(tent, self.threshold, self._samples(tent))
         else:

@@ -6,18 +6,16 @@ from __future__ import annotations
 import time
 from pathlib import Path
 
-import numpy as np
-
-from envs.motor import swim_mc, turn_mc
 from learners.base import Learner, LearnResult, unknown_params
 from learners.controller import play
 from learners.rollout import START_STATES, BatchEvaluator
 
 
 class HandMCLearner(Learner):
-    """Plays the task's hand-designed MC: swim -> swim-MC at ``speed`` (default 1), ease-in
-    included (scored from t = 0 like every learned controller); turn -> the turn-MC for the
-    env's angle and direction. Uses one episode from each start state."""
+    """Plays the task's hand-designed MC (:meth:`envs.tasks.Task.hand_controller`): swim ->
+    swim-MC at ``speed`` (default 1), ease-in included (scored from t = 0 like every learned
+    controller); turn -> the turn-MC for the env's angle and direction. Uses one episode from
+    each start state."""
 
     name = "handmc"
 
@@ -25,15 +23,6 @@ class HandMCLearner(Learner):
         super().__init__(*args, **kwargs)
         unknown_params(self.params, {"speed", "start_states"}, self.name)
         self.speed = float(self.params.get("speed", 1.0))
-
-    def _actuation(self, evaluator: BatchEvaluator):
-        task = evaluator.env.core.task
-        if task.name == "swim":
-            return lambda t: swim_mc(self.speed, t)
-        if task.name == "turn":
-            angle, left = np.radians(float(task.angle_deg)), task.direction == "left"
-            return lambda t: turn_mc(angle, t, left)
-        raise ValueError(f"no hand-designed motor controller for task {task.name!r}")
 
     def learn(self, budget_env_steps: int, checkpoint_dir: str | Path | None = None
               ) -> LearnResult:
@@ -43,7 +32,8 @@ class HandMCLearner(Learner):
         if budget_env_steps < evaluator.episode_cost:
             raise ValueError(f"budget too small: scoring needs {evaluator.episode_cost} env steps")
         self.log_hparams()
-        actions = play(self._actuation(evaluator), evaluator.dt, evaluator.steps)[None]
+        actuation = evaluator.task.hand_controller(speed=self.speed)
+        actions = play(actuation, evaluator.dt, evaluator.steps)[None]
         returns, metrics = evaluator.evaluate(actions)
         result = {"eval/return": float(returns[0]),
                   **{f"eval/{k}": float(v[0]) for k, v in metrics.items()}}

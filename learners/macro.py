@@ -28,6 +28,7 @@ class MacroSequence:
     def __init__(self, repertoire: Repertoire, steps: list[tuple[str, float]],
                  overlap: float) -> None:
         self.steps = steps
+        self.num_actuators = next(iter(repertoire.skills.values())).controller.num_actuators
         if steps:
             self._blended, self.duration = concatenate(
                 [repertoire[name].controller for name, _ in steps],
@@ -38,7 +39,7 @@ class MacroSequence:
     def __call__(self, t: np.ndarray | float) -> np.ndarray:
         t = np.asarray(t, dtype=float)
         if self._blended is None:
-            return np.zeros(t.shape + (6,))
+            return np.zeros(t.shape + (self.num_actuators,))
         return np.where((t < self.duration)[..., None], self._blended(t), 0.0)
 
     def actions(self, dt: float, steps: int) -> np.ndarray:
@@ -70,7 +71,7 @@ class MacroLearner(BlackBoxLearner):
         if self.slots < 1 or not 0 < self.min_duration <= self.max_duration:
             raise ValueError("need slots >= 1 and 0 < min_duration <= max_duration")
 
-    def _x0(self) -> np.ndarray:
+    def _x0(self, num_actuators: int) -> np.ndarray:
         return np.random.default_rng(self.seed).uniform(0.0, 1.0, 2 * self.slots)
 
     def decode(self, vector: np.ndarray) -> list[tuple[str, float]]:

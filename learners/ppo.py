@@ -18,8 +18,9 @@ from pathlib import Path
 import gymnasium as gym
 import numpy as np
 
+from envs.tasks import EpisodeSummary
 from learners.base import Learner, LearnResult, unknown_params
-from learners.rollout import START_STATES, EpisodeSummary
+from learners.rollout import START_STATES
 
 ZOO_KEYS = {"n_envs", "n_steps", "batch_size", "n_epochs", "gamma", "gae_lambda",
             "learning_rate", "clip_range", "ent_coef", "vf_coef", "max_grad_norm", "policy",
@@ -107,8 +108,8 @@ class PPOLearner(Learner):
             self._eval_env = gym.make_vec(self.env_id, num_envs=START_STATES, **self.env_kwargs)
         env = self._eval_env
         obs, _ = env.reset(seed=[self.seed + k for k in range(START_STATES)])
-        total, summary = np.zeros(START_STATES), EpisodeSummary(env.core.task.name, START_STATES)
-        for _ in range(env.core.episode_steps):
+        total, summary = np.zeros(START_STATES), EpisodeSummary(env.task, START_STATES)
+        for _ in range(env.episode_steps):
             if hasattr(venv, "normalize_obs"):
                 obs = venv.normalize_obs(obs)
             action, _ = model.predict(obs, deterministic=True)
