@@ -18,11 +18,13 @@ linear in time). Out-of-range values are clipped; a wrong shape, NaN or infinity
 the left and right pectoral fin angles, ``30 deg`` times the entry (held over the env step).
 
 ## Observation Space
+With the default sensor (:class:`envs.sensors.Proprioception`):
 ``Box(-1e4, 1e4, (150 + task entries,), float32)`` (clipped): the 23 node positions and velocities
 relative to the centre of mass, in the body frame (BL and BL/s, 69 + 69), the centre-of-mass
 velocity in the body frame (BL/s, 3), the world's up direction in the body frame (3), the six
 current activations (6), then the task's entries (swim with a target speed: the target, 1;
 turn: sin and cos of the heading error, 2; reach: the goal in the body frame, BL, 3).
+With ``sensors=[...]`` of more than one, a ``Dict`` keyed by the sensors' names.
 
 ## Rewards
 ``r = -(mu1 E_u + mu2 E_v) dt`` (the paper's Eq. 1), ``E_u = (nu1 |du/dt|^2 + nu2 |d^2u/dt^2|^2)
@@ -53,6 +55,7 @@ No termination; truncation after ``duration`` simulated seconds.
 | ``frame_skip`` | int | 40 | steps per env step (``dt = physics_dt * frame_skip``) |
 | ``water`` | dict | fresh water | :class:`~envs.physics.system.Water` fields |
 | ``fins`` | bool | False | the pectoral fin angles in the action space |
+| ``sensors`` | list | proprioception | :mod:`envs.sensors`; several give a Dict space |
 | ``reset_noise_scale`` | float, BL | 0.005 | uniform noise on each start node coordinate |
 | ``reward_weights`` | dict | see text | ``mu1`` 1e-4, ``mu2`` 1, ``nu1`` 1, ``nu2`` 0.01 |
 | ``render_mode`` | str, None | None | ``"rgb_array"`` |
@@ -82,13 +85,13 @@ from envs.bodies import make_body
 from envs.body import BodySpec
 from envs.fish_core import (
     DEFAULT_FRAME_SKIP,
-    OBS_LIMIT,
     FishBatch,
     RewardWeights,
     validate_actions,
 )
 from envs.physics.system import DEFAULT_DT
 from envs.render import BodyRenderer
+from envs.sensors import Observer
 from envs.tasks import Task, make_task
 
 RENDER_FPS = 20
@@ -127,10 +130,8 @@ class _PublicSurface:
         return self.core.episode_steps
 
 
-def _spaces(core: FishBatch) -> tuple[gym.spaces.Box, gym.spaces.Box]:
-    action = gym.spaces.Box(-1.0, 1.0, (core.action_size,), np.float32)
-    observation = gym.spaces.Box(-OBS_LIMIT, OBS_LIMIT, (core.obs_size,), np.float32)
-    return action, observation
+def _action_space(core: FishBatch) -> gym.spaces.Box:
+    return gym.spaces.Box(-1.0, 1.0, (core.action_size,), np.float32)
 
 
 class FishEnv(_PublicSurface, gym.Env):
@@ -142,14 +143,16 @@ class FishEnv(_PublicSurface, gym.Env):
                  body: str | BodySpec | None = None,
                  duration: float | None = None, physics_dt: float = DEFAULT_DT,
                  frame_skip: int = DEFAULT_FRAME_SKIP, water: dict | None = None,
-                 fins: bool = False,
+                 fins: bool = False, sensors: list | None = None,
                  reset_noise_scale: float = 0.005,
                  reward_weights: RewardWeights | dict | None = None, **task_kwargs: Any) -> None:
         if render_mode not in (None, "rgb_array"):
             raise ValueError(f"render_mode must be None or 'rgb_array', got {render_mode!r}")
         self.core = _make_core(1, task, task_kwargs, body, duration, physics_dt, frame_skip,
                                reset_noise_scale, reward_weights, water, fins)
-        self.action_space, self.observation_space = _spaces(self.core)
+        self.observer = Observer(self.core, sensors)
+        self.action_space = _action_space(self.core)
+        self.observation_space = self.observer.single_space
         self.render_mode = render_mode
         self.dt = self.core.dt
         self.body_length = self.core.body.length
@@ -162,14 +165,15 @@ class FishEnv(_PublicSurface, gym.Env):
         self.core.reset_rows(np.array([0]), [self.np_random])
         info, kinematics = self.core.measure()
         self._started = True
-        return self.core.observe(kinematics)[0], {k: v[0] for k, v in info.items()}
+        obs = self.observer.row(self.observer.observe(self.core, kinematics), 0)
+        return obs, {k: v[0] for k, v in info.items()}
 
     def step(self, action):
         if not self._started:
             raise RuntimeError("call reset() before step()")
         actions = validate_actions(action, self.action_space.shape)[None]
         reward, info, kinematics = self.core.step(actions)
-        obs = self.core.observe(kinematics)[0]
+        obs = self.observer.row(self.observer.observe(self.core, kinematics), 0)
         return obs, float(reward[0]), False, bool(self.core.truncated[0]), {
             k: v[0] for k, v in info.items()}
 
@@ -212,7 +216,7 @@ class FishVectorEnv(_PublicSurface, VectorEnv):
                  body: str | BodySpec | None = None,
                  duration: float | None = None, physics_dt: float = DEFAULT_DT,
                  frame_skip: int = DEFAULT_FRAME_SKIP, water: dict | None = None,
-                 fins: bool = False,
+                 fins: bool = False, sensors: list | None = None,
                  reset_noise_scale: float = 0.005,
                  reward_weights: RewardWeights | dict | None = None,
                  autoreset_mode: str | AutoresetMode = AutoresetMode.NEXT_STEP,
@@ -227,7 +231,9 @@ class FishVectorEnv(_PublicSurface, VectorEnv):
         self.num_envs = int(num_envs)
         self.core = _make_core(self.num_envs, task, task_kwargs, body, duration, physics_dt,
                                frame_skip, reset_noise_scale, reward_weights, water, fins)
-        self.single_action_space, self.single_observation_space = _spaces(self.core)
+        self.observer = Observer(self.core, sensors)
+        self.single_action_space = _action_space(self.core)
+        self.single_observation_space = self.observer.single_space
         self.action_space = batch_space(self.single_action_space, self.num_envs)
         self.observation_space = batch_space(self.single_observation_space, self.num_envs)
         self.render_mode = render_mode
@@ -246,7 +252,7 @@ class FishVectorEnv(_PublicSurface, VectorEnv):
         self._autoreset[:] = False
         self._started = True
         info, kinematics = self.core.measure()
-        return self.core.observe(kinematics), self._with_masks(info)
+        return self.observer.observe(self.core, kinematics), self._with_masks(info)
 
     def _seeds(self, seed):
         if seed is None:
@@ -271,7 +277,7 @@ class FishVectorEnv(_PublicSurface, VectorEnv):
                 value[rows] = fresh[key][rows] if key in fresh else 0.0
             reward[rows] = 0.0
             truncated[rows] = False
-        obs = self.core.observe(kinematics)
+        obs = self.observer.observe(self.core, kinematics)
         terminated = np.zeros(self.num_envs, dtype=bool)
         if self.autoreset_mode == AutoresetMode.SAME_STEP:
             return self._reset_finished(obs, reward, terminated, truncated, info)
@@ -284,9 +290,9 @@ class FishVectorEnv(_PublicSurface, VectorEnv):
         info = self._with_masks(info)
         rows = np.flatnonzero(done)
         if rows.size:
-            info["final_obs"], info["_final_obs"] = obs.copy(), done.copy()
+            info["final_obs"], info["_final_obs"] = self.observer.copy(obs), done.copy()
             self.core.reset_rows(rows, [self._rngs[r] for r in rows])
-            obs = self.core.observe(self.core.kinematics())
+            obs = self.observer.observe(self.core, self.core.kinematics())
         return obs, reward, terminated, truncated, info
 
     def _with_masks(self, info: dict[str, np.ndarray]) -> dict[str, np.ndarray]:

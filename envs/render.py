@@ -1,13 +1,26 @@
-"""Third-person picture of a body in water (OpenCV): the deforming hydrodynamic faces, flat
-shaded and depth sorted, over a world-fixed seabed grid with the body's shadow, seen by a
-camera that follows the centre of mass from behind and to the side."""
+"""Pictures of the world (OpenCV), split into what is there and how it is seen.
+
+* :class:`Scene`: the bodies (their faces at the current node positions, each with a colour)
+  and the seabed, all in the world frame, m.
+* :class:`Camera`: a pinhole camera (image size, focal length, pose) that rasterises a scene:
+  water background, seabed grid, the bodies' shadows on the seabed, then their faces flat
+  shaded and depth sorted (painter's algorithm).
+
+:class:`BodyRenderer` is the envs' third-person view: a camera that follows one body's centre of
+mass from behind and to the side. The eyes (a later sensor) are cameras on the head looking at
+the same scene.
+"""
 
 from __future__ import annotations
+
+from dataclasses import dataclass, field
 
 import cv2
 import numpy as np
 
 from envs.body import BodySpec
+
+FISH_COLOUR = (250, 140, 60)  # RGB
 
 
 def look_at(eye: np.ndarray, target: np.ndarray) -> np.ndarray:
@@ -20,8 +33,102 @@ def look_at(eye: np.ndarray, target: np.ndarray) -> np.ndarray:
     return np.stack([right, down, forward])
 
 
+@dataclass
+class Scene:
+    """What there is to see: bodies at node positions, and a seabed grid.
+
+    Attributes:
+        bodies: [(body, x (N, 3) m, RGB colour)].
+        seabed_z: the seabed's height, m (world frame).
+        grid: seabed grid spacing, m.
+    """
+
+    bodies: list[tuple[BodySpec, np.ndarray, tuple[int, int, int]]] = field(default_factory=list)
+    seabed_z: float = -0.3
+    grid: float = 0.1
+
+    def add(self, body: BodySpec, x: np.ndarray, colour=FISH_COLOUR) -> Scene:
+        self.bodies.append((body, x, colour))
+        return self
+
+
+@dataclass
+class Camera:
+    """A pinhole camera: ``width`` x ``height`` pixels, ``focal`` length in pixels, at ``eye``
+    (3,) m with ``rotation`` (3, 3) rows right, down, forward (:func:`look_at`)."""
+
+    width: int
+    height: int
+    focal: float
+    eye: np.ndarray
+    rotation: np.ndarray
+    light: np.ndarray = field(default_factory=lambda: np.array([0.3, -0.4, 0.87]))
+
+    def project(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Pixels (..., 2) and depths (..., ) of world points (..., 3)."""
+        cam = (points - self.eye) @ self.rotation.T
+        depth = cam[..., 2]
+        safe = np.maximum(depth, 1e-6)
+        pixels = np.stack([self.width / 2 + self.focal * cam[..., 0] / safe,
+                           self.height / 2 + self.focal * cam[..., 1] / safe], axis=-1)
+        return pixels, depth
+
+    def render(self, scene: Scene, centre: np.ndarray) -> np.ndarray:
+        """(height, width, 3) uint8 RGB picture of ``scene``, the seabed grid drawn around
+        ``centre`` (3,) m."""
+        image = self._background()
+        self._draw_seabed(image, scene, centre)
+        for body, x, _ in scene.bodies:
+            self._draw_faces(image, body, x, None, scene.seabed_z)
+        for body, x, colour in scene.bodies:
+            self._draw_faces(image, body, x, colour, scene.seabed_z)
+        return image
+
+    def _background(self) -> np.ndarray:
+        rows = np.linspace(0.0, 1.0, self.height)[:, None]
+        top, bottom = np.array([40, 110, 170.0]), np.array([10, 40, 80.0])
+        column = (1 - rows) * top + rows * bottom
+        return np.repeat(column[:, None, :], self.width, axis=1).astype(np.uint8)
+
+    def _draw_seabed(self, image, scene: Scene, centre) -> None:
+        grid, z = scene.grid, scene.seabed_z
+        span = 8 * grid
+        start = np.floor((centre[:2] - span) / grid) * grid
+        ticks = np.arange(0, 2 * span + 1e-9, grid)
+        for axis in (0, 1):
+            for tick in ticks:
+                a, b = np.zeros(3), np.zeros(3)
+                a[axis] = b[axis] = start[axis] + tick
+                a[1 - axis], b[1 - axis] = start[1 - axis], start[1 - axis] + 2 * span
+                a[2] = b[2] = z
+                (pa, pb), (da, db) = self.project(np.stack([a, b]))
+                if da > 0.05 and db > 0.05:
+                    cv2.line(image, tuple(np.int32(pa)), tuple(np.int32(pb)), (90, 130, 140), 1,
+                             cv2.LINE_AA)
+
+    def _draw_faces(self, image, body: BodySpec, x, colour, seabed_z: float) -> None:
+        """The body's faces in ``colour``, or (``colour`` None) its shadow on the seabed."""
+        corners = x[body.faces]  # (F, 4, 3)
+        if colour is None:
+            corners = corners.copy()
+            corners[..., 2] = seabed_z
+        pixels, depth = self.project(corners)
+        normals = np.cross(corners[:, 2] - corners[:, 0], corners[:, 3] - corners[:, 1])
+        normals /= np.maximum(np.linalg.norm(normals, axis=1, keepdims=True), 1e-12)
+        for k in np.argsort(-depth.mean(axis=1)):
+            if np.any(depth[k] <= 0.05):
+                continue
+            if colour is None:
+                fill = (25, 40, 45)
+            else:
+                shade = 0.35 + 0.65 * max(0.0, float(normals[k] @ self.light))
+                fill = tuple(int(c * shade) for c in colour)
+            cv2.fillPoly(image, [np.int32(np.round(pixels[k]))], fill, cv2.LINE_AA)
+
+
 class BodyRenderer:
-    """Renders (height, width, 3) uint8 RGB frames of one body.
+    """Renders (height, width, 3) uint8 RGB frames of one body, seen by a camera that follows
+    its centre of mass from behind and to the side.
 
     Args:
         body: the body description (its faces are drawn).
@@ -36,64 +143,11 @@ class BodyRenderer:
         self.seabed_z, self.grid = -float(seabed_depth), float(grid)
         self.focal = 0.9 * self.width
         self.offset = np.array([-1.2, -2.4, 1.0]) * body.length
-        self.light = np.array([0.3, -0.4, 0.87])
-
-    def _project(self, points: np.ndarray, eye: np.ndarray, rot: np.ndarray):
-        cam = (points - eye) @ rot.T
-        depth = cam[..., 2]
-        safe = np.maximum(depth, 1e-6)
-        pixels = np.stack([self.width / 2 + self.focal * cam[..., 0] / safe,
-                           self.height / 2 + self.focal * cam[..., 1] / safe], axis=-1)
-        return pixels, depth
-
-    def _background(self) -> np.ndarray:
-        rows = np.linspace(0.0, 1.0, self.height)[:, None]
-        top, bottom = np.array([40, 110, 170.0]), np.array([10, 40, 80.0])
-        column = (1 - rows) * top + rows * bottom
-        return np.repeat(column[:, None, :], self.width, axis=1).astype(np.uint8)
-
-    def _draw_seabed(self, image, centre, eye, rot) -> None:
-        span, z = 8 * self.grid, self.seabed_z
-        start = np.floor((centre[:2] - span) / self.grid) * self.grid
-        ticks = np.arange(0, 2 * span + 1e-9, self.grid)
-        for axis in (0, 1):
-            for tick in ticks:
-                a, b = np.zeros(3), np.zeros(3)
-                a[axis] = b[axis] = start[axis] + tick
-                a[1 - axis], b[1 - axis] = start[1 - axis], start[1 - axis] + 2 * span
-                a[2] = b[2] = z
-                (pa, pb), (da, db) = self._project(np.stack([a, b]), eye, rot)
-                if da > 0.05 and db > 0.05:
-                    cv2.line(image, tuple(np.int32(pa)), tuple(np.int32(pb)), (90, 130, 140), 1,
-                             cv2.LINE_AA)
-
-    def _draw_faces(self, image, x, eye, rot, shadow: bool) -> None:
-        faces = self.body.faces
-        corners = x[faces]  # (F, 4, 3)
-        if shadow:
-            corners = corners.copy()
-            corners[..., 2] = self.seabed_z
-        pixels, depth = self._project(corners, eye, rot)
-        normals = np.cross(corners[:, 2] - corners[:, 0], corners[:, 3] - corners[:, 1])
-        normals /= np.maximum(np.linalg.norm(normals, axis=1, keepdims=True), 1e-12)
-        order = np.argsort(-depth.mean(axis=1))
-        for k in order:
-            if np.any(depth[k] <= 0.05):
-                continue
-            if shadow:
-                colour = (25, 40, 45)
-            else:
-                shade = 0.35 + 0.65 * max(0.0, float(normals[k] @ self.light))
-                colour = tuple(int(c * shade) for c in (250, 140, 60))
-            cv2.fillPoly(image, [np.int32(np.round(pixels[k]))], colour, cv2.LINE_AA)
 
     def render(self, x: np.ndarray) -> np.ndarray:
         """(height, width, 3) uint8 picture of the body with node positions ``x`` (N, 3), m."""
         centre = (self.body.masses[:, None] * x).sum(axis=0) / self.body.total_mass
         eye = centre + self.offset
-        rot = look_at(eye, centre)
-        image = self._background()
-        self._draw_seabed(image, centre, eye, rot)
-        self._draw_faces(image, x, eye, rot, shadow=True)
-        self._draw_faces(image, x, eye, rot, shadow=False)
-        return image
+        camera = Camera(self.width, self.height, self.focal, eye, look_at(eye, centre))
+        scene = Scene(seabed_z=self.seabed_z, grid=self.grid).add(self.body, x)
+        return camera.render(scene, centre)
