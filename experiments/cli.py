@@ -75,7 +75,7 @@ def cmd_run(args) -> int:
         if not args.config:
             raise RunError("give a CONFIG to run, or --resume DIR")
         config = load_config(args.config, args.overrides)
-        folder = create_run(config, args.out, ["animat", *sys.argv[1:]])
+        folder = create_run(config, args.out, ["animat", *args.argv])
         print(f"run folder: {folder}")
         result = execute(folder, _progress(args, config))
     print(json.dumps({k: result[k] for k in ("status", "env_steps", "wall_seconds", "metrics")}))
@@ -90,7 +90,7 @@ def cmd_sweep(args) -> int:
     except ValueError as error:
         raise RunError(str(error)) from None
     config = load_config(args.config, args.overrides)
-    folders = prepare(config, seeds, args.out, ["animat", *sys.argv[1:]])
+    folders = prepare(config, seeds, args.out, ["animat", *args.argv])
     if args.executor == "ray":
         results = run_ray(folders, args.address)
     else:
@@ -131,7 +131,9 @@ def cmd_bench(args) -> int:
 
 
 def main(argv: list[str] | None = None) -> int:
+    argv = sys.argv[1:] if argv is None else list(argv)
     args = _parser().parse_args(argv)
+    args.argv = argv  # recorded in each run folder's command.txt
     handlers = {"run": cmd_run, "sweep": cmd_sweep, "compare": cmd_compare, "list": cmd_list,
                 "bench": cmd_bench}
     try:
