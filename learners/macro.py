@@ -54,7 +54,6 @@ class MacroLearner(BlackBoxLearner):
     name = "macro"
     optimizer = annealing
     params_class = annealing.AnnealingParams
-    population_key = "chains"
     own_keys = MACRO_KEYS
 
     def _configure(self, opt_params: dict) -> None:
@@ -70,6 +69,9 @@ class MacroLearner(BlackBoxLearner):
         self.overlap = float(self.params.get("overlap", 0.05))
         if self.slots < 1 or not 0 < self.min_duration <= self.max_duration:
             raise ValueError("need slots >= 1 and 0 < min_duration <= max_duration")
+
+    def _fit_encoding(self, opt_params: dict) -> dict:
+        return opt_params  # slots are not blocks of nodal values
 
     def _x0(self, num_actuators: int) -> np.ndarray:
         return np.random.default_rng(self.seed).uniform(0.0, 1.0, 2 * self.slots)
