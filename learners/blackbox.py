@@ -27,13 +27,49 @@ import numpy as np
 
 from learners import annealing, cmaes
 from learners.abstraction import abstract, most_compact
-from learners.base import Learner, LearnResult, load_checkpoint, save_checkpoint, unknown_params
+from learners.base import (
+    Learner,
+    LearnResult,
+    load_checkpoint,
+    save_checkpoint,
+    typed_params,
+    unknown_params,
+)
 from learners.controller import TentController, play
 from learners.rollout import START_STATES, BatchEvaluator
 
-CONTROLLER_KEYS = {"nodes", "period", "init", "abstraction_threshold", "checkpoint_every",
-                   "refine", "start_states"}
 REFINE_KEYS = {"env_steps", "threshold"}
+
+
+@dataclass(frozen=True)
+class ControllerParams:
+    """The tent-controller encoding and the loop's own settings (the rest of a black-box
+    learner's params go to its optimiser's params class).
+
+    Attributes:
+        nodes: nodal values per actuator.
+        period: s, the controller's period (None: it spans the episode).
+        init: starting values: ``"random"``, ``"relaxed"`` (0) or ``"half"`` (0.5).
+        abstraction_threshold: the FFT threshold of the abstraction kept (None: the most
+            compact one within 10% of the learned objective).
+        checkpoint_every: rounds between checkpoints.
+        refine: the refinement phase's settings (see :meth:`BlackBoxLearner._configure_refine`).
+        start_states: seeded start states every candidate is scored over.
+    """
+
+    nodes: int = 20
+    period: float | None = 1.0
+    init: str = "random"
+    abstraction_threshold: float | None = None
+    checkpoint_every: int = 10
+    refine: dict | None = None
+    start_states: int = START_STATES
+
+    def __post_init__(self) -> None:
+        if self.nodes < 2 or self.init not in ("random", "relaxed", "half"):
+            raise ValueError("nodes must be >= 2 and init one of random, relaxed, half")
+        if self.checkpoint_every < 1 or self.start_states < 1:
+            raise ValueError("checkpoint_every and start_states must be >= 1")
 
 
 def controller_from_vector(vector: np.ndarray, nodes: int, period: float | None,
@@ -106,27 +142,29 @@ class BlackBoxLearner(Learner):
 
     optimizer: ModuleType
     params_class: type
-    own_keys: set[str] = CONTROLLER_KEYS
+    own_params: type = ControllerParams
 
     def __init__(self, *args, **kwargs) -> None:
         super().__init__(*args, **kwargs)
-        unknown_params(self.params, self.own_keys | {f.name for f in fields(self.params_class)},
-                       self.name)
-        self.checkpoint_every = int(self.params.get("checkpoint_every", 10))
-        opt_params = {k: v for k, v in self.params.items() if k not in self.own_keys}
-        self._configure(opt_params)
-        self.opt_params = self.params_class(**self._fit_encoding(opt_params))
-        self.refine = self._configure_refine(self.params.get("refine"))
+        owner = f"learner {self.name!r}"
+        own_names = {f.name for f in fields(self.own_params)}
+        unknown_params(self.params, own_names | {f.name for f in fields(self.params_class)},
+                       owner)
+        self.own = typed_params(self.own_params,
+                                {k: v for k, v in self.params.items() if k in own_names}, owner)
+        self.checkpoint_every = self.own.checkpoint_every
+        self._configure()
+        opt_params = {k: v for k, v in self.params.items() if k not in own_names}
+        self.opt_params = typed_params(self.params_class, self._fit_encoding(opt_params), owner)
+        self.refine = self._configure_refine(getattr(self.own, "refine", None))
 
-    def _configure(self, opt_params: dict) -> None:
-        self.nodes = int(self.params.get("nodes", 20))
-        period = self.params.get("period", 1.0)
-        self.period = None if period is None else float(period)
-        self.init_mode = self.params.get("init", "random")
-        threshold = self.params.get("abstraction_threshold")
+    def _configure(self) -> None:
+        """Read the encoding's settings off ``self.own``."""
+        self.nodes = self.own.nodes
+        self.period = None if self.own.period is None else float(self.own.period)
+        self.init_mode = self.own.init
+        threshold = self.own.abstraction_threshold
         self.threshold = None if threshold is None else float(threshold)
-        if self.nodes < 2 or self.init_mode not in ("random", "relaxed", "half"):
-            raise ValueError("nodes must be >= 2 and init one of random, relaxed, half")
 
     def _fit_encoding(self, opt_params: dict) -> dict:
         """The optimiser's options for this encoding (blocks of ``nodes`` values per
@@ -180,7 +218,7 @@ class BlackBoxLearner(Learner):
         parameters of the learned controller's FFT abstraction with the rest."""
         self.check_budget(budget_env_steps)
         evaluator = BatchEvaluator(self.env_id, self.env_kwargs, self.population, self.seed,
-                                   self.params.get("start_states", START_STATES))
+                                   self.own.start_states)
         path = Path(checkpoint_dir) / "checkpoint.pkl" if checkpoint_dir else None
         saved = load_checkpoint(path) if path else None
         if saved is not None:

@@ -4,11 +4,24 @@ every comparison, evaluated by the same protocol as the learners."""
 from __future__ import annotations
 
 import time
+from dataclasses import dataclass
 from pathlib import Path
 
-from learners.base import Learner, LearnResult, unknown_params
+from learners.base import Learner, LearnResult, typed_params
 from learners.controller import play
 from learners.rollout import START_STATES, BatchEvaluator
+
+
+@dataclass(frozen=True)
+class HandMCParams:
+    """speed: the swim-MC's speed in [0, 1]; start_states: seeded starts it is scored over."""
+
+    speed: float = 1.0
+    start_states: int = START_STATES
+
+    def __post_init__(self) -> None:
+        if not 0.0 <= self.speed <= 1.0 or self.start_states < 1:
+            raise ValueError("speed must be in [0, 1] and start_states >= 1")
 
 
 class HandMCLearner(Learner):
@@ -21,14 +34,14 @@ class HandMCLearner(Learner):
 
     def __init__(self, *args, **kwargs) -> None:
         super().__init__(*args, **kwargs)
-        unknown_params(self.params, {"speed", "start_states"}, self.name)
-        self.speed = float(self.params.get("speed", 1.0))
+        self.own = typed_params(HandMCParams, self.params, f"learner {self.name!r}")
+        self.speed = self.own.speed
 
     def learn(self, budget_env_steps: int, checkpoint_dir: str | Path | None = None
               ) -> LearnResult:
         start = time.perf_counter()
         evaluator = BatchEvaluator(self.env_id, self.env_kwargs, num_envs=1, seed=self.seed,
-                                   num_starts=self.params.get("start_states", START_STATES))
+                                   num_starts=self.own.start_states)
         if budget_env_steps < evaluator.episode_cost:
             raise ValueError(f"budget too small: scoring needs {evaluator.episode_cost} env steps")
         self.log_hparams()

@@ -204,3 +204,20 @@ def test_candidates_are_scored_over_several_start_states():
     speeds = np.array([m["speed_bl_per_s"] for _, m in singles])
     np.testing.assert_allclose(metrics["speed_bl_per_s_std"], speeds.std(axis=0), rtol=1e-9)
     assert np.all(metrics["speed_bl_per_s_std"] > 0)  # the starts do differ
+
+
+@pytest.mark.parametrize("name, params, message", [
+    ("annealing", {"chains": "lots"}, "learner 'annealing': chains must be an integer, got 'lots'"),
+    ("annealing", {"period": "1s"}, "learner 'annealing': period must be a number or null"),
+    ("cmaes", {"sigma0": -1.0}, "learner 'cmaes': CMAESParams: need popsize >= 2, sigma0 > 0"),
+    ("handmc", {"speed": 2.0}, "learner 'handmc': speed must be in [0, 1]"),
+    ("ppo", {"n_steps": 0}, "learner 'ppo': n_steps must be a positive integer"),
+    ("ppo", {"normalize": "yes"}, "learner 'ppo': normalize must be true or false"),
+    ("macro", {}, "learner 'macro': needs params.repertoire"),
+    ("basic_training", {"annealing": 3}, "learner 'basic_training': annealing must be a mapping"),
+])
+def test_every_learner_checks_its_typed_params_in_one_line(name, params, message):
+    with pytest.raises(ValueError) as error:
+        make_learner(name, ENV, TINY_ENV, params)
+    assert str(error.value).startswith(message), str(error.value)
+    assert "\n" not in str(error.value)
