@@ -12,7 +12,7 @@ controller's FFT abstraction at ``refine.threshold`` (a handful of harmonics) be
 starting point of a second search over its frequency parameters (the kept harmonics' means
 and complex coefficients; :meth:`AbstractController.frequency_parameters`), with
 ``refine.env_steps`` of the budget. The result is a compact controller (tens of parameters,
-not 6 x nodes) that the repertoire keeps; what plain truncation kept is reported beside it.
+not actuators x nodes) that the repertoire keeps; what plain truncation kept is reported beside it.
 """
 
 from __future__ import annotations

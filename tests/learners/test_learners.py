@@ -1,5 +1,6 @@
 """Every registered learner on a tiny budget; annealing reproducibility and resume."""
 
+import gymnasium as gym
 import numpy as np
 import pytest
 
@@ -194,7 +195,8 @@ def test_ppo_resumes_from_its_checkpoint(tmp_path):
 def test_candidates_are_scored_over_several_start_states():
     """The same actions from 4 seeded starts: the score is their mean, the spread is reported,
     and all 4 episodes are charged."""
-    actions = np.random.default_rng(0).uniform(-1, 1, (2, 10, 6)).astype(np.float32)
+    size = gym.make(ENV).action_space.shape[0]
+    actions = np.random.default_rng(0).uniform(-1, 1, (2, 10, size)).astype(np.float32)
     several = BatchEvaluator(ENV, TINY_ENV, 2, seed=5, num_starts=4)
     returns, metrics = several.evaluate(actions)
     assert several.env_steps == 2 * 4 * 10
