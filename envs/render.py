@@ -3,8 +3,8 @@
 * :class:`Scene`: the bodies (their faces at the current node positions, each with a colour)
   and the seabed, all in the world frame, m.
 * :class:`Camera`: a pinhole camera (image size, focal length, pose) that rasterises a scene:
-  water background, seabed grid, the bodies' shadows on the seabed, then their faces flat
-  shaded and depth sorted (painter's algorithm).
+  water background, seabed grid, then the bodies' shadows on the seabed and their faces, flat
+  shaded, through a depth buffer (:mod:`envs.raster`, per-pixel occlusion).
 
 :class:`BodyRenderer` is the envs' third-person view: a camera that follows one body's centre of
 mass from behind and to the side. The eyes (a later sensor) are cameras on the head looking at
@@ -19,8 +19,11 @@ import cv2
 import numpy as np
 
 from envs.body import BodySpec
+from envs.raster import quads_to_triangles, rasterize
 
 FISH_COLOUR = (250, 140, 60)  # RGB
+SHADOW_COLOUR = (25, 40, 45)
+NEAR = 0.01  # m: faces with a corner nearer to a camera than this are not drawn
 
 
 def look_at(eye: np.ndarray, target: np.ndarray) -> np.ndarray:
@@ -75,17 +78,38 @@ class Camera:
 
     def render(self, scene: Scene, centre: np.ndarray) -> np.ndarray:
         """(height, width, 3) uint8 RGB picture of ``scene``, the seabed grid drawn around
-        ``centre`` (3,) m."""
+        ``centre`` (3,) m: background and grid first, then the shadows and the bodies' faces
+        through the depth buffer (:func:`envs.raster.rasterize`)."""
         image = self._background()
         self._draw_seabed(image, scene, centre)
-        for body, x, _ in scene.bodies:
-            self._draw_faces(image, body, x, None, scene.seabed_z)
-        for body, x, colour in scene.bodies:
-            self._draw_faces(image, body, x, colour, scene.seabed_z)
+        zbuffer = np.full((self.height, self.width), np.inf)
+        corners, colours = self._faces(scene)
+        if len(corners):
+            triangles = quads_to_triangles(corners)
+            pixels, depth = self.project(triangles)
+            rasterize(pixels, depth, np.concatenate([colours, colours]), image, zbuffer, NEAR)
         return image
 
+    def _faces(self, scene: Scene) -> tuple[np.ndarray, np.ndarray]:
+        """(F, 4, 3) world corners of every body's faces and of their shadows on the seabed,
+        and (F, 3) uint8 flat-shaded colours."""
+        corners, colours = [], []
+        for body, x, colour in scene.bodies:
+            quads = x[body.faces]
+            shadow = quads.copy()
+            shadow[..., 2] = scene.seabed_z
+            normals = np.cross(quads[:, 2] - quads[:, 0], quads[:, 3] - quads[:, 1])
+            normals /= np.maximum(np.linalg.norm(normals, axis=1, keepdims=True), 1e-12)
+            shade = 0.35 + 0.65 * np.maximum(0.0, normals @ self.light)
+            corners += [shadow, quads]
+            colours += [np.tile(SHADOW_COLOUR, (len(quads), 1)),
+                        (shade[:, None] * np.array(colour, float)).astype(np.uint8)]
+        if not corners:
+            return np.zeros((0, 4, 3)), np.zeros((0, 3), np.uint8)
+        return np.concatenate(corners), np.concatenate(colours).astype(np.uint8)
+
     def _background(self) -> np.ndarray:
-        rows = np.linspace(0.0, 1.0, self.height)[:, None]
+        rows = (np.arange(self.height) + 0.5)[:, None] / self.height
         top, bottom = np.array([40, 110, 170.0]), np.array([10, 40, 80.0])
         column = (1 - rows) * top + rows * bottom
         return np.repeat(column[:, None, :], self.width, axis=1).astype(np.uint8)
@@ -102,28 +126,9 @@ class Camera:
                 a[1 - axis], b[1 - axis] = start[1 - axis], start[1 - axis] + 2 * span
                 a[2] = b[2] = z
                 (pa, pb), (da, db) = self.project(np.stack([a, b]))
-                if da > 0.05 and db > 0.05:
+                if da > NEAR and db > NEAR:
                     cv2.line(image, tuple(np.int32(pa)), tuple(np.int32(pb)), (90, 130, 140), 1,
                              cv2.LINE_AA)
-
-    def _draw_faces(self, image, body: BodySpec, x, colour, seabed_z: float) -> None:
-        """The body's faces in ``colour``, or (``colour`` None) its shadow on the seabed."""
-        corners = x[body.faces]  # (F, 4, 3)
-        if colour is None:
-            corners = corners.copy()
-            corners[..., 2] = seabed_z
-        pixels, depth = self.project(corners)
-        normals = np.cross(corners[:, 2] - corners[:, 0], corners[:, 3] - corners[:, 1])
-        normals /= np.maximum(np.linalg.norm(normals, axis=1, keepdims=True), 1e-12)
-        for k in np.argsort(-depth.mean(axis=1)):
-            if np.any(depth[k] <= 0.05):
-                continue
-            if colour is None:
-                fill = (25, 40, 45)
-            else:
-                shade = 0.35 + 0.65 * max(0.0, float(normals[k] @ self.light))
-                fill = tuple(int(c * shade) for c in colour)
-            cv2.fillPoly(image, [np.int32(np.round(pixels[k]))], fill, cv2.LINE_AA)
 
 
 class BodyRenderer:
