@@ -59,6 +59,29 @@ def rasterize(pixels, depths, colours, image, zbuffer, near) -> None:
                     image[i, j, 2] = colours[t, 2]
 
 
+@njit(cache=True)
+def rasterize_world(triangles, colours, eye, rotation, focal, image, zbuffer, near) -> None:
+    """:func:`rasterize` of world-frame triangles (T, 3, 3) m seen by a pinhole camera at
+    ``eye`` (3,) with ``rotation`` (3, 3) (rows right, down, forward) and ``focal`` pixels:
+    the projection done here, vertex by vertex."""
+    height, width = zbuffer.shape
+    count = triangles.shape[0]
+    pixels, depths = np.empty((count, 3, 2)), np.empty((count, 3))
+    for t in range(count):
+        for k in range(3):
+            d0 = triangles[t, k, 0] - eye[0]
+            d1 = triangles[t, k, 1] - eye[1]
+            d2 = triangles[t, k, 2] - eye[2]
+            cx = rotation[0, 0] * d0 + rotation[0, 1] * d1 + rotation[0, 2] * d2
+            cy = rotation[1, 0] * d0 + rotation[1, 1] * d1 + rotation[1, 2] * d2
+            cz = rotation[2, 0] * d0 + rotation[2, 1] * d1 + rotation[2, 2] * d2
+            safe = max(cz, 1e-6)
+            pixels[t, k, 0] = 0.5 * width + focal * cx / safe
+            pixels[t, k, 1] = 0.5 * height + focal * cy / safe
+            depths[t, k] = cz
+    rasterize(pixels, depths, colours, image, zbuffer, near)
+
+
 def quads_to_triangles(corners: np.ndarray) -> np.ndarray:
     """(F, 4, ...) quads (a triangle repeats a corner) -> (2F, 3, ...) triangles."""
     return np.concatenate([corners[:, [0, 1, 2]], corners[:, [0, 2, 3]]], axis=0)

@@ -19,7 +19,7 @@ import cv2
 import numpy as np
 
 from envs.body import BodySpec
-from envs.raster import quads_to_triangles, rasterize
+from envs.raster import quads_to_triangles, rasterize_world
 
 FISH_COLOUR = (250, 140, 60)  # RGB
 SHADOW_COLOUR = (25, 40, 45)
@@ -42,17 +42,70 @@ class Scene:
 
     Attributes:
         bodies: [(body, x (N, 3) m, RGB colour)].
+        meshes: [(corners (F, 4, 3) m, RGB colour)]: rigid things (obstacles, food), as quads
+            (a triangle repeats a corner).
         seabed_z: the seabed's height, m (world frame).
         grid: seabed grid spacing, m.
     """
 
     bodies: list[tuple[BodySpec, np.ndarray, tuple[int, int, int]]] = field(default_factory=list)
+    meshes: list[tuple[np.ndarray, tuple[int, int, int]]] = field(default_factory=list)
     seabed_z: float = -0.3
     grid: float = 0.1
+    light: np.ndarray = field(default_factory=lambda: np.array([0.3, -0.4, 0.87]))
 
     def add(self, body: BodySpec, x: np.ndarray, colour=FISH_COLOUR) -> Scene:
         self.bodies.append((body, x, colour))
         return self
+
+    def add_mesh(self, corners: np.ndarray, colour) -> Scene:
+        self.meshes.append((np.asarray(corners, float), colour))
+        return self
+
+    def triangles(self) -> tuple[np.ndarray, np.ndarray]:
+        """(T, 3, 3) world triangles of every face and of its shadow on the seabed, and
+        (T, 3) uint8 their flat-shaded colours (the same for every camera: compute once per
+        frame and hand to :meth:`Camera.draw`)."""
+        things = [(x[body.faces], colour) for body, x, colour in self.bodies] + self.meshes
+        if not things:
+            return np.zeros((0, 3, 3)), np.zeros((0, 3), np.uint8)
+        quads = np.concatenate([q for q, _ in things])
+        base = np.concatenate([np.tile(np.array(c, float), (len(q), 1)) for q, c in things])
+        shadow = quads.copy()
+        shadow[..., 2] = self.seabed_z
+        normals = np.cross(quads[:, 2] - quads[:, 0], quads[:, 3] - quads[:, 1])
+        normals /= np.maximum(np.linalg.norm(normals, axis=1, keepdims=True), 1e-12)
+        shade = 0.35 + 0.65 * np.maximum(0.0, normals @ self.light)
+        colours = np.concatenate([np.tile(SHADOW_COLOUR, (len(quads), 1)),
+                                  shade[:, None] * base]).astype(np.uint8)
+        return (quads_to_triangles(np.concatenate([shadow, quads])),
+                np.concatenate([colours, colours]))
+
+    def grid_segments(self, centre: np.ndarray) -> np.ndarray:
+        """(G, 2, 3) the seabed grid lines within 8 spacings of ``centre`` (3,) m."""
+        span, z = 8 * self.grid, self.seabed_z
+        start = np.floor((np.asarray(centre)[:2] - span) / self.grid) * self.grid
+        ticks = np.arange(0, 2 * span + 1e-9, self.grid)
+        segments = []
+        for axis in (0, 1):
+            a = np.zeros((len(ticks), 3))
+            a[:, axis] = start[axis] + ticks
+            a[:, 1 - axis] = start[1 - axis]
+            a[:, 2] = z
+            b = a.copy()
+            b[:, 1 - axis] += 2 * span
+            segments.append(np.stack([a, b], axis=1))
+        return np.concatenate(segments)
+
+
+def box(centre, size) -> np.ndarray:
+    """(6, 4, 3) the faces of an axis-aligned box, corners ordered so normals point out."""
+    c, h = np.asarray(centre, float), 0.5 * np.asarray(size, float)
+    signs = np.array([[-1, -1, -1], [1, -1, -1], [1, 1, -1], [-1, 1, -1],
+                      [-1, -1, 1], [1, -1, 1], [1, 1, 1], [-1, 1, 1]])
+    corners = c + signs * h
+    faces = [(0, 3, 2, 1), (4, 5, 6, 7), (0, 1, 5, 4), (2, 3, 7, 6), (1, 2, 6, 5), (0, 4, 7, 3)]
+    return corners[np.array(faces)]
 
 
 @dataclass
@@ -65,7 +118,6 @@ class Camera:
     focal: float
     eye: np.ndarray
     rotation: np.ndarray
-    light: np.ndarray = field(default_factory=lambda: np.array([0.3, -0.4, 0.87]))
 
     def project(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Pixels (..., 2) and depths (..., ) of world points (..., 3)."""
@@ -78,57 +130,37 @@ class Camera:
 
     def render(self, scene: Scene, centre: np.ndarray) -> np.ndarray:
         """(height, width, 3) uint8 RGB picture of ``scene``, the seabed grid drawn around
-        ``centre`` (3,) m: background and grid first, then the shadows and the bodies' faces
+        ``centre`` (3,) m."""
+        return self.draw(*scene.triangles(), scene.grid_segments(centre))
+
+    def draw(self, triangles: np.ndarray, colours: np.ndarray, segments: np.ndarray
+             ) -> np.ndarray:
+        """The picture of prepared geometry (:meth:`Scene.triangles`,
+        :meth:`Scene.grid_segments`): background and grid lines first, then the triangles
         through the depth buffer (:func:`envs.raster.rasterize`)."""
         image = self._background()
-        self._draw_seabed(image, scene, centre)
-        zbuffer = np.full((self.height, self.width), np.inf)
-        corners, colours = self._faces(scene)
-        if len(corners):
-            triangles = quads_to_triangles(corners)
-            pixels, depth = self.project(triangles)
-            rasterize(pixels, depth, np.concatenate([colours, colours]), image, zbuffer, NEAR)
+        pixels, depth = self.project(segments)
+        for (a, b), (da, db) in zip(np.int32(pixels), depth):
+            if da > NEAR and db > NEAR:
+                cv2.line(image, tuple(a), tuple(b), (90, 130, 140), 1, cv2.LINE_AA)
+        if len(triangles):
+            zbuffer = np.full((self.height, self.width), np.inf)
+            rasterize_world(triangles, colours, np.asarray(self.eye, float),
+                            np.ascontiguousarray(self.rotation, float), float(self.focal), image,
+                            zbuffer, NEAR)
         return image
 
-    def _faces(self, scene: Scene) -> tuple[np.ndarray, np.ndarray]:
-        """(F, 4, 3) world corners of every body's faces and of their shadows on the seabed,
-        and (F, 3) uint8 flat-shaded colours."""
-        corners, colours = [], []
-        for body, x, colour in scene.bodies:
-            quads = x[body.faces]
-            shadow = quads.copy()
-            shadow[..., 2] = scene.seabed_z
-            normals = np.cross(quads[:, 2] - quads[:, 0], quads[:, 3] - quads[:, 1])
-            normals /= np.maximum(np.linalg.norm(normals, axis=1, keepdims=True), 1e-12)
-            shade = 0.35 + 0.65 * np.maximum(0.0, normals @ self.light)
-            corners += [shadow, quads]
-            colours += [np.tile(SHADOW_COLOUR, (len(quads), 1)),
-                        (shade[:, None] * np.array(colour, float)).astype(np.uint8)]
-        if not corners:
-            return np.zeros((0, 4, 3)), np.zeros((0, 3), np.uint8)
-        return np.concatenate(corners), np.concatenate(colours).astype(np.uint8)
-
     def _background(self) -> np.ndarray:
-        rows = (np.arange(self.height) + 0.5)[:, None] / self.height
-        top, bottom = np.array([40, 110, 170.0]), np.array([10, 40, 80.0])
-        column = (1 - rows) * top + rows * bottom
-        return np.repeat(column[:, None, :], self.width, axis=1).astype(np.uint8)
+        key = (self.width, self.height)
+        if key not in _BACKGROUNDS:
+            rows = (np.arange(self.height) + 0.5)[:, None] / self.height
+            top, bottom = np.array([40, 110, 170.0]), np.array([10, 40, 80.0])
+            column = (1 - rows) * top + rows * bottom
+            _BACKGROUNDS[key] = np.repeat(column[:, None, :], self.width, axis=1).astype(np.uint8)
+        return _BACKGROUNDS[key].copy()
 
-    def _draw_seabed(self, image, scene: Scene, centre) -> None:
-        grid, z = scene.grid, scene.seabed_z
-        span = 8 * grid
-        start = np.floor((centre[:2] - span) / grid) * grid
-        ticks = np.arange(0, 2 * span + 1e-9, grid)
-        for axis in (0, 1):
-            for tick in ticks:
-                a, b = np.zeros(3), np.zeros(3)
-                a[axis] = b[axis] = start[axis] + tick
-                a[1 - axis], b[1 - axis] = start[1 - axis], start[1 - axis] + 2 * span
-                a[2] = b[2] = z
-                (pa, pb), (da, db) = self.project(np.stack([a, b]))
-                if da > NEAR and db > NEAR:
-                    cv2.line(image, tuple(np.int32(pa)), tuple(np.int32(pb)), (90, 130, 140), 1,
-                             cv2.LINE_AA)
+
+_BACKGROUNDS: dict[tuple[int, int], np.ndarray] = {}
 
 
 class BodyRenderer:

@@ -66,13 +66,26 @@ def eye_positions(frame: np.ndarray, head: np.ndarray, length: float,
 
 
 def render_eye(scene: Scene, position: np.ndarray, rotation: np.ndarray,
-               params: RetinaParams = RetinaParams()) -> np.ndarray:
-    """(levels, size, size, 3) uint8: the eye's images from level 0 (widest) to the fovea."""
+               params: RetinaParams = RetinaParams(), prepared=None) -> np.ndarray:
+    """(levels, size, size, 3) uint8: the eye's images from level 0 (widest) to the fovea.
+    ``prepared``: the scene's (triangles, colours, grid segments), when already computed for
+    this frame (both eyes share them)."""
+    if prepared is None:
+        prepared = (*scene.triangles(), scene.grid_segments(position))
     images = []
     for level in range(params.levels):
         camera = Camera(params.size, params.size, params.focal(level), position, rotation)
-        images.append(camera.render(scene, position))
+        images.append(camera.draw(*prepared))
     return np.stack(images)
+
+
+def render_eyes(scene: Scene, positions: np.ndarray, rotations: np.ndarray,
+                params: RetinaParams = RetinaParams()) -> np.ndarray:
+    """(2, levels, size, size, 3) uint8: both eyes (positions (2, 3), rotations (2, 3, 3))
+    from one preparation of the scene."""
+    prepared = (*scene.triangles(), scene.grid_segments(positions.mean(axis=0)))
+    return np.stack([render_eye(scene, p, r, params, prepared)
+                     for p, r in zip(positions, rotations)])
 
 
 def composite(levels: np.ndarray) -> np.ndarray:
