@@ -5,7 +5,7 @@
     animat sweep CONFIG --seeds 0-4 [--set ...] [--executor local|ray] [--jobs N]
                  [--address ADDR] [--out PARENT]
     animat compare RUN_DIR_OR_PARENT ... [--metric eval/return] [--threshold X] [-o REPORT]
-    animat bench [--seconds S]
+    animat bench [--seconds S] [--breakdown]
     animat list
 
 A bad config or override stops before any work with one line naming the file, the field path
@@ -52,6 +52,8 @@ def _parser() -> argparse.ArgumentParser:
     bench = sub.add_parser("bench", help="simulator benchmark against Swimmer-v5")
     bench.add_argument("--seconds", type=float, default=6.0)
     bench.add_argument("--num-envs", type=int, default=256)
+    bench.add_argument("--breakdown", action="store_true",
+                       help="where an integration step's time goes, per force term")
     sub.add_parser("list", help="registered envs, learners and shipped configs")
     return parser
 
@@ -124,8 +126,11 @@ def cmd_list(args) -> int:
 
 
 def cmd_bench(args) -> int:
-    from envs.bench import report, run
+    from envs.bench import report, report_breakdown, run
 
+    if args.breakdown:
+        print(report_breakdown())
+        return 0
     print(report(run(args.seconds, args.num_envs), args.num_envs))
     return 0
 
