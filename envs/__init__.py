@@ -13,14 +13,11 @@ ENV_IDS = ("Animat/FishSwim-v0", "Animat/FishTurn-v0", "Animat/FishReach-v0")
 
 
 def _register() -> None:
-    for env_id, name in zip(ENV_IDS, ("Swim", "Turn", "Reach")):
+    for env_id, task in zip(ENV_IDS, ("swim", "turn", "reach")):
         if env_id in gym.registry:
             continue
-        gym.register(
-            id=env_id,
-            entry_point=f"envs.fish_env:Fish{name}Env",
-            vector_entry_point=f"envs.fish_env:make_{name.lower()}_vector",
-        )
+        gym.register(id=env_id, entry_point="envs.fish_env:FishEnv",
+                     vector_entry_point="envs.fish_env:FishVectorEnv", kwargs={"task": task})
 
 
 _register()

@@ -1,11 +1,14 @@
 """Simulator benchmark: simulated seconds per wall second, ours against MuJoCo's Swimmer-v5.
 
-Run ``python -m envs.bench`` (``animat bench`` once the launcher exists). It measures, in the
+Run ``python -m envs.bench`` or ``animat bench``. It measures, in the
 same process and in interleaved rounds (median of each), ``Animat/FishSwim-v0`` as one env and
 as the native batch of 256, and, when ``mujoco`` is installed (the ``bench`` extra),
 Gymnasium's ``Swimmer-v5`` as one env and as a sync vector of 256, all with uniformly random
 actions, and prints the ratios.
 Simulated seconds per wall second of a vector env count every sub-env's time.
+``--breakdown`` prints where an integration step's time goes instead: each force term, the
+kick-drift and the whole fused step, in ns per body and step, for one body and for a SIMD
+chunk of 32 bodies.
 """
 
 from __future__ import annotations
@@ -17,6 +20,8 @@ import gymnasium as gym
 import numpy as np
 
 import envs  # noqa: F401  (registers Animat/*)
+from envs.physics import forces
+from envs.physics.integrator import CHUNK, kick_drift, ramp_rest_lengths, step_chunk
 
 
 def sim_seconds_per_second(env, dt: float, num_envs: int, seconds: float, seed: int = 0) -> float:
@@ -77,13 +82,72 @@ def report(results: dict[str, float], num_envs: int = 256) -> str:
     return "\n".join(lines)
 
 
+def _timed(fn, reps: int) -> float:
+    fn()
+    start = time.perf_counter()
+    for _ in range(reps):
+        fn()
+    return (time.perf_counter() - start) / reps
+
+
+def breakdown(lanes: int, reps: int = 2000) -> dict[str, float]:
+    """ns per body and integration step of each part of the step, for a chunk of ``lanes``
+    bodies in a swimming state (each part called on its own, so call overhead included)."""
+    env = gym.make("Animat/FishSwim-v0")
+    env.reset(seed=0)
+    for k in range(20):
+        env.step(np.full(6, np.sin(k), np.float32))
+    c, x0 = env.unwrapped.core.system.kernel_args, env.unwrapped.node_positions
+    x = np.ascontiguousarray(np.repeat(x0[:, :, None], lanes, axis=2))
+    v, f = np.zeros_like(x), np.zeros_like(x)
+    rest = np.repeat(c.rest_lengths[:, None], lanes, axis=1).copy()
+    u = np.full((lanes, 6), 0.5)
+    sin_cos = np.zeros((2, 2, lanes))
+    sin_cos[:, 1] = 1.0
+    face_scratch, fin_scratch = np.empty((len(c.faces), 3, lanes)), np.empty((16, lanes))
+    frames = (c.frame_front, c.frame_back, c.frame_up, c.frame_down)
+    xb, vb = np.repeat(x0[None], lanes, axis=0), np.zeros((lanes,) + x0.shape)
+    parts = {
+        "muscle rest lengths": lambda: ramp_rest_lengths(c.rest_lengths, c.actuator,
+                                                         c.max_contraction, u, u, 0.5, rest),
+        "elements": lambda: forces.add_element_forces(x, v, c.elements, c.stiffness,
+                                                      c.damping, rest, f),
+        "faces": lambda: forces.add_face_forces(x, v, c.faces, c.face_weights, c.face_mass,
+                                                c.water, c.dt, f, face_scratch),
+        "fins": lambda: forces.add_fin_forces(x, v, frames, c.fin_nodes, c.fin_areas,
+                                              c.fin_mass, sin_cos, c.water, c.dt, f,
+                                              fin_scratch),
+        "gravity, buoyancy": lambda: forces.add_gravity_buoyancy(x, c.masses, c.volumes,
+                                                                 1000.0, 0.0, 0.0, f),
+        "kick-drift": lambda: kick_drift(x, v, f, c.masses, 0.0),
+    }
+    out = {name: 1e9 * _timed(fn, reps) / lanes for name, fn in parts.items()}
+    steps = 40
+    out["fused step (all of it)"] = 1e9 * _timed(
+        lambda: step_chunk(xb, vb, u, u, np.zeros((lanes, 2)), steps, c),
+        max(1, reps // steps)) / lanes / steps
+    return out
+
+
+def report_breakdown() -> str:
+    one, wide = breakdown(1), breakdown(CHUNK)
+    lines = [f"{'part of a step':<26} {'1 body':>10} {f'chunk of {CHUNK}':>14}  (ns per body-step)"]
+    lines += [f"{name:<26} {one[name]:>10.0f} {wide[name]:>14.0f}" for name in one]
+    return "\n".join(lines)
+
+
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--seconds", type=float, default=6.0,
                         help="wall seconds per configuration, over all rounds")
     parser.add_argument("--num-envs", type=int, default=256)
     parser.add_argument("--rounds", type=int, default=3, help="interleaved rounds (median)")
+    parser.add_argument("--breakdown", action="store_true",
+                        help="where a step's time goes, per force term")
     args = parser.parse_args(argv)
+    if args.breakdown:
+        print(report_breakdown())
+        return
     print(report(run(args.seconds, args.num_envs, args.rounds), args.num_envs))
 
 

@@ -18,9 +18,7 @@ import numpy as np
 
 import envs  # noqa: F401
 from envs.fish_env import FishEnv
-from envs.fish_core import FishBatch
 from envs.motor import SwimParams, fin_mc, swim_mc, to_action, turn_duration, turn_mc
-from envs.tasks import SwimTask
 
 TAIL_TIPS = [21, 22]
 
@@ -35,7 +33,7 @@ def play(env: gym.Env, actuation, seconds: float, fins=None) -> tuple[list[dict]
         if fins is not None:
             action = np.append(action, fins).astype(np.float32)
         infos.append(env.step(action)[4])
-        tail.append(env.unwrapped.core.x[0, TAIL_TIPS].mean(axis=0))
+        tail.append(env.unwrapped.node_positions[TAIL_TIPS].mean(axis=0))
     return infos, np.array(tail)
 
 
@@ -74,15 +72,10 @@ def model_sweep(seconds: float = 10.0) -> list[tuple[str, dict[str, float]]]:
     rows = []
     for label, water, gains in SWEEP:
         params = SwimParams(**gains)
-        core = FishBatch(1, SwimTask(), water=water, duration=seconds)
-        core.reset_rows(np.array([0]), [np.random.default_rng(0)])
-        infos, tail = [], []
-        for k in range(int(round(seconds / core.dt))):
-            u = swim_mc(1.0, (k + 1) * core.dt, params)
-            infos.append({"com": core.step((2.0 * u - 1.0)[None])[1]["com"][0]})
-            tail.append(core.x[0, TAIL_TIPS].mean(axis=0))
-        rows.append((label, cruise_figures(infos, np.array(tail), core.dt, core.body.length,
-                                           params.max_hz, seconds / 2)))
+        env = FishEnv("swim", duration=seconds, water=water)
+        infos, tail = play(env, lambda t, params=params: swim_mc(1.0, t, params), seconds)
+        rows.append((label, cruise_figures(infos, tail, env.dt, env.body_length, params.max_hz,
+                                           seconds / 2)))
     return rows
 
 

@@ -1,14 +1,15 @@
 """The artificial fish of Tu & Terzopoulos (1994), as a :class:`~envs.body.BodySpec` in SI units.
 
-Topology (23 nodes, 91 elements, 12 muscles in 6 actuators) is the data sheet's (the
-project's ``shared/spec/fish-body.md``). The model's 26 units are scaled to a 0.30 m fish. The
-total mass is the hull's volume of water (0.51 kg for 0.30 m, like a stocky carp or trout),
-shared among the nodes in the data sheet's proportions; each node displaces its own mass of
-water, so the fish is neutrally buoyant (with a small righting lift on the upper nodes).
-Stiffnesses keep the data sheet's order (cross > ordinary > muscle), with the ring edges
-(hoops) stiffest, so that every passive element stays within 0.78-1.23 of its rest length under
-random actions (``tests/envs/test_tissue.py``). The stiffest mode sets the integrator's step
-bound (:func:`envs.physics.system.stable_step`, 1.69 ms).
+Topology (23 nodes, 91 elements, 12 muscles in 6 actuators) is that of Tu & Terzopoulos,
+"Artificial fishes" (1994) and X. Tu's thesis (1996), as the paper fixes it. The model's 26
+units are scaled to a 0.30 m fish. The total mass is the hull's volume of water (0.51 kg for
+0.30 m, like a stocky carp or trout), shared among the nodes in the data sheet's proportions;
+each node displaces its own mass of water, so the fish is neutrally buoyant (with a small
+righting lift on the upper nodes). Stiffnesses keep the data sheet's order (cross > ordinary >
+muscle), with the ring edges (hoops) stiffest, so that every passive element stays within
+0.78-1.23 of its rest length under random actions (``tests/envs/test_tissue.py``). The
+stiffest mode sets the integrator's step bound (:func:`envs.physics.system.stable_step`,
+1.69 ms).
 """
 
 from __future__ import annotations

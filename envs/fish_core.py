@@ -13,6 +13,7 @@ actuations u in [0, 1] (finite differences over env steps), E_v from the task.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 from numba import njit
@@ -80,8 +81,51 @@ def control_energy(u, u_prev, u_prev2, dt, nu1, nu2):
     return out
 
 
+@dataclass
+class FishState:
+    """Everything that changes while B fish move (arrays changed in place by
+    :meth:`FishBatch.step` and :meth:`FishBatch.reset_rows`).
+
+    Attributes:
+        x, v: (B, N, 3) node positions (m) and velocities (m/s), world frame.
+        u_prev, u_prev2: (B, A) the actuations of the last two env steps, in [0, 1].
+        fins: (B, P) fin angles held over the current env step, rad.
+        steps: (B,) env steps since each episode began.
+        origin: (B, 3) centre of mass at each episode's start, m.
+        targets: (B, T) each episode's task parameters (:meth:`envs.tasks.Task.sample`).
+    """
+
+    x: np.ndarray
+    v: np.ndarray
+    u_prev: np.ndarray
+    u_prev2: np.ndarray
+    fins: np.ndarray
+    steps: np.ndarray
+    origin: np.ndarray
+    targets: np.ndarray
+
+    @classmethod
+    def zeros(cls, num_envs: int, body: BodySpec, target_size: int) -> FishState:
+        n, a, p = body.num_nodes, body.num_actuators, body.fin_nodes.shape[0]
+        return cls(np.zeros((num_envs, n, 3)), np.zeros((num_envs, n, 3)),
+                   np.zeros((num_envs, a)), np.zeros((num_envs, a)), np.zeros((num_envs, p)),
+                   np.zeros(num_envs, dtype=np.int64), np.zeros((num_envs, 3)),
+                   np.zeros((num_envs, target_size)))
+
+
+class Kinematics(NamedTuple):
+    """What :meth:`FishBatch.measure` computed and :meth:`FishBatch.observe` reuses: centre of
+    mass (B, 3) m, its velocity (B, 3) m/s, body frames (B, 3, 3) (rows forward, left, up)."""
+
+    com: np.ndarray
+    com_vel: np.ndarray
+    frames: np.ndarray
+
+
 class FishBatch:
-    """B fish doing one task.
+    """B fish doing one task: a :class:`~envs.physics.system.System` (fixed), a
+    :class:`FishState` (``state``, what changes) and the step, measurement and observation
+    functions on them.
 
     Args:
         num_envs: B.
@@ -116,95 +160,91 @@ class FishBatch:
         self.dt = self.system.dt * self.frame_skip
         self.episode_steps = max(1, int(round(duration / self.dt)))
         self.reset_noise_scale = float(reset_noise_scale)
+        self.state = FishState.zeros(num_envs, self.body, task.target_size)
         n, a = self.body.num_nodes, self.body.num_actuators
-        self.x = np.zeros((num_envs, n, 3))
-        self.v = np.zeros((num_envs, n, 3))
-        self.u_prev = np.zeros((num_envs, a))
-        self.u_prev2 = np.zeros((num_envs, a))
-        self.fins = np.zeros((num_envs, self.body.fin_nodes.shape[0]))
-        self.steps = np.zeros(num_envs, dtype=np.int64)
-        self.origin = np.zeros((num_envs, 3))
-        self.targets = np.zeros((num_envs, task.target_size))
         self.obs_size = 2 * n * 3 + 6 + a + task.obs_size
         self.fin_actions = bool(fins)
         self.fin_max_angle = float(fin_max_angle)
-        self.action_size = a + (self.fins.shape[1] if self.fin_actions else 0)
+        self.action_size = a + (self.state.fins.shape[1] if self.fin_actions else 0)
 
     @property
     def num_envs(self) -> int:
-        return self.x.shape[0]
+        return self.state.x.shape[0]
 
     def reset_rows(self, rows: np.ndarray, rngs: list[np.random.Generator]) -> None:
         """Start new episodes in ``rows``, drawing row k's noise and task from ``rngs[k]``."""
-        length = self.body.length
+        state, length = self.state, self.body.length
         for row, rng in zip(rows, rngs):
             noise = rng.uniform(-1.0, 1.0, self.body.rest_positions.shape)
-            self.x[row] = self.body.rest_positions + self.reset_noise_scale * length * noise
-            self.v[row] = 0.0
-            self.targets[row] = self.task.sample(rng)
-        self.u_prev[rows] = 0.0
-        self.u_prev2[rows] = 0.0
-        self.steps[rows] = 0
-        self.origin[rows] = self.centre_of_mass()[rows]
+            state.x[row] = self.body.rest_positions + self.reset_noise_scale * length * noise
+            state.v[row] = 0.0
+            state.targets[row] = self.task.sample(rng)
+        state.u_prev[rows] = 0.0
+        state.u_prev2[rows] = 0.0
+        state.steps[rows] = 0
+        state.origin[rows] = self.kinematics().com[rows]
 
-    def centre_of_mass(self) -> np.ndarray:
-        """(B, 3) centre of mass, m."""
-        return body_state(self.x, self.v, self.body.masses, *self._frame_nodes())[0]
-
-    def _frame_nodes(self) -> tuple:
+    def kinematics(self) -> Kinematics:
+        """Centre of mass, its velocity and the body frames of the current state."""
         b = self.body
-        return b.frame_front, b.frame_back, b.frame_up, b.frame_down
+        return Kinematics(*body_state(self.state.x, self.state.v, b.masses, b.frame_front,
+                                      b.frame_back, b.frame_up, b.frame_down))
 
-    def step(self, actions: np.ndarray) -> tuple[np.ndarray, dict[str, np.ndarray]]:
+    def step(self, actions: np.ndarray) -> tuple[np.ndarray, dict[str, np.ndarray], Kinematics]:
         """Advance every fish one env step with actions (B, ``action_size``) in [-1, 1] (already
-        validated). Returns the reward (B,) and the info arrays (each (B, ...))."""
-        a = self.body.num_actuators
+        validated). Returns the reward (B,), the info arrays (each (B, ...)) and the
+        kinematics of the new state (for :meth:`observe`)."""
+        state, a = self.state, self.body.num_actuators
         u = 0.5 * (actions[:, :a] + 1.0)
         if self.fin_actions:
-            self.fins[:] = self.fin_max_angle * actions[:, a:]
-        step_batch(self.x, self.v, self.u_prev, u, self.fins, self.frame_skip,
+            state.fins[:] = self.fin_max_angle * actions[:, a:]
+        step_batch(state.x, state.v, state.u_prev, u, state.fins, self.frame_skip,
                    self.system.kernel_args)
         w = self.weights
-        e_u = control_energy(u, self.u_prev, self.u_prev2, self.dt, w.nu1, w.nu2)
-        self.u_prev2, self.u_prev = self.u_prev, u
-        self.steps += 1
-        info = self.measure(last=self.truncated)
+        e_u = control_energy(u, state.u_prev, state.u_prev2, self.dt, w.nu1, w.nu2)
+        state.u_prev2, state.u_prev = state.u_prev, u
+        state.steps += 1
+        info, kinematics = self.measure(last=self.truncated)
         reward_ctrl = -w.mu1 * e_u * self.dt
         reward_task = -w.mu2 * info["E_v"] * self.dt
         info.update(E_u=e_u, reward_ctrl=reward_ctrl, reward_task=reward_task)
-        return reward_ctrl + reward_task, info
+        return reward_ctrl + reward_task, info, kinematics
 
     @property
     def truncated(self) -> np.ndarray:
         """(B,) whether each episode has used its ``duration``."""
-        return self.steps >= self.episode_steps
+        return self.state.steps >= self.episode_steps
 
-    def measure(self, last: np.ndarray | None = None) -> dict[str, np.ndarray]:
-        """Info arrays: ``com`` (B, 3) m, ``forward`` (B, 3), ``linear_momentum`` (B, 3) kg m/s
-        and ``angular_momentum`` (B, 3) kg m^2/s (world frame, about the centre of mass),
-        ``time`` (B,) s, ``E_v`` (B,) and the task's metrics (B,); caches what :meth:`observe`
-        needs."""
-        com, com_vel, frames = body_state(self.x, self.v, self.body.masses, *self._frame_nodes())
-        linear, angular = momenta(self.x, self.v, self.body.masses, com)
-        self._cache = (com, com_vel, frames)
+    def measure(self, last: np.ndarray | None = None
+                ) -> tuple[dict[str, np.ndarray], Kinematics]:
+        """Info arrays of the current state: ``com`` (B, 3) m, ``forward`` (B, 3),
+        ``linear_momentum`` (B, 3) kg m/s and ``angular_momentum`` (B, 3) kg m^2/s (world frame,
+        about the centre of mass), ``time`` (B,) s, ``E_v`` (B,) and the task's metrics (B,);
+        and the kinematics they were computed from."""
+        state = self.state
+        kinematics = self.kinematics()
+        com, com_vel, frames = kinematics
+        linear, angular = momenta(state.x, state.v, self.body.masses, com)
         last = np.zeros(self.num_envs, dtype=bool) if last is None else last
-        e_v, metrics = self.task.terms(com - self.origin, com_vel, frames, self.targets,
+        e_v, metrics = self.task.terms(com - state.origin, com_vel, frames, state.targets,
                                        self.body.length, last)
-        return {"com": com, "forward": frames[:, 0].copy(), "linear_momentum": linear,
-                "angular_momentum": angular, "time": self.steps * self.dt,
+        info = {"com": com, "forward": frames[:, 0].copy(), "linear_momentum": linear,
+                "angular_momentum": angular, "time": state.steps * self.dt,
                 "E_v": e_v, **metrics}
+        return info, kinematics
 
-    def observe(self) -> np.ndarray:
+    def observe(self, kinematics: Kinematics) -> np.ndarray:
         """(B, obs_size) float32: node positions and velocities relative to the centre of mass
         in the body frame (BL, BL/s), the centre-of-mass velocity in the body frame (BL/s), the
         world's up direction in the body frame, the current actuations, the task's entries.
-        Uses the quantities of the last :meth:`measure`; entries are clipped to +-OBS_LIMIT."""
-        com, com_vel, frames = self._cache
+        ``kinematics`` are the current state's (from :meth:`measure` or :meth:`step`); entries
+        are clipped to +-OBS_LIMIT."""
+        state, (com, com_vel, frames) = self.state, kinematics
         obs = np.empty((self.num_envs, self.obs_size), dtype=np.float32)
-        proprioception(self.x, self.v, self.u_prev, com, com_vel, frames, self.body.length,
+        proprioception(state.x, state.v, state.u_prev, com, com_vel, frames, self.body.length,
                        OBS_LIMIT, obs)
         if self.task.obs_size:
-            task_obs = self.task.observe(com - self.origin, com_vel, frames, self.targets,
+            task_obs = self.task.observe(com - state.origin, com_vel, frames, state.targets,
                                          self.body.length)
             obs[:, self.obs_size - self.task.obs_size:] = np.clip(task_obs, -OBS_LIMIT,
                                                                   OBS_LIMIT)

@@ -18,11 +18,13 @@ linear in time). Out-of-range values are clipped; a wrong shape, NaN or infinity
 the left and right pectoral fin angles, ``30 deg`` times the entry (held over the env step).
 
 ## Observation Space
+With the default sensor (:class:`envs.sensors.Proprioception`):
 ``Box(-1e4, 1e4, (150 + task entries,), float32)`` (clipped): the 23 node positions and velocities
 relative to the centre of mass, in the body frame (BL and BL/s, 69 + 69), the centre-of-mass
 velocity in the body frame (BL/s, 3), the world's up direction in the body frame (3), the six
 current activations (6), then the task's entries (swim with a target speed: the target, 1;
 turn: sin and cos of the heading error, 2; reach: the goal in the body frame, BL, 3).
+With ``sensors=[...]`` of more than one, a ``Dict`` keyed by the sensors' names.
 
 ## Rewards
 ``r = -(mu1 E_u + mu2 E_v) dt`` (the paper's Eq. 1), ``E_u = (nu1 |du/dt|^2 + nu2 |d^2u/dt^2|^2)
@@ -44,15 +46,29 @@ The rest shape at the origin heading +x, each node coordinate moved by uniform n
 No termination; truncation after ``duration`` simulated seconds.
 
 ## Arguments
-``duration`` (s), ``physics_dt`` (s, integration step, default 1/800 s, refused above 75% of
-the body's stability bound), ``frame_skip`` (integration steps per env step, default 40;
-``dt = physics_dt * frame_skip`` = 0.05 s), ``water`` (dict of
-:class:`~envs.physics.system.Water` fields, e.g. a vacuum), ``fins`` (bool: fin angles in the
-action space), ``reset_noise_scale`` (BL),
-``reward_weights`` (:class:`~envs.fish_core.RewardWeights`), ``render_mode`` (``"rgb_array"``),
-and the task's own arguments (swim: ``target_speed``; turn: ``angle_deg``, ``direction``;
-reach: ``distance_bl``, ``bearing_deg``, ``final_weight``). The env exposes ``dt`` and
-``body_length`` (m).
+| argument | type | default | meaning |
+|---|---|---|---|
+| ``task`` | str | by id | ``"swim"``, ``"turn"``, ``"reach"`` (:data:`envs.tasks.TASKS`) |
+| ``body`` | str, BodySpec | ``"fish"`` | a name in :data:`envs.bodies.BODIES`, or a spec |
+| ``duration`` | float, s | the task's | truncation time (swim 10, turn 5, reach 20) |
+| ``physics_dt`` | float, s | 1/800 | step; refused above 75% of the body's bound |
+| ``frame_skip`` | int | 40 | steps per env step (``dt = physics_dt * frame_skip``) |
+| ``water`` | dict | fresh water | :class:`~envs.physics.system.Water` fields |
+| ``fins`` | bool | False | the pectoral fin angles in the action space |
+| ``sensors`` | list | proprioception | :mod:`envs.sensors`; several give a Dict space |
+| ``reset_noise_scale`` | float, BL | 0.005 | uniform noise on each start node coordinate |
+| ``reward_weights`` | dict | see text | ``mu1`` 1e-4, ``mu2`` 1, ``nu1`` 1, ``nu2`` 0.01 |
+| ``render_mode`` | str, None | None | ``"rgb_array"`` |
+| task arguments | | | see below |
+
+Task arguments: swim ``target_speed`` (BL/s, None); turn ``angle_deg`` (90), ``direction``
+(``"left"``); reach ``distance_bl`` ((2, 4)), ``bearing_deg`` ((-180, 180)), ``final_weight``
+(20).
+
+Public attributes (single env through ``env.unwrapped``; the vector env directly): ``dt`` (s),
+``body_length`` (m), ``body`` (the ``BodySpec``), ``task`` (the :class:`~envs.tasks.Task`),
+``episode_steps`` (env steps per episode) and ``node_positions`` (world frame, m: (N, 3), or
+(B, N, 3) for the vector env; a copy).
 """
 
 from __future__ import annotations
@@ -65,59 +81,78 @@ from gymnasium.utils import seeding
 from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
+from envs.bodies import make_body
+from envs.body import BodySpec
 from envs.fish_core import (
     DEFAULT_FRAME_SKIP,
-    OBS_LIMIT,
     FishBatch,
     RewardWeights,
     validate_actions,
 )
 from envs.physics.system import DEFAULT_DT
 from envs.render import BodyRenderer
-from envs.tasks import ReachTask, SwimTask, TurnTask
+from envs.sensors import Observer
+from envs.tasks import Task, make_task
 
-TASKS = {"swim": SwimTask, "turn": TurnTask, "reach": ReachTask}
-DEFAULT_DURATION = {"swim": 10.0, "turn": 5.0, "reach": 20.0}
 RENDER_FPS = 20
 
 
-
-def _make_core(num_envs: int, task: str, task_kwargs: dict, duration: float | None,
-               physics_dt: float, frame_skip: int, reset_noise_scale: float,
-               reward_weights: RewardWeights | dict | None, water: dict | None,
-               fins: bool) -> FishBatch:
-    if task not in TASKS:
-        raise ValueError(f"unknown task {task!r}; choose one of {sorted(TASKS)}")
+def _make_core(num_envs: int, task: str, task_kwargs: dict, body: str | BodySpec | None,
+               duration: float | None, physics_dt: float, frame_skip: int,
+               reset_noise_scale: float, reward_weights: RewardWeights | dict | None,
+               water: dict | None, fins: bool) -> FishBatch:
+    task_object = make_task(task, **task_kwargs)
     weights = reward_weights if isinstance(reward_weights, RewardWeights) else RewardWeights(
         **(reward_weights or {}))
-    return FishBatch(num_envs, TASKS[task](**task_kwargs), water=water, physics_dt=physics_dt,
-                     frame_skip=frame_skip, reset_noise_scale=reset_noise_scale,
-                     duration=DEFAULT_DURATION[task] if duration is None else duration,
+    return FishBatch(num_envs, task_object, body=make_body(body), water=water,
+                     physics_dt=physics_dt, frame_skip=frame_skip,
+                     reset_noise_scale=reset_noise_scale,
+                     duration=task_object.default_duration if duration is None else duration,
                      weights=weights, fins=fins)
 
 
-def _spaces(core: FishBatch) -> tuple[gym.spaces.Box, gym.spaces.Box]:
-    action = gym.spaces.Box(-1.0, 1.0, (core.action_size,), np.float32)
-    observation = gym.spaces.Box(-OBS_LIMIT, OBS_LIMIT, (core.obs_size,), np.float32)
-    return action, observation
+class _PublicSurface:
+    """What learners, demos and tests may read of a fish env (both kinds share it)."""
+
+    core: FishBatch
+
+    @property
+    def task(self) -> Task:
+        return self.core.task
+
+    @property
+    def body(self) -> BodySpec:
+        return self.core.body
+
+    @property
+    def episode_steps(self) -> int:
+        """Env steps per episode (``duration / dt``)."""
+        return self.core.episode_steps
 
 
-class FishEnv(gym.Env):
+def _action_space(core: FishBatch) -> gym.spaces.Box:
+    return gym.spaces.Box(-1.0, 1.0, (core.action_size,), np.float32)
+
+
+class FishEnv(_PublicSurface, gym.Env):
     """One fish doing one task (see the module docstring for the full description)."""
 
     metadata = {"render_modes": ["rgb_array"], "render_fps": RENDER_FPS}
 
     def __init__(self, task: str = "swim", render_mode: str | None = None,
+                 body: str | BodySpec | None = None,
                  duration: float | None = None, physics_dt: float = DEFAULT_DT,
                  frame_skip: int = DEFAULT_FRAME_SKIP, water: dict | None = None,
-                 fins: bool = False,
+                 fins: bool = False, sensors: list | None = None,
                  reset_noise_scale: float = 0.005,
                  reward_weights: RewardWeights | dict | None = None, **task_kwargs: Any) -> None:
         if render_mode not in (None, "rgb_array"):
             raise ValueError(f"render_mode must be None or 'rgb_array', got {render_mode!r}")
-        self.core = _make_core(1, task, task_kwargs, duration, physics_dt, frame_skip,
+        self.core = _make_core(1, task, task_kwargs, body, duration, physics_dt, frame_skip,
                                reset_noise_scale, reward_weights, water, fins)
-        self.action_space, self.observation_space = _spaces(self.core)
+        self.observer = Observer(self.core, sensors)
+        self.action_space = _action_space(self.core)
+        self.observation_space = self.observer.single_space
         self.render_mode = render_mode
         self.dt = self.core.dt
         self.body_length = self.core.body.length
@@ -128,16 +163,17 @@ class FishEnv(gym.Env):
     def reset(self, *, seed: int | None = None, options: dict | None = None):
         super().reset(seed=seed)
         self.core.reset_rows(np.array([0]), [self.np_random])
-        info = {k: v[0] for k, v in self.core.measure().items()}
+        info, kinematics = self.core.measure()
         self._started = True
-        return self.core.observe()[0], info
+        obs = self.observer.row(self.observer.observe(self.core, kinematics), 0)
+        return obs, {k: v[0] for k, v in info.items()}
 
     def step(self, action):
         if not self._started:
             raise RuntimeError("call reset() before step()")
         actions = validate_actions(action, self.action_space.shape)[None]
-        reward, info = self.core.step(actions)
-        obs = self.core.observe()[0]
+        reward, info, kinematics = self.core.step(actions)
+        obs = self.observer.row(self.observer.observe(self.core, kinematics), 0)
         return obs, float(reward[0]), False, bool(self.core.truncated[0]), {
             k: v[0] for k, v in info.items()}
 
@@ -146,28 +182,12 @@ class FishEnv(gym.Env):
             return None
         if self._renderer is None:
             self._renderer = BodyRenderer(self.core.body)
-        return self._renderer.render(self.core.x[0])
+        return self._renderer.render(self.core.state.x[0])
 
-
-class FishSwimEnv(FishEnv):
-    """``Animat/FishSwim-v0``: swim forward (optionally at ``target_speed`` BL/s)."""
-
-    def __init__(self, **kwargs: Any) -> None:
-        super().__init__(task="swim", **kwargs)
-
-
-class FishTurnEnv(FishEnv):
-    """``Animat/FishTurn-v0``: turn by ``angle_deg`` (default 90) to ``direction``."""
-
-    def __init__(self, **kwargs: Any) -> None:
-        super().__init__(task="turn", **kwargs)
-
-
-class FishReachEnv(FishEnv):
-    """``Animat/FishReach-v0``: reach a goal point drawn per episode."""
-
-    def __init__(self, **kwargs: Any) -> None:
-        super().__init__(task="reach", **kwargs)
+    @property
+    def node_positions(self) -> np.ndarray:
+        """(N, 3) node positions, world frame, m (a copy)."""
+        return self.core.state.x[0].copy()
 
 
 def _autoreset_mode(value: str | AutoresetMode) -> AutoresetMode:
@@ -179,7 +199,7 @@ def _autoreset_mode(value: str | AutoresetMode) -> AutoresetMode:
     return names[value]
 
 
-class FishVectorEnv(VectorEnv):
+class FishVectorEnv(_PublicSurface, VectorEnv):
     """B fish in one batched simulation.
 
     Sub-env i seeded with ``seed + i`` draws exactly what a single :class:`FishEnv` reset with
@@ -193,9 +213,10 @@ class FishVectorEnv(VectorEnv):
                 "autoreset_mode": AutoresetMode.NEXT_STEP}
 
     def __init__(self, num_envs: int = 1, task: str = "swim", render_mode: str | None = None,
+                 body: str | BodySpec | None = None,
                  duration: float | None = None, physics_dt: float = DEFAULT_DT,
                  frame_skip: int = DEFAULT_FRAME_SKIP, water: dict | None = None,
-                 fins: bool = False,
+                 fins: bool = False, sensors: list | None = None,
                  reset_noise_scale: float = 0.005,
                  reward_weights: RewardWeights | dict | None = None,
                  autoreset_mode: str | AutoresetMode = AutoresetMode.NEXT_STEP,
@@ -208,9 +229,11 @@ class FishVectorEnv(VectorEnv):
         if render_mode not in (None, "rgb_array"):
             raise ValueError(f"render_mode must be None or 'rgb_array', got {render_mode!r}")
         self.num_envs = int(num_envs)
-        self.core = _make_core(self.num_envs, task, task_kwargs, duration, physics_dt,
+        self.core = _make_core(self.num_envs, task, task_kwargs, body, duration, physics_dt,
                                frame_skip, reset_noise_scale, reward_weights, water, fins)
-        self.single_action_space, self.single_observation_space = _spaces(self.core)
+        self.observer = Observer(self.core, sensors)
+        self.single_action_space = _action_space(self.core)
+        self.single_observation_space = self.observer.single_space
         self.action_space = batch_space(self.single_action_space, self.num_envs)
         self.observation_space = batch_space(self.single_observation_space, self.num_envs)
         self.render_mode = render_mode
@@ -228,8 +251,8 @@ class FishVectorEnv(VectorEnv):
         self.core.reset_rows(np.arange(self.num_envs), self._rngs)
         self._autoreset[:] = False
         self._started = True
-        info = self._with_masks(self.core.measure())
-        return self.core.observe(), info
+        info, kinematics = self.core.measure()
+        return self.observer.observe(self.core, kinematics), self._with_masks(info)
 
     def _seeds(self, seed):
         if seed is None:
@@ -244,17 +267,17 @@ class FishVectorEnv(VectorEnv):
         if not self._started:
             raise RuntimeError("call reset() before step()")
         actions = validate_actions(actions, self.action_space.shape)
-        reward, info = self.core.step(actions)
+        reward, info, kinematics = self.core.step(actions)
         truncated = self.core.truncated.copy()
         rows = np.flatnonzero(self._autoreset)
         if rows.size:
             self.core.reset_rows(rows, [self._rngs[r] for r in rows])
-            fresh = self.core.measure()
+            fresh, kinematics = self.core.measure()
             for key, value in info.items():
                 value[rows] = fresh[key][rows] if key in fresh else 0.0
             reward[rows] = 0.0
             truncated[rows] = False
-        obs = self.core.observe()
+        obs = self.observer.observe(self.core, kinematics)
         terminated = np.zeros(self.num_envs, dtype=bool)
         if self.autoreset_mode == AutoresetMode.SAME_STEP:
             return self._reset_finished(obs, reward, terminated, truncated, info)
@@ -267,10 +290,9 @@ class FishVectorEnv(VectorEnv):
         info = self._with_masks(info)
         rows = np.flatnonzero(done)
         if rows.size:
-            info["final_obs"], info["_final_obs"] = obs.copy(), done.copy()
+            info["final_obs"], info["_final_obs"] = self.observer.copy(obs), done.copy()
             self.core.reset_rows(rows, [self._rngs[r] for r in rows])
-            self.core.measure()
-            obs = self.core.observe()
+            obs = self.observer.observe(self.core, self.core.kinematics())
         return obs, reward, terminated, truncated, info
 
     def _with_masks(self, info: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
@@ -282,16 +304,10 @@ class FishVectorEnv(VectorEnv):
             return None
         if self._renderer is None:
             self._renderer = BodyRenderer(self.core.body)
-        return tuple(self._renderer.render(x) for x in self.core.x)
+        return tuple(self._renderer.render(x) for x in self.core.state.x)
 
 
-def make_swim_vector(num_envs: int = 1, **kwargs: Any) -> FishVectorEnv:
-    return FishVectorEnv(num_envs, task="swim", **kwargs)
-
-
-def make_turn_vector(num_envs: int = 1, **kwargs: Any) -> FishVectorEnv:
-    return FishVectorEnv(num_envs, task="turn", **kwargs)
-
-
-def make_reach_vector(num_envs: int = 1, **kwargs: Any) -> FishVectorEnv:
-    return FishVectorEnv(num_envs, task="reach", **kwargs)
+    @property
+    def node_positions(self) -> np.ndarray:
+        """(B, N, 3) node positions, world frame, m (a copy)."""
+        return self.core.state.x.copy()

@@ -1,8 +1,10 @@
 """Locomotion tasks: what a fish is asked to do, as pure functions on batched arrays.
 
 A task supplies the paper's trajectory term E_v (Eq. 1) and its own metrics, from the body's
-centre of mass, its velocity and its frame. Shapes: ``com`` (B, 3) the centre of mass relative
-to where the episode started, m; ``com_vel`` (B, 3) m/s;
+centre of mass, its velocity and its frame; its default episode length; how an episode
+is summed up (:class:`EpisodeSummary`); and the hand-designed motor controller that solves
+it. A new task is one class here and one line in :data:`TASKS`. Shapes: ``com`` (B, 3) the
+centre of mass relative to where the episode started, m; ``com_vel`` (B, 3) m/s;
 ``frames`` (B, 3, 3) rows forward, left, up; ``targets`` (B, T) the task's per-episode
 parameters drawn by :meth:`Task.sample`; ``length`` the body length (m). Distances and speeds
 are reported in body lengths (BL) and BL/s, angles in degrees.
@@ -10,9 +12,12 @@ are reported in body lengths (BL) and BL/s, angles in degrees.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
+
+from envs.motor import swim_mc, turn_mc
 
 
 def heading_yaw(frames: np.ndarray) -> np.ndarray:
@@ -31,12 +36,16 @@ def world_to_body(vectors: np.ndarray, frames: np.ndarray) -> np.ndarray:
 
 
 class Task:
-    """Base class: a task has ``target_size`` parameters per episode and ``obs_size`` extra
-    observation entries."""
+    """Base class: a task has ``target_size`` parameters per episode, ``obs_size`` extra
+    observation entries, a ``default_duration`` (s) and episode metrics: the per-step metrics
+    named in ``mean_metrics`` averaged over the episode, and what :meth:`final_metrics` reads
+    off its last step."""
 
     name = "task"
     target_size = 0
     obs_size = 0
+    default_duration = 10.0
+    mean_metrics: tuple[str, ...] = ()
 
     def sample(self, rng: np.random.Generator) -> np.ndarray:
         """(target_size,) parameters of a new episode."""
@@ -49,6 +58,35 @@ class Task:
     def terms(self, com, com_vel, frames, targets, length, last):
         """E_v (B,) and a dict of metrics (B,) each; ``last`` (B,) marks an episode's last step."""
         raise NotImplementedError
+
+    def final_metrics(self, last: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+        """Episode metrics (B,) each read off the info of the episode's last step."""
+        return {}
+
+    def hand_controller(self, speed: float = 1.0) -> Callable[[np.ndarray], np.ndarray]:
+        """The hand-designed motor controller for this task: ``t (s) -> u (..., 6)``."""
+        raise ValueError(f"no hand-designed motor controller for task {self.name!r}")
+
+
+class EpisodeSummary:
+    """Accumulates a task's episode metrics over the steps of B episodes run in lockstep:
+    the means of ``task.mean_metrics`` (prefixed by nothing: ``speed_bl_per_s`` is the mean
+    swimming speed) and ``task.final_metrics`` of the last step."""
+
+    def __init__(self, task: Task, num_envs: int) -> None:
+        self.task, self.steps = task, 0
+        self.sums = {k: np.zeros(num_envs) for k in task.mean_metrics}
+        self.last: dict[str, np.ndarray] = {}
+
+    def update(self, info: dict[str, np.ndarray]) -> None:
+        self.steps += 1
+        self.last = info
+        for key in self.sums:
+            self.sums[key] = self.sums[key] + info[key]
+
+    def summary(self) -> dict[str, np.ndarray]:
+        means = {k: v / max(self.steps, 1) for k, v in self.sums.items()}
+        return {**means, **self.task.final_metrics(self.last)}
 
 
 @dataclass
@@ -63,6 +101,8 @@ class SwimTask(Task):
 
     target_speed: float | None = None
     name = "swim"
+    default_duration = 10.0
+    mean_metrics = ("speed_bl_per_s",)
 
     def __post_init__(self) -> None:
         if self.target_speed is not None and not (0.0 <= float(self.target_speed) <= 10.0):
@@ -84,6 +124,10 @@ class SwimTask(Task):
         return e_v, {"speed_bl_per_s": speed, "heading_deg": np.degrees(yaw),
                      "distance_bl": np.hypot(com[:, 0], com[:, 1]) / length}
 
+    def hand_controller(self, speed: float = 1.0):
+        """The swim-MC at ``speed`` in [0, 1], ease-in included."""
+        return lambda t: swim_mc(speed, t)
+
 
 @dataclass
 class TurnTask(Task):
@@ -94,6 +138,7 @@ class TurnTask(Task):
     direction: str = "left"
     name = "turn"
     obs_size = 2
+    default_duration = 5.0
 
     def __post_init__(self) -> None:
         if self.direction not in ("left", "right"):
@@ -118,6 +163,15 @@ class TurnTask(Task):
         return error**2, {"heading_deg": np.degrees(heading_yaw(frames)),
                           "heading_error_deg": np.degrees(error)}
 
+    def final_metrics(self, last):
+        """``final_heading_error_deg``: the absolute heading error at the end."""
+        return {"final_heading_error_deg": np.abs(last["heading_error_deg"])}
+
+    def hand_controller(self, speed: float = 1.0):
+        """The turn-MC for this angle and direction (``speed`` is not used)."""
+        angle, left = np.radians(float(self.angle_deg)), self.direction == "left"
+        return lambda t: turn_mc(angle, t, left)
+
 
 @dataclass
 class ReachTask(Task):
@@ -133,6 +187,7 @@ class ReachTask(Task):
     name = "reach"
     target_size = 3
     obs_size = 3
+    default_duration = 20.0
 
     def __post_init__(self) -> None:
         for name in ("distance_bl", "bearing_deg"):
@@ -154,3 +209,17 @@ class ReachTask(Task):
         distance = np.linalg.norm(targets * length - com, axis=1) / length
         e_v = distance + np.where(last, float(self.final_weight) * distance, 0.0)
         return e_v, {"distance_bl": distance}
+
+    def final_metrics(self, last):
+        """``final_distance_bl``: the distance to the goal at the end."""
+        return {"final_distance_bl": np.asarray(last["distance_bl"])}
+
+
+TASKS: dict[str, type[Task]] = {"swim": SwimTask, "turn": TurnTask, "reach": ReachTask}
+
+
+def make_task(name: str, **kwargs) -> Task:
+    """The task ``name`` with its keyword arguments; a clear error for an unknown name."""
+    if name not in TASKS:
+        raise ValueError(f"unknown task {name!r}; choose one of {sorted(TASKS)}")
+    return TASKS[name](**kwargs)

@@ -1,1 +1,2 @@
-"""The experiment launcher and its commands (a later issue)."""
+"""The experiment launcher ``animat`` (:mod:`experiments.cli`): configs, run folders, sweeps,
+comparisons and the benchmark."""

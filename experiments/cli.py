@@ -5,7 +5,7 @@
     animat sweep CONFIG --seeds 0-4 [--set ...] [--executor local|ray] [--jobs N]
                  [--address ADDR] [--out PARENT]
     animat compare RUN_DIR_OR_PARENT ... [--metric eval/return] [--threshold X] [-o REPORT]
-    animat bench [--seconds S]
+    animat bench [--seconds S] [--breakdown]
     animat list
 
 A bad config or override stops before any work with one line naming the file, the field path
@@ -52,6 +52,8 @@ def _parser() -> argparse.ArgumentParser:
     bench = sub.add_parser("bench", help="simulator benchmark against Swimmer-v5")
     bench.add_argument("--seconds", type=float, default=6.0)
     bench.add_argument("--num-envs", type=int, default=256)
+    bench.add_argument("--breakdown", action="store_true",
+                       help="where an integration step's time goes, per force term")
     sub.add_parser("list", help="registered envs, learners and shipped configs")
     return parser
 
@@ -75,7 +77,7 @@ def cmd_run(args) -> int:
         if not args.config:
             raise RunError("give a CONFIG to run, or --resume DIR")
         config = load_config(args.config, args.overrides)
-        folder = create_run(config, args.out, ["animat", *sys.argv[1:]])
+        folder = create_run(config, args.out, ["animat", *args.argv])
         print(f"run folder: {folder}")
         result = execute(folder, _progress(args, config))
     print(json.dumps({k: result[k] for k in ("status", "env_steps", "wall_seconds", "metrics")}))
@@ -90,7 +92,7 @@ def cmd_sweep(args) -> int:
     except ValueError as error:
         raise RunError(str(error)) from None
     config = load_config(args.config, args.overrides)
-    folders = prepare(config, seeds, args.out, ["animat", *sys.argv[1:]])
+    folders = prepare(config, seeds, args.out, ["animat", *args.argv])
     if args.executor == "ray":
         results = run_ray(folders, args.address)
     else:
@@ -124,14 +126,19 @@ def cmd_list(args) -> int:
 
 
 def cmd_bench(args) -> int:
-    from envs.bench import report, run
+    from envs.bench import report, report_breakdown, run
 
+    if args.breakdown:
+        print(report_breakdown())
+        return 0
     print(report(run(args.seconds, args.num_envs), args.num_envs))
     return 0
 
 
 def main(argv: list[str] | None = None) -> int:
+    argv = sys.argv[1:] if argv is None else list(argv)
     args = _parser().parse_args(argv)
+    args.argv = argv  # recorded in each run folder's command.txt
     handlers = {"run": cmd_run, "sweep": cmd_sweep, "compare": cmd_compare, "list": cmd_list,
                 "bench": cmd_bench}
     try:

@@ -1,1 +1,2 @@
-"""The paper's learners and the baselines (a later issue)."""
+"""The paper's learners (simulated annealing, FFT abstraction, basic training, macro
+controllers) and the baselines (CMA-ES, PPO), by name in :mod:`learners.registry`."""

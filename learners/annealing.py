@@ -8,6 +8,12 @@ size shrinks with the temperature, and is accepted with the Metropolis rule
 ``moves_per_temperature`` rounds; annealing stops when it reaches ``min_temperature`` (or the
 caller's budget runs out). The state holds the generator's state, so a run is reproducible bit
 for bit and can be checkpointed and resumed anywhere.
+
+Besides ``init``/``ask``/``tell``/``finished``, the module answers what the shared loop
+(:mod:`learners.blackbox`) asks of every optimiser: ``population`` (candidates per round),
+``metrics`` (its ``train/*`` scalars), ``fit_encoding`` (options for an encoding of blocks of
+``block`` parameters) and ``refine_options`` (options for searching frequency parameters).
+The caller keeps the best candidate (with its metrics); the optimiser does not.
 """
 
 from __future__ import annotations
@@ -68,16 +74,36 @@ class AnnealingParams:
 
 @dataclass(frozen=True)
 class AnnealingState:
-    """x (C, D) chain positions; energy (C,) their E (inf before the first tell); best_x (D,),
-    best_energy; temperature; round (proposal rounds told); rng: the generator's state."""
+    """x (C, D) chain positions; energy (C,) their E (inf before the first tell);
+    temperature; round (proposal rounds told); rng: the generator's state."""
 
     x: np.ndarray
     energy: np.ndarray
-    best_x: np.ndarray
-    best_energy: float
     temperature: float
     round: int
     rng: dict
+
+
+def population(params: AnnealingParams) -> int:
+    """Candidates per round: one proposal per chain."""
+    return params.chains
+
+
+def metrics(params: AnnealingParams, state: AnnealingState) -> dict[str, float]:
+    """``train/*`` scalars: the temperature."""
+    return {"temperature": float(state.temperature)}
+
+
+def fit_encoding(options: dict, block: int) -> dict:
+    """Smoothing acts along each actuator's ``block`` nodal values unless told otherwise."""
+    if options.get("smoothing") and "block" not in options:
+        return {**options, "block": block}
+    return options
+
+
+def refine_options(options: dict) -> dict:
+    """Frequency parameters are not a nodal sequence: no smoothing there (unless asked)."""
+    return {"smoothing": 0.0, "block": 0, **options}
 
 
 def init(params: AnnealingParams, x0: np.ndarray, seed: int) -> AnnealingState:
@@ -85,8 +111,8 @@ def init(params: AnnealingParams, x0: np.ndarray, seed: int) -> AnnealingState:
     x0 = np.asarray(x0, dtype=float)
     x = np.broadcast_to(x0, (params.chains, x0.shape[-1])).copy()
     rng = np.random.Generator(np.random.PCG64(seed))
-    return AnnealingState(x=x, energy=np.full(params.chains, np.inf), best_x=x[0].copy(),
-                          best_energy=np.inf, temperature=params.initial_temperature, round=0,
+    return AnnealingState(x=x, energy=np.full(params.chains, np.inf),
+                          temperature=params.initial_temperature, round=0,
                           rng=rng.bit_generator.state)
 
 
@@ -127,7 +153,7 @@ def smooth_blocks(steps: np.ndarray, width: float, block: int) -> np.ndarray:
 
 def tell(params: AnnealingParams, state: AnnealingState, proposals: np.ndarray,
          energies: np.ndarray) -> AnnealingState:
-    """Metropolis acceptance per chain, best-so-far tracking, and the cooling schedule."""
+    """Metropolis acceptance per chain and the cooling schedule."""
     energies = np.asarray(energies, dtype=float)
     if not np.all(np.isfinite(energies)):
         raise ValueError("energies must be finite")
@@ -143,12 +169,8 @@ def tell(params: AnnealingParams, state: AnnealingState, proposals: np.ndarray,
         x = np.where(accept[:, None], proposals, state.x)
         energy = np.where(accept, energies, state.energy)
         rng_state, told = rng.bit_generator.state, state.round + 1
-    best = int(np.argmin(energy))
-    best_x, best_energy = state.best_x, state.best_energy
-    if energy[best] < best_energy:
-        best_x, best_energy = x[best].copy(), float(energy[best])
     temperature = state.temperature
     if told > state.round and told % params.moves_per_temperature == 0:
         temperature *= params.cooling
-    return AnnealingState(x=x, energy=energy, best_x=best_x, best_energy=best_energy,
-                          temperature=temperature, round=told, rng=rng_state)
+    return AnnealingState(x=x, energy=energy, temperature=temperature, round=told,
+                          rng=rng_state)

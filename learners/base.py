@@ -2,7 +2,7 @@
 kwargs), a budget in env steps, a seed and a logger, and can be checkpointed and resumed.
 
 Tags every learner logs, with the global step = env steps consumed: ``eval/return`` and the
-task's summary metrics as ``eval/<name>`` (:class:`learners.rollout.EpisodeSummary`); anything
+task's summary metrics as ``eval/<name>`` (:class:`envs.tasks.EpisodeSummary`); anything
 else under ``train/``. Hyperparameters go in as text (``hparams``).
 """
 
@@ -12,8 +12,10 @@ import json
 import os
 import pickle
 import tempfile
+import types
+import typing
 from abc import ABC, abstractmethod
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from pathlib import Path
 from typing import Any, ClassVar
 
@@ -99,8 +101,60 @@ def load_checkpoint(path: str | Path) -> Any | None:
 
 
 def unknown_params(params: dict, allowed: set[str], learner: str) -> None:
-    """Raise ValueError naming parameters a learner does not take."""
+    """Raise ValueError naming parameters a learner does not take (``learner``: its name, or
+    a description such as ``learner 'annealing'``)."""
     extra = sorted(set(params) - allowed)
     if extra:
-        raise ValueError(f"learner {learner!r} does not take parameter(s) {extra}; "
+        who = learner if learner.startswith("learner ") else f"learner {learner!r}"
+        raise ValueError(f"{who} does not take parameter(s) {extra}; "
                          f"it takes {sorted(allowed)}")
+
+
+def _kind_ok(value, kind) -> bool:
+    """Whether ``value`` fits the annotation ``kind`` (int, float, bool, str, dict, list,
+    tuple, Any, and unions with None of these)."""
+    if kind is Any:
+        return True
+    if typing.get_origin(kind) in (typing.Union, types.UnionType):
+        return any(_kind_ok(value, k) for k in typing.get_args(kind))
+    if kind is type(None):
+        return value is None
+    if kind is bool:
+        return isinstance(value, bool)
+    if kind is int:
+        return isinstance(value, int) and not isinstance(value, bool)
+    if kind is float:
+        return isinstance(value, (int, float)) and not isinstance(value, bool)
+    origin = typing.get_origin(kind) or kind
+    if origin in (list, tuple):
+        return isinstance(value, (list, tuple))
+    return isinstance(value, origin)
+
+
+_KIND_NAMES = {int: "an integer", float: "a number", bool: "true or false", str: "a string",
+               dict: "a mapping", list: "a list", tuple: "a list"}
+
+
+def _kind_name(kind) -> str:
+    if typing.get_origin(kind) in (typing.Union, types.UnionType):
+        return " or ".join("null" if k is type(None) else _kind_name(k)
+                           for k in typing.get_args(kind))
+    return _KIND_NAMES.get(typing.get_origin(kind) or kind, getattr(kind, "__name__", str(kind)))
+
+
+def typed_params(cls: type, values: dict, owner: str):
+    """A frozen params dataclass ``cls`` from a config mapping: unknown names and values of
+    the wrong kind are refused in one line naming ``owner`` (e.g. ``learner 'annealing'``) and
+    the field; integers given for floats become floats; ``cls.__post_init__`` then checks
+    ranges."""
+    unknown_params(values, {f.name for f in fields(cls)}, owner)
+    hints = typing.get_type_hints(cls)
+    converted = {}
+    for name, value in values.items():
+        if not _kind_ok(value, hints[name]):
+            raise ValueError(f"{owner}: {name} must be {_kind_name(hints[name])}, got {value!r}")
+        converted[name] = float(value) if hints[name] is float else value
+    try:
+        return cls(**converted)
+    except ValueError as error:
+        raise ValueError(f"{owner}: {error}") from None

@@ -12,35 +12,72 @@ controller's FFT abstraction at ``refine.threshold`` (a handful of harmonics) be
 starting point of a second search over its frequency parameters (the kept harmonics' means
 and complex coefficients; :meth:`AbstractController.frequency_parameters`), with
 ``refine.env_steps`` of the budget. The result is a compact controller (tens of parameters,
-not 6 x nodes) that the repertoire keeps; what plain truncation kept is reported beside it.
+not actuators x nodes) that the repertoire keeps; what plain truncation kept is reported beside it.
 """
 
 from __future__ import annotations
 
 import time
-from dataclasses import fields, replace
+from dataclasses import dataclass, field, fields, replace
 from pathlib import Path
 from types import ModuleType
+from typing import Any
 
 import numpy as np
 
 from learners import annealing, cmaes
 from learners.abstraction import abstract, most_compact
-from learners.base import Learner, LearnResult, load_checkpoint, save_checkpoint, unknown_params
+from learners.base import (
+    Learner,
+    LearnResult,
+    load_checkpoint,
+    save_checkpoint,
+    typed_params,
+    unknown_params,
+)
 from learners.controller import TentController, play
 from learners.rollout import START_STATES, BatchEvaluator
 
-NUM_ACTUATORS = 6
-CONTROLLER_KEYS = {"nodes", "period", "init", "abstraction_threshold", "checkpoint_every",
-                   "refine", "start_states"}
 REFINE_KEYS = {"env_steps", "threshold"}
+
+
+@dataclass(frozen=True)
+class ControllerParams:
+    """The tent-controller encoding and the loop's own settings (the rest of a black-box
+    learner's params go to its optimiser's params class).
+
+    Attributes:
+        nodes: nodal values per actuator.
+        period: s, the controller's period (None: it spans the episode).
+        init: starting values: ``"random"``, ``"relaxed"`` (0) or ``"half"`` (0.5).
+        abstraction_threshold: the FFT threshold of the abstraction kept (None: the most
+            compact one within 10% of the learned objective).
+        checkpoint_every: rounds between checkpoints.
+        refine: the refinement phase's settings (see :meth:`BlackBoxLearner._configure_refine`).
+        start_states: seeded start states every candidate is scored over.
+    """
+
+    nodes: int = 20
+    period: float | None = 1.0
+    init: str = "random"
+    abstraction_threshold: float | None = None
+    checkpoint_every: int = 10
+    refine: dict | None = None
+    start_states: int = START_STATES
+
+    def __post_init__(self) -> None:
+        if self.nodes < 2 or self.init not in ("random", "relaxed", "half"):
+            raise ValueError("nodes must be >= 2 and init one of random, relaxed, half")
+        if self.checkpoint_every < 1 or self.start_states < 1:
+            raise ValueError("checkpoint_every and start_states must be >= 1")
 
 
 def controller_from_vector(vector: np.ndarray, nodes: int, period: float | None,
                            duration: float) -> TentController:
-    """The tent controller of a parameter vector (6 * nodes,). Periodic: ``nodes`` free values
-    per actuator on [0, period), closed by repeating the first."""
-    values = np.asarray(vector, dtype=float).reshape(NUM_ACTUATORS, nodes)
+    """The tent controller of a parameter vector (A * nodes,), A actuators (the env's action
+    size). Periodic: ``nodes`` free values per actuator on [0, period), closed by repeating
+    the first."""
+    values = np.asarray(vector, dtype=float).reshape(-1, nodes)
     if period is None:
         return TentController(values, 0.0, duration)
     return TentController(np.concatenate([values, values[:, :1]], axis=1), 0.0, period)
@@ -60,39 +97,79 @@ class PeriodicPlayer:
         return play(self, dt, steps)
 
 
+@dataclass
+class Phase:
+    """One optimisation: its optimiser params and state, the best candidate so far
+    ({``x``, ``return``, ``metrics``}), the abstraction whose frequency parameters it searches
+    (refining; None for the nodal search) and, refining, the metrics it started from."""
+
+    params: Any
+    state: Any
+    best: dict | None = None
+    support: Any = None
+    start: dict | None = None
+
+
+@dataclass
+class Run:
+    """A learner's progress (what a checkpoint holds): its phases and the counters."""
+
+    phases: list[Phase] = field(default_factory=list)
+    env_steps: int = 0
+    wall: float = 0.0
+    rounds: int = 0
+
+    @classmethod
+    def from_checkpoint(cls, saved) -> Run:
+        """A saved run; checkpoints from before these dataclasses were dicts."""
+        if isinstance(saved, Run):
+            return saved
+        phases = saved.get("phases") or [{"params": saved["params"], "state": saved["state"],
+                                           "best": saved.get("best")}]
+        return cls([Phase(p["params"], p["state"], p.get("best"), p.get("support"),
+                          p.get("start")) for p in phases],
+                   saved["env_steps"], saved["wall"], saved["rounds"])
+
+
 class BlackBoxLearner(Learner):
     """Optimises a parameter vector with an ask/tell ``optimizer`` module (``init``, ``ask``,
-    ``tell``, ``finished``) configured by ``params_class``. What the vector means is the
-    subclass's: ``own_keys`` (its parameters), :meth:`_configure`, :meth:`_x0`,
-    :meth:`controller` (vector -> something with ``actions(dt, steps)``), :meth:`_artefacts`.
-    This base reads the tent-controller encoding."""
+    ``tell``, ``finished``, ``population``, ``metrics``, ``fit_encoding``,
+    ``refine_options``; see :mod:`learners.annealing`) configured by ``params_class``. What
+    the vector means is the subclass's: ``own_keys`` (its parameters), :meth:`_configure`,
+    :meth:`_x0`, :meth:`controller` (vector -> something with ``actions(dt, steps)``),
+    :meth:`_artefacts`. This base reads the tent-controller encoding; nothing here is
+    specific to one optimiser."""
 
     optimizer: ModuleType
     params_class: type
-    population_key: str
-    own_keys: set[str] = CONTROLLER_KEYS
+    own_params: type = ControllerParams
 
     def __init__(self, *args, **kwargs) -> None:
         super().__init__(*args, **kwargs)
-        unknown_params(self.params, self.own_keys | {f.name for f in fields(self.params_class)},
-                       self.name)
-        self.checkpoint_every = int(self.params.get("checkpoint_every", 10))
-        opt_params = {k: v for k, v in self.params.items() if k not in self.own_keys}
-        self._configure(opt_params)
-        self.opt_params = self.params_class(**opt_params)
-        self.refine = self._configure_refine(self.params.get("refine"))
+        owner = f"learner {self.name!r}"
+        own_names = {f.name for f in fields(self.own_params)}
+        unknown_params(self.params, own_names | {f.name for f in fields(self.params_class)},
+                       owner)
+        self.own = typed_params(self.own_params,
+                                {k: v for k, v in self.params.items() if k in own_names}, owner)
+        self.checkpoint_every = self.own.checkpoint_every
+        self._configure()
+        opt_params = {k: v for k, v in self.params.items() if k not in own_names}
+        self.opt_params = typed_params(self.params_class, self._fit_encoding(opt_params), owner)
+        self.refine = self._configure_refine(getattr(self.own, "refine", None))
 
-    def _configure(self, opt_params: dict) -> None:
-        self.nodes = int(self.params.get("nodes", 20))
-        period = self.params.get("period", 1.0)
-        self.period = None if period is None else float(period)
-        self.init_mode = self.params.get("init", "random")
-        threshold = self.params.get("abstraction_threshold")
+    def _configure(self) -> None:
+        """Read the encoding's settings off ``self.own``."""
+        self.nodes = self.own.nodes
+        self.period = None if self.own.period is None else float(self.own.period)
+        self.init_mode = self.own.init
+        threshold = self.own.abstraction_threshold
         self.threshold = None if threshold is None else float(threshold)
-        if self.nodes < 2 or self.init_mode not in ("random", "relaxed", "half"):
-            raise ValueError("nodes must be >= 2 and init one of random, relaxed, half")
-        if opt_params.get("smoothing") and "block" not in opt_params:
-            opt_params["block"] = self.nodes  # smooth along each actuator's nodes
+
+    def _fit_encoding(self, opt_params: dict) -> dict:
+        """The optimiser's options for this encoding (blocks of ``nodes`` values per
+        actuator)."""
+        return self.optimizer.fit_encoding(opt_params, self.nodes)
 
     def _configure_refine(self, refine: dict | None) -> dict | None:
         """``refine``: {``env_steps`` (taken from the budget), ``threshold`` (the FFT threshold
@@ -102,26 +179,28 @@ class BlackBoxLearner(Learner):
             return None
         if not isinstance(refine, dict):
             raise ValueError(f"learner {self.name!r}: refine must be a mapping, got {refine!r}")
-        # the population stays: one batch width for both phases, every row a candidate
-        option_names = {f.name for f in fields(self.params_class)} - {self.population_key}
+        option_names = {f.name for f in fields(self.params_class)}
         unknown_params(refine, REFINE_KEYS | option_names, f"{self.name}.refine")
         env_steps, threshold = refine.get("env_steps"), refine.get("threshold", 0.5)
         if not (type(env_steps) is int and env_steps > 0 and type(threshold) in (float, int)
                 and 0.0 <= threshold < 1.0):
             raise ValueError(f"learner {self.name!r}: refine needs env_steps, an integer > 0, and "
                              f"threshold in [0, 1); got {env_steps!r}, {threshold!r}")
-        options = {k: v for k, v in refine.items() if k not in REFINE_KEYS}
-        if "smoothing" in option_names:
-            options = {"smoothing": 0.0, "block": 0, **options}
-        return {"env_steps": env_steps, "threshold": threshold,
-                "params": replace(self.opt_params, **options)}
+        options = self.optimizer.refine_options(
+            {k: v for k, v in refine.items() if k not in REFINE_KEYS})
+        params = replace(self.opt_params, **options)
+        # the population stays: one batch width for both phases, every row a candidate
+        if self.optimizer.population(params) != self.population:
+            raise ValueError(f"learner {self.name!r}: refine cannot change the population "
+                             f"({self.population})")
+        return {"env_steps": env_steps, "threshold": threshold, "params": params}
 
     @property
     def population(self) -> int:
-        return int(getattr(self.opt_params, self.population_key))
+        return int(self.optimizer.population(self.opt_params))
 
-    def _x0(self) -> np.ndarray:
-        dims = NUM_ACTUATORS * self.nodes
+    def _x0(self, num_actuators: int) -> np.ndarray:
+        dims = num_actuators * self.nodes
         if self.init_mode == "relaxed":
             return np.zeros(dims)
         if self.init_mode == "half":
@@ -139,24 +218,25 @@ class BlackBoxLearner(Learner):
         parameters of the learned controller's FFT abstraction with the rest."""
         self.check_budget(budget_env_steps)
         evaluator = BatchEvaluator(self.env_id, self.env_kwargs, self.population, self.seed,
-                                   self.params.get("start_states", START_STATES))
+                                   self.own.start_states)
         path = Path(checkpoint_dir) / "checkpoint.pkl" if checkpoint_dir else None
-        run = load_checkpoint(path) if path else None
-        if run is not None and "phases" not in run:  # a checkpoint from before phases existed
-            run["phases"] = [{"params": self.opt_params, "state": run.pop("state"),
-                              "best": run.pop("best"), "support": None}]
-        if run is None:
+        saved = load_checkpoint(path) if path else None
+        if saved is not None:
+            if isinstance(saved, dict) and "phases" not in saved:  # before phases existed
+                saved["params"] = self.opt_params
+            run = Run.from_checkpoint(saved)
+        else:
             self.log_hparams()
-            run = {"phases": [self._phase(self.opt_params, self._x0(), self.seed)],
-                   "env_steps": 0, "wall": 0.0, "rounds": 0}
-        start = time.perf_counter() - run["wall"]
+            run = Run([self._phase(self.opt_params, self._x0(evaluator.action_size),
+                                   self.seed)])
+        start = time.perf_counter() - run.wall
         refine_steps = self.refine["env_steps"] if self.refine else 0
         self._run_phase(run, 0, evaluator, budget_env_steps - refine_steps, path, start)
-        learned = run["phases"][0]["best"]
-        if (self.refine and learned is not None and len(run["phases"]) == 1
-                and run["env_steps"] + evaluator.episode_cost <= budget_env_steps):
+        learned = run.phases[0].best
+        if (self.refine and learned is not None and len(run.phases) == 1
+                and run.env_steps + evaluator.episode_cost <= budget_env_steps):
             self._start_refining(run, learned["x"], evaluator)
-        if len(run["phases"]) > 1:
+        if len(run.phases) > 1:
             self._run_phase(run, 1, evaluator, budget_env_steps, path, start)
         if path:
             save_checkpoint(path, run)
@@ -168,7 +248,7 @@ class BlackBoxLearner(Learner):
             raise ValueError(f"refine.env_steps ({self.refine['env_steps']}) must be less than "
                              f"the budget ({budget_env_steps}): the first phase needs some")
 
-    def _start_refining(self, run: dict, x: np.ndarray, evaluator: BatchEvaluator) -> None:
+    def _start_refining(self, run: Run, x: np.ndarray, evaluator: BatchEvaluator) -> None:
         """Phase 2 starts at the truncated abstraction, which is scored first (one episode,
         charged), so that the refined controller is never worse than the one it came from."""
         support = self._abstract(x, evaluator.duration, self.refine["threshold"])
@@ -176,74 +256,73 @@ class BlackBoxLearner(Learner):
         phase = self._phase(self.refine["params"], x0, self.seed + 1, support)
         player = self._decode(phase, x0, evaluator.duration)
         returns, metrics = evaluator.evaluate_players([player])
-        run["env_steps"] += evaluator.episode_cost
+        run.env_steps += evaluator.episode_cost
         self._track_best(phase, [x0], returns, metrics)
-        phase["start"] = _eval_metrics(phase["best"])
-        run["phases"].append(phase)
+        phase.start = _eval_metrics(phase.best)
+        run.phases.append(phase)
 
-    def _phase(self, params, x0: np.ndarray, seed: int, support=None) -> dict:
-        """One optimisation: its optimiser params and state, its best, and (refining) the
-        abstraction whose frequency parameters it searches."""
-        return {"params": params, "state": self.optimizer.init(params, x0, seed),
-                "best": None, "support": support}
+    def _phase(self, params, x0: np.ndarray, seed: int, support=None) -> Phase:
+        return Phase(params, self.optimizer.init(params, x0, seed), support=support)
 
-    def _decode(self, phase: dict, vector: np.ndarray, duration: float):
-        if phase["support"] is None:
+    def _decode(self, phase: Phase, vector: np.ndarray, duration: float):
+        if phase.support is None:
             return self.controller(vector, duration)
-        return PeriodicPlayer(phase["support"].with_frequency_parameters(vector), self.period)
+        return PeriodicPlayer(phase.support.with_frequency_parameters(vector), self.period)
 
-    def _run_phase(self, run: dict, index: int, evaluator: BatchEvaluator, limit: int,
+    def _run_phase(self, run: Run, index: int, evaluator: BatchEvaluator, limit: int,
                    path: Path | None, start: float) -> None:
         """ask -> simulate -> tell until ``limit`` env steps or the optimiser's stopping rule."""
-        phase = run["phases"][index]
-        params = phase["params"]
-        cost = int(getattr(params, self.population_key)) * evaluator.episode_cost
-        while (run["env_steps"] + cost <= limit
-               and not self.optimizer.finished(params, phase["state"])):
-            candidates, state = self.optimizer.ask(params, phase["state"])
+        phase = run.phases[index]
+        params = phase.params
+        cost = int(self.optimizer.population(params)) * evaluator.episode_cost
+        while (run.env_steps + cost <= limit
+               and not self.optimizer.finished(params, phase.state)):
+            candidates, state = self.optimizer.ask(params, phase.state)
             returns, metrics = evaluator.evaluate_players(
                 [self._decode(phase, c, evaluator.duration) for c in candidates])
-            phase["state"] = self.optimizer.tell(params, state, candidates, -returns)
-            run["env_steps"] += len(candidates) * evaluator.episode_cost
-            run["rounds"] += 1
+            phase.state = self.optimizer.tell(params, state, candidates, -returns)
+            run.env_steps += len(candidates) * evaluator.episode_cost
+            run.rounds += 1
             self._track_best(phase, candidates, returns, metrics)
             self._log(run, phase)
-            run["wall"] = time.perf_counter() - start
-            if path and run["rounds"] % self.checkpoint_every == 0:
+            run.wall = time.perf_counter() - start
+            if path and run.rounds % self.checkpoint_every == 0:
                 save_checkpoint(path, run)
 
-    def _track_best(self, phase: dict, candidates, returns, metrics) -> None:
+    @staticmethod
+    def _track_best(phase: Phase, candidates, returns, metrics) -> None:
+        """The one place the best candidate is kept: its vector, return and metrics."""
         k = int(np.argmax(returns))
-        if phase["best"] is None or returns[k] > phase["best"]["return"]:
-            phase["best"] = {"x": np.array(candidates[k]), "return": float(returns[k]),
-                             "metrics": {name: float(v[k]) for name, v in metrics.items()}}
+        if phase.best is None or returns[k] > phase.best["return"]:
+            phase.best = {"x": np.array(candidates[k]), "return": float(returns[k]),
+                          "metrics": {name: float(v[k]) for name, v in metrics.items()}}
 
     @staticmethod
-    def _overall_best(run: dict) -> dict | None:
-        bests = [p["best"] for p in run["phases"] if p["best"] is not None]
+    def _overall_best(run: Run) -> dict | None:
+        bests = [p.best for p in run.phases if p.best is not None]
         return max(bests, key=lambda b: b["return"]) if bests else None
 
-    def _log(self, run: dict, phase: dict) -> None:
-        """The best controller so far (of either phase) as ``eval/*``."""
-        best, step = self._overall_best(run), run["env_steps"]
+    def _log(self, run: Run, phase: Phase) -> None:
+        """The best controller so far (of either phase) as ``eval/*``, and the optimiser's
+        own ``train/*`` scalars."""
+        best, step = self._overall_best(run), run.env_steps
         self.logger.scalar("eval/return", best["return"], step)
         for name, value in best["metrics"].items():
             self.logger.scalar(f"eval/{name}", value, step)
-        temperature = getattr(phase["state"], "temperature", None)
-        if temperature is not None:
-            self.logger.scalar("train/temperature", temperature, step)
+        for name, value in self.optimizer.metrics(phase.params, phase.state).items():
+            self.logger.scalar(f"train/{name}", value, step)
 
-    def _result(self, run: dict, evaluator: BatchEvaluator) -> LearnResult:
-        learned, best = run["phases"][0]["best"], self._overall_best(run)
+    def _result(self, run: Run, evaluator: BatchEvaluator) -> LearnResult:
+        learned, best = run.phases[0].best, self._overall_best(run)
         if learned is None:
             raise ValueError(f"budget too small: one round of {self.name} needs "
                              f"{self.population * evaluator.episode_cost} env steps")
         artefacts = self._artefacts(learned["x"], evaluator.duration, evaluator)
         artefacts["learned_metrics"] = _eval_metrics(learned)
-        if len(run["phases"]) > 1:
-            artefacts.update(self._refined_artefacts(run["phases"][1], artefacts))
+        if len(run.phases) > 1:
+            artefacts.update(self._refined_artefacts(run.phases[1], artefacts))
         artefacts["result_from"] = "learned" if best is learned else "refined abstraction"
-        return LearnResult(env_steps=run["env_steps"], wall_seconds=run["wall"],
+        return LearnResult(env_steps=run.env_steps, wall_seconds=run.wall,
                            metrics=_eval_metrics(best), artefacts=artefacts)
 
     def _abstract(self, x: np.ndarray, duration: float, threshold: float):
@@ -272,7 +351,8 @@ class BlackBoxLearner(Learner):
         artefacts = {"controller": {"nodes": tent.nodes.tolist(), "t0": tent.t0, "t1": tent.t1,
                                     "periodic": self.period is not None},
                      "parameters": int(x.size),
-                     "episode": {"task": evaluator.task, "duration": evaluator.duration}}
+                     "episode": {"task": evaluator.task.name,
+                                 "duration": evaluator.duration}}
         if self.threshold is not None:
             chosen = abstract(tent, self.threshold, self._samples(tent))
         else:
@@ -285,21 +365,21 @@ class BlackBoxLearner(Learner):
             "coefficients": chosen.num_coefficients, "refined": False}
         return artefacts
 
-    def _refined_artefacts(self, phase: dict, artefacts: dict) -> dict:
+    def _refined_artefacts(self, phase: Phase, artefacts: dict) -> dict:
         """The refined abstraction becomes the learner's ``abstraction``; the truncation the
         "learn" phase chose moves to ``truncated_abstraction``; ``abstraction_metrics`` also
         report the abstraction refinement started from, before refining."""
-        support = phase["support"]
-        refined = support.with_frequency_parameters(phase["best"]["x"])
+        support = phase.support
+        refined = support.with_frequency_parameters(phase.best["x"])
         return {
             "truncated_abstraction": artefacts["abstraction"],
             "truncated_abstraction_metrics": artefacts["abstraction_metrics"],
             "abstraction": refined.to_dict(),
             "abstraction_metrics": {
-                **_eval_metrics(phase["best"]), "parameters": refined.num_parameters,
+                **_eval_metrics(phase.best), "parameters": refined.num_parameters,
                 "coefficients": refined.num_coefficients, "refined": True,
                 "threshold": self.refine["threshold"],
-                "before_refining": phase["start"]}}
+                "before_refining": phase.start}}
 
 
 def _eval_metrics(best: dict) -> dict[str, float]:
@@ -313,7 +393,6 @@ class AnnealingLearner(BlackBoxLearner):
     name = "annealing"
     optimizer = annealing
     params_class = annealing.AnnealingParams
-    population_key = "chains"
 
 
 class CMAESLearner(BlackBoxLearner):
@@ -322,4 +401,3 @@ class CMAESLearner(BlackBoxLearner):
     name = "cmaes"
     optimizer = cmaes
     params_class = cmaes.CMAESParams
-    population_key = "popsize"

@@ -1,5 +1,6 @@
-"""CMA-ES (pycma) behind the same ask/tell interface as :mod:`learners.annealing`, over the
-same controller parameters: the baseline that answers "was annealing a good choice?"."""
+"""CMA-ES (pycma) behind the same ask/tell interface as :mod:`learners.annealing` (and the same
+``population``/``metrics``/``fit_encoding``/``refine_options`` answers), over the same
+controller parameters: the baseline that answers "was annealing a good choice?"."""
 
 from __future__ import annotations
 
@@ -31,10 +32,22 @@ class CMAESState:
 
     es: object
 
-    @property
-    def best_x(self) -> np.ndarray:
-        return np.asarray(self.es.result.xbest if self.es.result.xbest is not None
-                          else self.es.mean)
+
+def population(params: CMAESParams) -> int:
+    return params.popsize
+
+
+def metrics(params: CMAESParams, state: CMAESState) -> dict[str, float]:
+    """``train/*`` scalars: the overall step size sigma."""
+    return {"sigma": float(state.es.sigma)}
+
+
+def fit_encoding(options: dict, block: int) -> dict:
+    return options
+
+
+def refine_options(options: dict) -> dict:
+    return options
 
 
 def _cma():

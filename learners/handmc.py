@@ -4,46 +4,49 @@ every comparison, evaluated by the same protocol as the learners."""
 from __future__ import annotations
 
 import time
+from dataclasses import dataclass
 from pathlib import Path
 
-import numpy as np
-
-from envs.motor import swim_mc, turn_mc
-from learners.base import Learner, LearnResult, unknown_params
+from learners.base import Learner, LearnResult, typed_params
 from learners.controller import play
 from learners.rollout import START_STATES, BatchEvaluator
 
 
+@dataclass(frozen=True)
+class HandMCParams:
+    """speed: the swim-MC's speed in [0, 1]; start_states: seeded starts it is scored over."""
+
+    speed: float = 1.0
+    start_states: int = START_STATES
+
+    def __post_init__(self) -> None:
+        if not 0.0 <= self.speed <= 1.0 or self.start_states < 1:
+            raise ValueError("speed must be in [0, 1] and start_states >= 1")
+
+
 class HandMCLearner(Learner):
-    """Plays the task's hand-designed MC: swim -> swim-MC at ``speed`` (default 1), ease-in
-    included (scored from t = 0 like every learned controller); turn -> the turn-MC for the
-    env's angle and direction. Uses one episode from each start state."""
+    """Plays the task's hand-designed MC (:meth:`envs.tasks.Task.hand_controller`): swim ->
+    swim-MC at ``speed`` (default 1), ease-in included (scored from t = 0 like every learned
+    controller); turn -> the turn-MC for the env's angle and direction. Uses one episode from
+    each start state."""
 
     name = "handmc"
 
     def __init__(self, *args, **kwargs) -> None:
         super().__init__(*args, **kwargs)
-        unknown_params(self.params, {"speed", "start_states"}, self.name)
-        self.speed = float(self.params.get("speed", 1.0))
-
-    def _actuation(self, evaluator: BatchEvaluator):
-        task = evaluator.env.core.task
-        if task.name == "swim":
-            return lambda t: swim_mc(self.speed, t)
-        if task.name == "turn":
-            angle, left = np.radians(float(task.angle_deg)), task.direction == "left"
-            return lambda t: turn_mc(angle, t, left)
-        raise ValueError(f"no hand-designed motor controller for task {task.name!r}")
+        self.own = typed_params(HandMCParams, self.params, f"learner {self.name!r}")
+        self.speed = self.own.speed
 
     def learn(self, budget_env_steps: int, checkpoint_dir: str | Path | None = None
               ) -> LearnResult:
         start = time.perf_counter()
         evaluator = BatchEvaluator(self.env_id, self.env_kwargs, num_envs=1, seed=self.seed,
-                                   num_starts=self.params.get("start_states", START_STATES))
+                                   num_starts=self.own.start_states)
         if budget_env_steps < evaluator.episode_cost:
             raise ValueError(f"budget too small: scoring needs {evaluator.episode_cost} env steps")
         self.log_hparams()
-        actions = play(self._actuation(evaluator), evaluator.dt, evaluator.steps)[None]
+        actuation = evaluator.task.hand_controller(speed=self.speed)
+        actions = play(actuation, evaluator.dt, evaluator.steps)[None]
         returns, metrics = evaluator.evaluate(actions)
         result = {"eval/return": float(returns[0]),
                   **{f"eval/{k}": float(v[0]) for k, v in metrics.items()}}

@@ -10,6 +10,8 @@ blends (:mod:`learners.concatenation`); after the sequence the muscles relax.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from learners import annealing
@@ -17,9 +19,29 @@ from learners.blackbox import BlackBoxLearner
 from learners.concatenation import concatenate
 from learners.controller import play
 from learners.repertoire import Repertoire
+from learners.rollout import START_STATES
 
-MACRO_KEYS = {"repertoire", "slots", "min_duration", "max_duration", "skills", "overlap",
-              "checkpoint_every"}
+
+@dataclass(frozen=True)
+class MacroParams:
+    """repertoire: path of a repertoire JSON (required); skills: the names to use (None: all);
+    slots; min_duration, max_duration: s per slot; overlap: the blend's share;
+    checkpoint_every: rounds; start_states: seeded starts each candidate is scored over."""
+
+    repertoire: str | None = None
+    skills: list | None = None
+    slots: int = 3
+    min_duration: float = 0.5
+    max_duration: float = 4.0
+    overlap: float = 0.05
+    checkpoint_every: int = 10
+    start_states: int = START_STATES
+
+    def __post_init__(self) -> None:
+        if self.repertoire is None:
+            raise ValueError("needs params.repertoire (a repertoire file)")
+        if self.slots < 1 or not 0 < self.min_duration <= self.max_duration:
+            raise ValueError("need slots >= 1 and 0 < min_duration <= max_duration")
 
 
 class MacroSequence:
@@ -28,6 +50,7 @@ class MacroSequence:
     def __init__(self, repertoire: Repertoire, steps: list[tuple[str, float]],
                  overlap: float) -> None:
         self.steps = steps
+        self.num_actuators = next(iter(repertoire.skills.values())).controller.num_actuators
         if steps:
             self._blended, self.duration = concatenate(
                 [repertoire[name].controller for name, _ in steps],
@@ -38,7 +61,7 @@ class MacroSequence:
     def __call__(self, t: np.ndarray | float) -> np.ndarray:
         t = np.asarray(t, dtype=float)
         if self._blended is None:
-            return np.zeros(t.shape + (6,))
+            return np.zeros(t.shape + (self.num_actuators,))
         return np.where((t < self.duration)[..., None], self._blended(t), 0.0)
 
     def actions(self, dt: float, steps: int) -> np.ndarray:
@@ -53,24 +76,21 @@ class MacroLearner(BlackBoxLearner):
     name = "macro"
     optimizer = annealing
     params_class = annealing.AnnealingParams
-    population_key = "chains"
-    own_keys = MACRO_KEYS
+    own_params = MacroParams
 
-    def _configure(self, opt_params: dict) -> None:
-        if "repertoire" not in self.params:
-            raise ValueError("learner 'macro' needs params.repertoire (a repertoire file)")
-        self.repertoire = Repertoire.load(self.params["repertoire"])
-        self.skill_names = list(self.params.get("skills", self.repertoire.names))
+    def _configure(self) -> None:
+        own = self.own
+        self.repertoire = Repertoire.load(own.repertoire)
+        self.skill_names = list(own.skills if own.skills is not None else self.repertoire.names)
         for name in self.skill_names:
             self.repertoire[name]  # raises KeyError naming a missing skill
-        self.slots = int(self.params.get("slots", 3))
-        self.min_duration = float(self.params.get("min_duration", 0.5))
-        self.max_duration = float(self.params.get("max_duration", 4.0))
-        self.overlap = float(self.params.get("overlap", 0.05))
-        if self.slots < 1 or not 0 < self.min_duration <= self.max_duration:
-            raise ValueError("need slots >= 1 and 0 < min_duration <= max_duration")
+        self.slots, self.overlap = own.slots, own.overlap
+        self.min_duration, self.max_duration = own.min_duration, own.max_duration
 
-    def _x0(self) -> np.ndarray:
+    def _fit_encoding(self, opt_params: dict) -> dict:
+        return opt_params  # slots are not blocks of nodal values
+
+    def _x0(self, num_actuators: int) -> np.ndarray:
         return np.random.default_rng(self.seed).uniform(0.0, 1.0, 2 * self.slots)
 
     def decode(self, vector: np.ndarray) -> list[tuple[str, float]]:

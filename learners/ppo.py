@@ -13,23 +13,53 @@ from __future__ import annotations
 import ast
 import json
 import time
+from dataclasses import asdict, dataclass, fields
 from pathlib import Path
 
 import gymnasium as gym
 import numpy as np
 
-from learners.base import Learner, LearnResult, unknown_params
-from learners.rollout import START_STATES, EpisodeSummary
+from envs.tasks import EpisodeSummary
+from learners.base import Learner, LearnResult, typed_params
+from learners.rollout import START_STATES
 
-ZOO_KEYS = {"n_envs", "n_steps", "batch_size", "n_epochs", "gamma", "gae_lambda",
-            "learning_rate", "clip_range", "ent_coef", "vf_coef", "max_grad_norm", "policy",
-            "policy_kwargs", "normalize"}
+
+@dataclass(frozen=True)
+class PPOParams:
+    """rl-baselines3-zoo's hyperparameter names and defaults of this project, plus
+    ``eval_every`` (env steps between evaluations), ``torch_threads`` and
+    ``checkpoint_every`` (env steps). ``policy_kwargs`` is a mapping or the zoo's
+    ``dict(...)`` string."""
+
+    n_envs: int = 64
+    n_steps: int = 64
+    batch_size: int = 1024
+    n_epochs: int = 10
+    gamma: float = 0.99
+    gae_lambda: float = 0.95
+    learning_rate: float = 3e-4
+    clip_range: float = 0.2
+    ent_coef: float = 0.0
+    vf_coef: float = 0.5
+    max_grad_norm: float = 0.5
+    policy: str = "MlpPolicy"
+    policy_kwargs: str | dict = "dict(net_arch=[128, 128], log_std_init=-1.0)"
+    normalize: bool = True
+    eval_every: int = 50_000
+    torch_threads: int = 1
+    checkpoint_every: int = 200_000
+
+    def __post_init__(self) -> None:
+        counts = ("n_envs", "n_steps", "batch_size", "n_epochs", "eval_every", "torch_threads",
+                  "checkpoint_every")
+        for name in counts:
+            if getattr(self, name) < 1:
+                raise ValueError(f"{name} must be a positive integer, got {getattr(self, name)!r}")
+        parse_policy_kwargs(self.policy_kwargs)
+
+
 OWN_KEYS = {"eval_every", "torch_threads", "checkpoint_every"}
-DEFAULTS = {"n_envs": 64, "n_steps": 64, "batch_size": 1024, "n_epochs": 10, "gamma": 0.99,
-            "gae_lambda": 0.95, "learning_rate": 3e-4, "clip_range": 0.2, "ent_coef": 0.0,
-            "vf_coef": 0.5, "max_grad_norm": 0.5, "policy": "MlpPolicy",
-            "policy_kwargs": "dict(net_arch=[128, 128], log_std_init=-1.0)", "normalize": True,
-            "eval_every": 50_000, "torch_threads": 1, "checkpoint_every": 200_000}
+ZOO_KEYS = {f.name for f in fields(PPOParams)} - OWN_KEYS  # what SB3's PPO is given
 
 
 def parse_policy_kwargs(value) -> dict:
@@ -43,38 +73,12 @@ def parse_policy_kwargs(value) -> dict:
     return {kw.arg: ast.literal_eval(kw.value) for kw in tree.keywords}
 
 
-def check_types(hp: dict) -> None:
-    """Raise ValueError naming a hyperparameter whose value is not of its default's kind
-    (integers stay integers, rates are numbers, ``normalize`` a bool, ``policy_kwargs`` a
-    dict or its zoo string), so that a bad value stops the run before any training."""
-    for key, default in DEFAULTS.items():
-        value = hp[key]
-        if key == "policy_kwargs":
-            parse_policy_kwargs(value)
-            continue
-        if isinstance(default, bool):
-            ok = isinstance(value, bool)
-        elif isinstance(default, int):
-            ok = isinstance(value, int) and not isinstance(value, bool) and value > 0
-        elif isinstance(default, float):
-            ok = isinstance(value, (int, float)) and not isinstance(value, bool)
-        else:
-            ok = isinstance(value, str)
-        if not ok:
-            kind = ("a bool" if isinstance(default, bool) else "a positive integer"
-                    if isinstance(default, int) else "a number" if isinstance(default, float)
-                    else "a string")
-            raise ValueError(f"learner 'ppo': {key} must be {kind}, got {value!r}")
-
-
 class PPOLearner(Learner):
     name = "ppo"
 
     def __init__(self, *args, **kwargs) -> None:
         super().__init__(*args, **kwargs)
-        unknown_params(self.params, ZOO_KEYS | OWN_KEYS, self.name)
-        self.hp = {**DEFAULTS, **self.params}
-        check_types(self.hp)
+        self.hp = asdict(typed_params(PPOParams, self.params, f"learner {self.name!r}"))
 
     def _model(self, venv, checkpoint: Path | None):
         import torch
@@ -107,8 +111,8 @@ class PPOLearner(Learner):
             self._eval_env = gym.make_vec(self.env_id, num_envs=START_STATES, **self.env_kwargs)
         env = self._eval_env
         obs, _ = env.reset(seed=[self.seed + k for k in range(START_STATES)])
-        total, summary = np.zeros(START_STATES), EpisodeSummary(env.core.task.name, START_STATES)
-        for _ in range(env.core.episode_steps):
+        total, summary = np.zeros(START_STATES), EpisodeSummary(env.task, START_STATES)
+        for _ in range(env.episode_steps):
             if hasattr(venv, "normalize_obs"):
                 obs = venv.normalize_obs(obs)
             action, _ = model.predict(obs, deterministic=True)

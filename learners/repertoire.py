@@ -11,13 +11,13 @@ from __future__ import annotations
 
 import json
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
 from learners.abstraction import AbstractController
-from learners.base import Learner, LearnResult, atomic_write, unknown_params
+from learners.base import Learner, LearnResult, atomic_write, typed_params
 from learners.blackbox import AnnealingLearner
 from learners.logger import Logger
 
@@ -132,6 +132,18 @@ class _Prefixed:
         pass
 
 
+@dataclass(frozen=True)
+class BasicTrainingParams:
+    """regimen: [{name, env_id, env_kwargs, params}] (None: the fish's); threshold: the FFT
+    threshold (None: the most compact abstraction within 10%); annealing: annealing params
+    shared by all skills; output: the repertoire's path (None: in the run folder)."""
+
+    regimen: list | None = None
+    threshold: float | None = None
+    annealing: dict = field(default_factory=lambda: {"chains": 64})
+    output: str | None = None
+
+
 class BasicTrainingLearner(Learner):
     """Learns every skill of ``regimen`` (default: the fish's) with an equal share of the
     budget and writes ``repertoire.json`` into the checkpoint folder (or ``output``).
@@ -145,11 +157,11 @@ class BasicTrainingLearner(Learner):
 
     def __init__(self, *args, **kwargs) -> None:
         super().__init__(*args, **kwargs)
-        unknown_params(self.params, {"regimen", "threshold", "annealing", "output"}, self.name)
-        self.regimen = self.params.get("regimen", FISH_REGIMEN)
-        threshold = self.params.get("threshold")
-        self.threshold = None if threshold is None else float(threshold)
-        self.annealing = dict(self.params.get("annealing", {"chains": 64}))
+        own = typed_params(BasicTrainingParams, self.params, f"learner {self.name!r}")
+        self.regimen = own.regimen if own.regimen is not None else FISH_REGIMEN
+        self.threshold = None if own.threshold is None else float(own.threshold)
+        self.annealing = dict(own.annealing)
+        self.output = own.output
         # every skill's settings are checked before any learning
         self._skill_learners = [AnnealingLearner(spec["env_id"], spec.get("env_kwargs", {}),
                                                  {**self.annealing, **spec.get("params", {})},
@@ -175,7 +187,7 @@ class BasicTrainingLearner(Learner):
             repertoire.add(skill)
             used += skill.metadata["env_steps"]
             self.logger.scalar("eval/return", -skill.metadata["abstracted_E"], used)
-        output = self.params.get("output") or (folder / "repertoire.json" if folder else None)
+        output = self.output or (folder / "repertoire.json" if folder else None)
         if output:
             repertoire.save(output)
         metrics = {"eval/return": float(np.mean([-s.metadata["abstracted_E"]

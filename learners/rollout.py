@@ -15,34 +15,9 @@ import gymnasium as gym
 import numpy as np
 
 import envs  # noqa: F401  (registers Animat/*)
+from envs.tasks import EpisodeSummary
 
 START_STATES = 4  # start states every candidate and every final result is scored over
-
-
-class EpisodeSummary:
-    """Accumulates a task's summary metrics over an episode, from each step's info: swim
-    ``speed_bl_per_s`` (mean swimming speed over the episode), reach ``final_distance_bl``,
-    turn ``final_heading_error_deg`` (absolute, at the end)."""
-
-    def __init__(self, task: str, num_envs: int) -> None:
-        if task not in ("swim", "reach", "turn"):
-            raise ValueError(f"no summary metrics for task {task!r}")
-        self.task, self.steps = task, 0
-        self.speed_sum = np.zeros(num_envs)
-        self.last: dict[str, np.ndarray] = {}
-
-    def update(self, info: dict[str, np.ndarray]) -> None:
-        self.steps += 1
-        self.last = info
-        if self.task == "swim":
-            self.speed_sum = self.speed_sum + info["speed_bl_per_s"]
-
-    def summary(self) -> dict[str, np.ndarray]:
-        if self.task == "swim":
-            return {"speed_bl_per_s": self.speed_sum / max(self.steps, 1)}
-        if self.task == "reach":
-            return {"final_distance_bl": np.asarray(self.last["distance_bl"])}
-        return {"final_heading_error_deg": np.abs(self.last["heading_error_deg"])}
 
 
 class BatchEvaluator:
@@ -65,9 +40,10 @@ class BatchEvaluator:
                                 **(env_kwargs or {}))
         self.seed = int(seed)
         self.dt = float(self.env.dt)
-        self.steps = int(self.env.core.episode_steps)
+        self.steps = int(self.env.episode_steps)
         self.duration = self.steps * self.dt
-        self.task = self.env.core.task.name
+        self.task = self.env.task  # the envs.tasks.Task
+        self.action_size = int(self.env.single_action_space.shape[0])
         self.env_steps = 0
 
     @property

@@ -9,23 +9,25 @@ import numpy as np
 import pytest
 
 from envs.fish_core import DEFAULT_FRAME_SKIP, FishBatch
-from envs.motor import fin_mc, swim_mc, to_action, turn_duration, turn_mc
+from envs.motor import FinParams, fin_mc, swim_mc, to_action, turn_duration, turn_mc
 from envs.physics.system import DEFAULT_DT
 from envs.tasks import SwimTask
 
 
 def _figures(refine: int) -> dict[str, float]:
     core = FishBatch(3, SwimTask(), physics_dt=DEFAULT_DT / refine,
-                     frame_skip=DEFAULT_FRAME_SKIP * refine, duration=100.0)
+                     frame_skip=DEFAULT_FRAME_SKIP * refine, duration=100.0, fins=True)
     core.reset_rows(np.arange(3), [np.random.default_rng(0) for _ in range(3)])
-    core.fins[2] = fin_mc(pitch=1.0)
+    fins = np.zeros((3, 2))
+    fins[2] = fin_mc(pitch=1.0) / FinParams().max_angle  # row 2 pitches up
     dt, turn_end = core.dt, turn_duration(np.pi / 2)
     coms, headings = [], []
     for k in range(200):
         t = (k + 1) * dt
         swim = to_action(swim_mc(1.0, t))
         actions = np.stack([swim, to_action(turn_mc(np.pi / 2, t, True)), swim])
-        _, info = core.step(actions.astype(np.float64))
+        actions = np.concatenate([actions, fins], axis=1)
+        _, info, _ = core.step(actions.astype(np.float64))
         coms.append(info["com"].copy())
         headings.append(info["heading_deg"][1])
     com = np.array(coms) / core.body.length

@@ -41,7 +41,7 @@ def test_fish_starts_heading_plus_x_with_left_plus_y():
     env = gym.make("Animat/FishSwim-v0", reset_noise_scale=0.0)
     _, info = env.reset(seed=0)
     np.testing.assert_allclose(info["forward"], [1, 0, 0], atol=1e-12)
-    frames = env.unwrapped.core._cache[2]
+    frames = env.unwrapped.core.kinematics().frames
     np.testing.assert_allclose(frames[0, 1], [0, 1, 0], atol=1e-12)
 
 
@@ -52,11 +52,12 @@ def test_invalid_actions_raise_and_leave_state_unchanged(bad, message):
     env = gym.make("Animat/FishSwim-v0").unwrapped
     env.reset(seed=0)
     env.step(np.zeros(6, np.float32))
-    before = (env.core.x.copy(), env.core.v.copy(), env.core.steps.copy())
+    state = env.core.state
+    before = (state.x.copy(), state.v.copy(), state.steps.copy())
     with pytest.raises(ValueError, match=message):
         env.step(bad)
-    assert np.array_equal(env.core.x, before[0]) and np.array_equal(env.core.v, before[1])
-    assert np.array_equal(env.core.steps, before[2])
+    assert np.array_equal(state.x, before[0]) and np.array_equal(state.v, before[1])
+    assert np.array_equal(state.steps, before[2])
 
 
 @pytest.mark.parametrize("env_id", ENV_IDS)
@@ -87,14 +88,14 @@ def test_native_vector_env_matches_single_envs_step_for_step(env_id):
 def test_vector_env_rejects_bad_batch():
     vec = gym.make_vec("Animat/FishSwim-v0", num_envs=3)
     vec.reset(seed=0)
-    x = vec.core.x.copy()
+    x = vec.core.state.x.copy()
     with pytest.raises(ValueError, match="shape"):
         vec.step(np.zeros((2, 6)))
     bad = np.zeros((3, 6))
     bad[1, 2] = np.nan
     with pytest.raises(ValueError, match="NaN"):
         vec.step(bad)
-    assert np.array_equal(vec.core.x, x)
+    assert np.array_equal(vec.core.state.x, x)
 
 
 @pytest.mark.parametrize("env_id", ENV_IDS)
@@ -108,7 +109,7 @@ def test_1e5_random_steps_on_the_native_batch_stay_finite(env_id):
         obs, reward, _, _, info = vec.step(rng.uniform(-1, 1, (256, 6)).astype(np.float32))
         assert np.isfinite(obs).all() and np.isfinite(reward).all()
         assert all(np.isfinite(np.asarray(value, dtype=float)).all() for value in info.values())
-    assert np.isfinite(vec.core.x).all() and np.isfinite(vec.core.v).all()
+    assert np.isfinite(vec.core.state.x).all() and np.isfinite(vec.core.state.v).all()
 
 
 def test_render_and_record_video(tmp_path):

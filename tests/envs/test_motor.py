@@ -4,16 +4,19 @@ import numpy as np
 import pytest
 
 from envs.fish_env import FishEnv
-from envs.motor import fin_mc, swim_mc, to_action, turn_duration, turn_mc
+from envs.motor import FinParams, fin_mc, swim_mc, to_action, turn_duration, turn_mc
 
 
 def _run(env, actuation, seconds, fins=None):
+    """Play ``actuation``; with ``fins`` (2,) rad, in an env made with ``fins=True``, hold those
+    fin angles through the action space."""
     env.reset(seed=0)
     infos = []
     for k in range(int(round(seconds / env.dt))):
+        action = to_action(actuation((k + 1) * env.dt))
         if fins is not None:
-            env.core.fins[0] = fins
-        infos.append(env.step(to_action(actuation((k + 1) * env.dt)))[4])
+            action = np.append(action, fins / FinParams().max_angle).astype(np.float32)
+        infos.append(env.step(action)[4])
     return infos
 
 
@@ -63,7 +66,7 @@ def test_turn_angle_grows_with_the_parameter(left):
 
 @pytest.mark.parametrize("pitch", [1.0, -1.0])
 def test_fin_pitch_changes_depth_in_the_commanded_direction(pitch):
-    env = FishEnv("swim", duration=6.0)
+    env = FishEnv("swim", duration=6.0, fins=True)
     infos = _run(env, lambda t: swim_mc(1.0, t), 6.0, fins=fin_mc(pitch=pitch))
     depth_change = infos[-1]["com"][2] - infos[0]["com"][2]
     assert np.sign(depth_change) == np.sign(pitch)
@@ -72,10 +75,10 @@ def test_fin_pitch_changes_depth_in_the_commanded_direction(pitch):
 
 @pytest.mark.parametrize("roll", [1.0, -1.0])
 def test_fin_roll_rolls_the_fish_to_the_commanded_side(roll):
-    env = FishEnv("swim", duration=6.0)
+    env = FishEnv("swim", duration=6.0, fins=True)
     _run(env, lambda t: swim_mc(1.0, t), 6.0, fins=fin_mc(roll=roll))
-    up = env.core._cache[2][0, 2]  # the body's up vector in the world frame
-    heading = env.core._cache[2][0, 0]
+    frames = env.core.kinematics().frames
+    up, heading = frames[0, 2], frames[0, 0]  # the body's up and forward, world frame
     left = np.cross([0.0, 0.0, 1.0], heading)
     assert -roll * (up @ left) > 0.03  # positive roll: the up vector leans to the right
 

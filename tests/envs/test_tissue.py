@@ -21,7 +21,8 @@ def _passive_strain_range(actions: np.ndarray) -> tuple[float, float]:
     passive = body.actuator < 0
     for action in actions:
         core.step(action.astype(np.float64))
-        r = core.x[:, body.elements[passive, 1]] - core.x[:, body.elements[passive, 0]]
+        x = core.state.x
+        r = x[:, body.elements[passive, 1]] - x[:, body.elements[passive, 0]]
         strain = np.linalg.norm(r, axis=2) / body.rest_lengths[passive]
         low, high = min(low, strain.min()), max(high, strain.max())
     return low, high

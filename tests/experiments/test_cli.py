@@ -1,16 +1,23 @@
-"""The launcher end to end: run, resume after SIGKILL, sweep, compare, bad configs."""
+"""The launcher end to end: run, resume after SIGKILL, sweep, compare, bad configs.
 
+Commands run in-process through :func:`experiments.cli.main` (the ``animat`` entry point);
+the resume test kills a real ``python -m experiments`` process."""
+
+import io
 import json
 import os
 import signal
 import subprocess
 import sys
 import time
+from contextlib import redirect_stderr, redirect_stdout
 from pathlib import Path
+from types import SimpleNamespace
 
 import pytest
 import yaml
 
+from experiments import cli
 from experiments.config import ConfigError, load_config
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -24,8 +31,18 @@ TINY = {
 
 
 def animat(*args, cwd=None, check=True):
-    result = subprocess.run([sys.executable, "-m", "experiments", *map(str, args)],
-                            capture_output=True, text=True, cwd=cwd or ROOT, timeout=600)
+    """``animat ARGS`` in this process, from ``cwd``: its exit status and output."""
+    out, err, here = io.StringIO(), io.StringIO(), os.getcwd()
+    os.chdir(cwd or ROOT)
+    try:
+        with redirect_stdout(out), redirect_stderr(err):
+            try:
+                code = cli.main([str(a) for a in args])
+            except SystemExit as stop:  # argparse's usage errors
+                code = stop.code if isinstance(stop.code, int) else 1
+    finally:
+        os.chdir(here)
+    result = SimpleNamespace(returncode=code or 0, stdout=out.getvalue(), stderr=err.getvalue())
     if check and result.returncode != 0:
         raise AssertionError(f"animat {args} failed:\n{result.stdout}\n{result.stderr}")
     return result

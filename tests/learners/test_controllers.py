@@ -9,23 +9,24 @@ from learners.abstraction import AbstractController, abstract
 from learners.concatenation import concatenate, schedule
 from learners.controller import TentController
 
+A = 6  # channels of the test controllers (any number; controllers are body-agnostic)
 
 def test_tent_basis_interpolates_its_nodes():
     rng = np.random.default_rng(0)
-    controller = TentController(rng.uniform(0, 1, (6, 9)), 0.0, 2.0)
+    controller = TentController(rng.uniform(0, 1, (A, 9)), 0.0, 2.0)
     np.testing.assert_allclose(controller(controller.node_times), controller.nodes.T)
     midpoint = 0.5 * (controller.node_times[3] + controller.node_times[4])
     np.testing.assert_allclose(controller(midpoint), controller.nodes[:, 3:5].mean(axis=1))
 
 
 def test_control_energy_of_a_constant_controller_is_zero():
-    controller = TentController(np.full((6, 11), 0.4), 0.0, 5.0)
+    controller = TentController(np.full((A, 11), 0.4), 0.0, 5.0)
     assert controller.control_energy(nu1=1.0, nu2=0.01) == 0.0
     np.testing.assert_array_equal(controller.derivative(np.linspace(0, 5, 7)), 0.0)
 
 
 def test_actions_follow_the_controller_at_step_ends():
-    controller = TentController(np.linspace(0, 1, 11)[None].repeat(6, 0), 0.0, 1.0)
+    controller = TentController(np.linspace(0, 1, 11)[None].repeat(A, 0), 0.0, 1.0)
     actions = controller.actions(dt=0.1, steps=10)
     np.testing.assert_allclose(actions[:, 0], 2 * np.linspace(0.1, 1.0, 10) - 1, atol=1e-6)
 
@@ -33,14 +34,14 @@ def test_actions_follow_the_controller_at_step_ends():
 def _sinusoid(harmonic=3, period=2.0, nodes=65):
     t = np.linspace(0, period, nodes)
     values = [0.5 + 0.3 * np.sin(2 * np.pi * harmonic * t / period + phase)
-              for phase in np.linspace(0, np.pi, 6)]
+              for phase in np.linspace(0, np.pi, A)]
     return TentController(np.array(values), 0.0, period)
 
 
 def test_abstraction_of_a_sinusoid_keeps_one_coefficient_per_actuator_and_reconstructs():
     controller = _sinusoid()
     abstracted = abstract(controller, threshold=0.1)
-    assert [len(h) for h in abstracted.harmonics] == [1] * 6
+    assert [len(h) for h in abstracted.harmonics] == [1] * A
     assert all(h[0] == 3 for h in abstracted.harmonics)
     nodes = controller.node_times
     np.testing.assert_allclose(abstracted(nodes), controller(nodes), atol=1e-12)
@@ -55,7 +56,7 @@ def test_abstraction_round_trips_through_json():
     again = AbstractController.from_dict(json.loads(json.dumps(abstracted.to_dict())))
     t = np.linspace(0, 5, 50)
     np.testing.assert_allclose(again(t), abstracted(t))
-    assert again.num_parameters == abstracted.num_parameters == 6 + 2 * 6
+    assert again.num_parameters == abstracted.num_parameters == A + 2 * A
 
 
 def test_frequency_parameters_round_trip_and_name_a_wrong_length():
@@ -66,15 +67,15 @@ def test_frequency_parameters_round_trip_and_name_a_wrong_length():
     t = np.linspace(0, 3, 70)
     np.testing.assert_allclose(abstracted.with_frequency_parameters(vector)(t), abstracted(t),
                                atol=1e-12)
-    moved = abstracted.with_frequency_parameters(np.where(np.arange(vector.size) < 6, vector,
+    moved = abstracted.with_frequency_parameters(np.where(np.arange(vector.size) < A, vector,
                                                           0.5))  # every harmonic zeroed
-    np.testing.assert_allclose(moved(t), np.broadcast_to(abstracted.mean, (70, 6)), atol=1e-12)
+    np.testing.assert_allclose(moved(t), np.broadcast_to(abstracted.mean, (70, A)), atol=1e-12)
     with pytest.raises(ValueError, match="expected 18 frequency parameters"):
         abstracted.with_frequency_parameters(vector[:-1])
 
 
 def test_full_abstraction_of_a_periodic_controller_has_its_parameter_count():
-    values = np.random.default_rng(0).uniform(0, 1, (6, 20))  # Nyquist content included
+    values = np.random.default_rng(0).uniform(0, 1, (A, 20))  # Nyquist content included
     tent = TentController(np.concatenate([values, values[:, :1]], axis=1), 0.0, 1.0)
     whole = abstract(tent, threshold=0.0)
     assert whole.nyquist == 10 and whole.num_parameters == 120  # the 120 nodal values
@@ -100,7 +101,7 @@ def test_schedule_overlaps_five_percent():
 def _swim_like(hz, phase, period=1.0, nodes=129):
     t = np.linspace(0, period, nodes)
     row = 0.5 + 0.5 * np.sin(2 * np.pi * hz * t + phase)
-    return abstract(TentController(np.repeat(row[None], 6, axis=0), 0.0, period))
+    return abstract(TentController(np.repeat(row[None], A, axis=0), 0.0, period))
 
 
 def test_concatenation_seam_has_no_jump_larger_than_the_controllers_own_steps():

@@ -1,5 +1,6 @@
 """Every registered learner on a tiny budget; annealing reproducibility and resume."""
 
+import gymnasium as gym
 import numpy as np
 import pytest
 
@@ -178,7 +179,7 @@ def test_annealing_accepts_downhill_and_cools():
     assert not np.array_equal(proposals, x) and np.all((0 <= proposals) & (proposals <= 1))
     told = annealing.tell(params, state, proposals, np.zeros(4))  # all downhill
     np.testing.assert_array_equal(told.x, proposals)
-    assert told.best_energy == 0.0 and told.temperature == pytest.approx(
+    assert np.all(told.energy == 0.0) and told.temperature == pytest.approx(
         0.5 * params.initial_temperature)
 
 
@@ -194,7 +195,8 @@ def test_ppo_resumes_from_its_checkpoint(tmp_path):
 def test_candidates_are_scored_over_several_start_states():
     """The same actions from 4 seeded starts: the score is their mean, the spread is reported,
     and all 4 episodes are charged."""
-    actions = np.random.default_rng(0).uniform(-1, 1, (2, 10, 6)).astype(np.float32)
+    size = gym.make(ENV).action_space.shape[0]
+    actions = np.random.default_rng(0).uniform(-1, 1, (2, 10, size)).astype(np.float32)
     several = BatchEvaluator(ENV, TINY_ENV, 2, seed=5, num_starts=4)
     returns, metrics = several.evaluate(actions)
     assert several.env_steps == 2 * 4 * 10
@@ -204,3 +206,20 @@ def test_candidates_are_scored_over_several_start_states():
     speeds = np.array([m["speed_bl_per_s"] for _, m in singles])
     np.testing.assert_allclose(metrics["speed_bl_per_s_std"], speeds.std(axis=0), rtol=1e-9)
     assert np.all(metrics["speed_bl_per_s_std"] > 0)  # the starts do differ
+
+
+@pytest.mark.parametrize("name, params, message", [
+    ("annealing", {"chains": "lots"}, "learner 'annealing': chains must be an integer, got 'lots'"),
+    ("annealing", {"period": "1s"}, "learner 'annealing': period must be a number or null"),
+    ("cmaes", {"sigma0": -1.0}, "learner 'cmaes': CMAESParams: need popsize >= 2, sigma0 > 0"),
+    ("handmc", {"speed": 2.0}, "learner 'handmc': speed must be in [0, 1]"),
+    ("ppo", {"n_steps": 0}, "learner 'ppo': n_steps must be a positive integer"),
+    ("ppo", {"normalize": "yes"}, "learner 'ppo': normalize must be true or false"),
+    ("macro", {}, "learner 'macro': needs params.repertoire"),
+    ("basic_training", {"annealing": 3}, "learner 'basic_training': annealing must be a mapping"),
+])
+def test_every_learner_checks_its_typed_params_in_one_line(name, params, message):
+    with pytest.raises(ValueError) as error:
+        make_learner(name, ENV, TINY_ENV, params)
+    assert str(error.value).startswith(message), str(error.value)
+    assert "\n" not in str(error.value)

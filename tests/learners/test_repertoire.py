@@ -8,10 +8,12 @@ from learners.controller import TentController
 from learners.macro import MacroLearner, MacroSequence
 from learners.repertoire import Repertoire, Skill
 
+CHANNELS = 6  # actuations of the test skills (any number)
+
 
 def _skill(name, level):
     t = np.linspace(0, 1, 11)
-    nodes = np.repeat((level + 0.2 * np.sin(2 * np.pi * t))[None], 6, axis=0)
+    nodes = np.repeat((level + 0.2 * np.sin(2 * np.pi * t))[None], CHANNELS, axis=0)
     return Skill(name, abstract(TentController(nodes, 0.0, 1.0), 0.1),
                  {"task": "swim", "duration": 1.0, "coefficients_kept": 6})
 

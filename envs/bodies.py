@@ -1,0 +1,25 @@
+"""The bodies an env can be given by name: ``body="fish"`` or any :class:`~envs.body.BodySpec`.
+
+A new animal is its own module that builds a ``BodySpec`` (like :mod:`envs.fish`) and one line
+in :data:`BODIES`; a body made in a script or a test is passed as the spec itself.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+from envs.body import BodySpec
+from envs.fish import fish_body
+
+BODIES: dict[str, Callable[[], BodySpec]] = {"fish": fish_body}
+
+
+def make_body(body: str | BodySpec | None) -> BodySpec:
+    """The body a name stands for (``None``: the fish), or ``body`` itself if it is a spec."""
+    if isinstance(body, BodySpec):
+        return body
+    name = "fish" if body is None else body
+    if name not in BODIES:
+        raise ValueError(f"unknown body {name!r}; choose one of {sorted(BODIES)} or pass a "
+                         "BodySpec")
+    return BODIES[name]()

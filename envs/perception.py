@@ -1,0 +1,104 @@
+"""The active-vision algorithms of the paper's Section 3.2, as pure functions on images.
+
+* Colour histograms (OpenCV, ``BINS`` per channel) and Swain & Ballard's histogram
+  intersection ``sum min(I, M) / sum M`` (1 for an image against its own histogram), with the
+  model histogram scaled to the number of pixels a target covers at a retina level.
+* Localisation by histogram backprojection: each pixel gets the ratio ``min(M / I, 1)`` of its
+  colour bin, the result is blurred with a disk of the target's size, and its peak is where
+  the target is.
+* Stabilisation by least-squares translational optical flow between successive images
+  (Lucas-Kanade over the whole image, refined by a few warps).
+* Range by triangulation from the two eyes' gaze angles and their baseline.
+
+Images are (H, W, 3) uint8 RGB; pixel positions are (x right, y down) in pixels.
+"""
+
+from __future__ import annotations
+
+import cv2
+import numpy as np
+
+BINS = 8  # histogram bins per colour channel
+
+
+def colour_histogram(image: np.ndarray, mask: np.ndarray | None = None) -> np.ndarray:
+    """(BINS, BINS, BINS) float32 counts of the image's colours (optionally where ``mask``)."""
+    mask8 = None if mask is None else mask.astype(np.uint8)
+    return cv2.calcHist([np.ascontiguousarray(image)], [0, 1, 2], mask8, [BINS] * 3,
+                        [0, 256] * 3)
+
+
+def intersection(image_hist: np.ndarray, model_hist: np.ndarray) -> float:
+    """Swain & Ballard's match score ``sum min(I, M) / sum M`` in [0, 1]."""
+    total = float(model_hist.sum())
+    if total <= 0.0:
+        raise ValueError("the model histogram is empty")
+    return float(np.minimum(image_hist, model_hist).sum() / total)
+
+
+def scaled(model_hist: np.ndarray, pixels: float) -> np.ndarray:
+    """The model histogram rescaled to cover ``pixels`` pixels (the target's expected size at
+    one retina level)."""
+    return model_hist * (pixels / float(model_hist.sum()))
+
+
+def backproject(image: np.ndarray, model_hist: np.ndarray, radius: int) -> np.ndarray:
+    """(H, W) float32 evidence for the model at each pixel: the ratio histogram
+    ``min(M / I, 1)`` of each pixel's colour, blurred by a disk of ``radius`` pixels."""
+    image_hist = colour_histogram(image)
+    ratio = np.minimum(model_hist / np.maximum(image_hist, 1e-6), 1.0).astype(np.float32)
+    evidence = cv2.calcBackProject([np.ascontiguousarray(image)], [0, 1, 2], ratio,
+                                   [0, 256] * 3, 1.0)
+    size = 2 * int(radius) + 1
+    disk = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (size, size)).astype(np.float32)
+    return cv2.filter2D(evidence.astype(np.float32), -1, disk / disk.sum(),
+                        borderType=cv2.BORDER_CONSTANT)
+
+
+def locate(image: np.ndarray, model_hist: np.ndarray, radius: int) -> tuple[float, float, float]:
+    """(x, y, strength): where the backprojection peaks, pixels, and its value there."""
+    evidence = backproject(image, model_hist, radius)
+    y, x = np.unravel_index(int(np.argmax(evidence)), evidence.shape)
+    return float(x) + 0.5, float(y) + 0.5, float(evidence[y, x])
+
+
+def translational_flow(previous: np.ndarray, current: np.ndarray, iterations: int = 4
+                       ) -> tuple[float, float]:
+    """(dx, dy) pixels: the shift that best maps ``previous`` onto ``current`` in the least-
+    squares sense (grey levels, central differences, Gauss-Newton with re-warping)."""
+    a = cv2.cvtColor(previous, cv2.COLOR_RGB2GRAY).astype(np.float32)
+    b = cv2.cvtColor(current, cv2.COLOR_RGB2GRAY).astype(np.float32)
+    a, b = cv2.GaussianBlur(a, (5, 5), 1.0), cv2.GaussianBlur(b, (5, 5), 1.0)
+    gx = cv2.Sobel(a, cv2.CV_32F, 1, 0, ksize=3) / 8.0
+    gy = cv2.Sobel(a, cv2.CV_32F, 0, 1, ksize=3) / 8.0
+    inner = (slice(4, -4), slice(4, -4))
+    gx, gy = gx[inner], gy[inner]
+    normal = np.array([[np.sum(gx * gx), np.sum(gx * gy)], [np.sum(gx * gy), np.sum(gy * gy)]])
+    if np.linalg.cond(normal) > 1e8:
+        return 0.0, 0.0  # no texture: nothing to lock onto
+    shift = np.zeros(2)
+    height, width = b.shape
+    for _ in range(iterations):
+        back = np.float32([[1, 0, shift[0]], [0, 1, shift[1]]])  # sample b at x + shift
+        warped = cv2.warpAffine(b, back, (width, height),
+                                flags=cv2.INTER_LINEAR | cv2.WARP_INVERSE_MAP,
+                                borderMode=cv2.BORDER_REPLICATE)
+        difference = (warped - a)[inner]
+        step = np.linalg.solve(normal, [-np.sum(gx * difference), -np.sum(gy * difference)])
+        shift += step
+        if np.abs(step).max() < 1e-3:
+            break
+    return float(shift[0]), float(shift[1])
+
+
+def triangulate(theta_left: float, theta_right: float, baseline: float) -> float:
+    """Range (m) from the midpoint between the eyes to the point both eyes fixate: eyes
+    ``baseline`` m apart on the lateral axis (the left one at +baseline/2), gaze angles from
+    straight ahead, rad, positive to the left. The vergence angle is theta_right -
+    theta_left (positive when verged on a point ahead)."""
+    vergence = np.tan(theta_right) - np.tan(theta_left)
+    if vergence <= 0.0:
+        return float("inf")
+    forward = baseline / vergence
+    lateral = forward * np.tan(theta_left) + 0.5 * baseline
+    return float(np.hypot(forward, lateral))

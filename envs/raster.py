@@ -1,0 +1,87 @@
+"""The one rasterizer: flat-coloured triangles into an RGB image with a depth buffer (Numba).
+
+Every picture of the world (the third-person view and the eyes' cameras) is made by
+:func:`rasterize`: triangles already projected to pixel coordinates, each with its vertices'
+camera-space depths and one colour; a pixel takes the colour of the nearest triangle that
+covers its centre (depth interpolated as 1/z across the triangle, which is exact for planar
+triangles under perspective). Occlusion is therefore per pixel, whatever order the triangles
+come in. Triangles with a vertex nearer than ``near`` are dropped (no clipping).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+
+@njit(cache=True)
+def rasterize(pixels, depths, colours, image, zbuffer, near) -> None:
+    """Draw triangles into ``image`` (H, W, 3) uint8 where they are nearer than ``zbuffer``
+    (H, W) float, updating it.
+
+    Args:
+        pixels: (T, 3, 2) vertex positions, pixels (x right, y down; pixel (i, j) has its
+            centre at (j + 0.5, i + 0.5)).
+        depths: (T, 3) vertex depths along the camera's axis, m.
+        colours: (T, 3) uint8 RGB.
+        near: triangles with a vertex nearer than this (m) are skipped.
+    """
+    height, width = zbuffer.shape
+    for t in range(pixels.shape[0]):
+        z0, z1, z2 = depths[t, 0], depths[t, 1], depths[t, 2]
+        if z0 < near or z1 < near or z2 < near:
+            continue
+        x0, y0 = pixels[t, 0, 0], pixels[t, 0, 1]
+        x1, y1 = pixels[t, 1, 0], pixels[t, 1, 1]
+        x2, y2 = pixels[t, 2, 0], pixels[t, 2, 1]
+        area = (x1 - x0) * (y2 - y0) - (x2 - x0) * (y1 - y0)
+        if area == 0.0:
+            continue
+        left = max(int(np.floor(min(x0, x1, x2))), 0)
+        right = min(int(np.ceil(max(x0, x1, x2))), width - 1)
+        top = max(int(np.floor(min(y0, y1, y2))), 0)
+        bottom = min(int(np.ceil(max(y0, y1, y2))), height - 1)
+        w0, w1, w2 = 1.0 / z0, 1.0 / z1, 1.0 / z2
+        for i in range(top, bottom + 1):
+            py = i + 0.5
+            for j in range(left, right + 1):
+                px = j + 0.5
+                b0 = ((x1 - px) * (y2 - py) - (x2 - px) * (y1 - py)) / area
+                b1 = ((x2 - px) * (y0 - py) - (x0 - px) * (y2 - py)) / area
+                b2 = 1.0 - b0 - b1
+                if b0 < 0.0 or b1 < 0.0 or b2 < 0.0:
+                    continue
+                depth = 1.0 / (b0 * w0 + b1 * w1 + b2 * w2)
+                if depth < zbuffer[i, j]:
+                    zbuffer[i, j] = depth
+                    image[i, j, 0] = colours[t, 0]
+                    image[i, j, 1] = colours[t, 1]
+                    image[i, j, 2] = colours[t, 2]
+
+
+@njit(cache=True)
+def rasterize_world(triangles, colours, eye, rotation, focal, image, zbuffer, near) -> None:
+    """:func:`rasterize` of world-frame triangles (T, 3, 3) m seen by a pinhole camera at
+    ``eye`` (3,) with ``rotation`` (3, 3) (rows right, down, forward) and ``focal`` pixels:
+    the projection done here, vertex by vertex."""
+    height, width = zbuffer.shape
+    count = triangles.shape[0]
+    pixels, depths = np.empty((count, 3, 2)), np.empty((count, 3))
+    for t in range(count):
+        for k in range(3):
+            d0 = triangles[t, k, 0] - eye[0]
+            d1 = triangles[t, k, 1] - eye[1]
+            d2 = triangles[t, k, 2] - eye[2]
+            cx = rotation[0, 0] * d0 + rotation[0, 1] * d1 + rotation[0, 2] * d2
+            cy = rotation[1, 0] * d0 + rotation[1, 1] * d1 + rotation[1, 2] * d2
+            cz = rotation[2, 0] * d0 + rotation[2, 1] * d1 + rotation[2, 2] * d2
+            safe = max(cz, 1e-6)
+            pixels[t, k, 0] = 0.5 * width + focal * cx / safe
+            pixels[t, k, 1] = 0.5 * height + focal * cy / safe
+            depths[t, k] = cz
+    rasterize(pixels, depths, colours, image, zbuffer, near)
+
+
+def quads_to_triangles(corners: np.ndarray) -> np.ndarray:
+    """(F, 4, ...) quads (a triangle repeats a corner) -> (2F, 3, ...) triangles."""
+    return np.concatenate([corners[:, [0, 1, 2]], corners[:, [0, 2, 3]]], axis=0)

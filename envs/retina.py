@@ -1,0 +1,102 @@
+"""The foveated binocular retina: two eyes on the head, each four coaxial cameras.
+
+Each eye (the paper's Section 3.1, Fig. 5) has ``levels`` cameras of ``size`` x ``size`` RGB
+sharing one optical axis: level 0 sees ``field_of_view`` (120 deg), every further level half
+the angle of the one before, so level 3 (15 deg) is the fovea. An eye sits on the head at
+``offset`` in the body frame (the left eye at +y, the right at -y) and is turned by its gaze
+angles relative to the head: theta about the head's up axis (positive: to the left), phi about
+its lateral axis (positive: up). Rendering is a pure function of the scene and the eye poses,
+through the same :class:`~envs.render.Camera` and rasterizer as the third-person view.
+
+The composite of an eye (Fig. 5(b)) is 2^(levels-1) * size pixels square: level l magnified
+2^(levels-1-l) times and centred, finer levels on top, so every pixel shows the finest level
+that sees it.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from envs.render import Camera, Scene
+
+
+@dataclass(frozen=True)
+class RetinaParams:
+    """levels: coaxial cameras per eye; size: pixels per side of each; field_of_view: level
+    0's full angle, deg (level l sees half of level l-1's); eye_offset: (forward, left, up)
+    of the left eye in the head frame, body lengths (the right eye mirrors it in y)."""
+
+    levels: int = 4
+    size: int = 64
+    field_of_view: float = 120.0
+    eye_offset: tuple[float, float, float] = (-0.08, 0.05, 0.02)
+
+    def __post_init__(self) -> None:
+        if self.levels < 1 or self.size < 8 or not 0.0 < self.field_of_view < 170.0:
+            raise ValueError("RetinaParams: need levels >= 1, size >= 8, 0 < field_of_view "
+                             "< 170 deg")
+
+    def focal(self, level: int) -> float:
+        """Focal length of level ``level``, pixels."""
+        half = np.radians(self.field_of_view) / 2.0 / 2**level
+        return 0.5 * self.size / np.tan(half)
+
+
+def gaze_rotation(frame: np.ndarray, theta: float, phi: float) -> np.ndarray:
+    """(3, 3) camera rotation (rows right, down, forward; world frame) of an eye turned by
+    gaze angles theta (left, rad) and phi (up, rad) from the head's frame ``frame`` (3, 3)
+    (rows forward, left, up)."""
+    forward, left, up = frame
+    ct, st, cp, sp = np.cos(theta), np.sin(theta), np.cos(phi), np.sin(phi)
+    axis = cp * (ct * forward + st * left) + sp * up
+    side = ct * left - st * forward  # the eye's left, still horizontal in the head frame
+    top = np.cross(axis, side)
+    return np.stack([-side, -top, axis])
+
+
+def eye_positions(frame: np.ndarray, head: np.ndarray, length: float,
+                  params: RetinaParams = RetinaParams()) -> np.ndarray:
+    """(2, 3) world positions of the left and right eye: the head point ``head`` (3,) m (the
+    nose) plus ``eye_offset`` body lengths in the head frame."""
+    forward, left, up = frame
+    a, b, c = params.eye_offset
+    return np.stack([head + length * (a * forward + s * b * left + c * up) for s in (1.0, -1.0)])
+
+
+def render_eye(scene: Scene, position: np.ndarray, rotation: np.ndarray,
+               params: RetinaParams = RetinaParams(), prepared=None) -> np.ndarray:
+    """(levels, size, size, 3) uint8: the eye's images from level 0 (widest) to the fovea.
+    ``prepared``: the scene's (triangles, colours, grid segments), when already computed for
+    this frame (both eyes share them)."""
+    if prepared is None:
+        prepared = (*scene.triangles(), scene.grid_segments(position))
+    images = []
+    for level in range(params.levels):
+        camera = Camera(params.size, params.size, params.focal(level), position, rotation)
+        images.append(camera.draw(*prepared))
+    return np.stack(images)
+
+
+def render_eyes(scene: Scene, positions: np.ndarray, rotations: np.ndarray,
+                params: RetinaParams = RetinaParams()) -> np.ndarray:
+    """(2, levels, size, size, 3) uint8: both eyes (positions (2, 3), rotations (2, 3, 3))
+    from one preparation of the scene."""
+    prepared = (*scene.triangles(), scene.grid_segments(positions.mean(axis=0)))
+    return np.stack([render_eye(scene, p, r, params, prepared)
+                     for p, r in zip(positions, rotations)])
+
+
+def composite(levels: np.ndarray) -> np.ndarray:
+    """(S, S, 3) uint8, S = 2^(L-1) * size: the eye's levels (L, size, size, 3) magnified
+    2^(L-1-l) and centred, finer levels on top (Fig. 5(b))."""
+    count, size = levels.shape[0], levels.shape[1]
+    full = size * 2 ** (count - 1)
+    out = np.zeros((full, full, 3), np.uint8)
+    for level in range(count):
+        scale = 2 ** (count - 1 - level)
+        block = np.repeat(np.repeat(levels[level], scale, axis=0), scale, axis=1)
+        start = (full - block.shape[0]) // 2
+        out[start:start + block.shape[0], start:start + block.shape[1]] = block
+    return out

@@ -1,0 +1,74 @@
+"""The sensor seam: an env's observation is assembled from a list of sensors.
+
+A sensor has a ``name``, the observation ``space`` it gives for one body, and ``read``: its
+reading of every body in the batch, (B, *shape), from the env's core and the current
+:class:`~envs.fish_core.Kinematics`. With one sensor (the default, :class:`Proprioception`)
+the observation is that sensor's array, a ``Box``; with several it is a ``Dict`` keyed by
+their names. The retina (the eyes) is a sensor like any other: a new sensor is one class and
+``sensors=[Proprioception(), MySensor()]`` in the env's arguments.
+"""
+
+from __future__ import annotations
+
+from typing import Protocol
+
+import gymnasium as gym
+import numpy as np
+
+from envs.fish_core import OBS_LIMIT, FishBatch, Kinematics
+
+
+class Sensor(Protocol):
+    """What the envs need of a sensor."""
+
+    name: str
+
+    def space(self, core: FishBatch) -> gym.spaces.Space:
+        """The observation space of one body's reading."""
+
+    def read(self, core: FishBatch, kinematics: Kinematics) -> np.ndarray:
+        """(B, *shape) the reading of every body in the batch."""
+
+
+class Proprioception:
+    """The body's own state and the task's entries (:meth:`envs.fish_core.FishBatch.observe`):
+    node positions and velocities in the body frame, centre-of-mass velocity, up direction,
+    activations, then the task's observation; float32, clipped to +-``OBS_LIMIT``."""
+
+    name = "proprioception"
+
+    def space(self, core: FishBatch) -> gym.spaces.Box:
+        return gym.spaces.Box(-OBS_LIMIT, OBS_LIMIT, (core.obs_size,), np.float32)
+
+    def read(self, core: FishBatch, kinematics: Kinematics) -> np.ndarray:
+        return core.observe(kinematics)
+
+
+class Observer:
+    """Assembles the observation of a batch from ``sensors`` (default: proprioception)."""
+
+    def __init__(self, core: FishBatch, sensors: list | None = None) -> None:
+        self.sensors = list(sensors) if sensors else [Proprioception()]
+        names = [s.name for s in self.sensors]
+        if len(set(names)) != len(names):
+            raise ValueError(f"sensor names must be unique, got {names}")
+        if len(self.sensors) == 1:
+            self.single_space = self.sensors[0].space(core)
+        else:
+            self.single_space = gym.spaces.Dict({s.name: s.space(core) for s in self.sensors})
+
+    def observe(self, core: FishBatch, kinematics: Kinematics):
+        """(B, ...) array, or a dict of them by sensor name."""
+        if len(self.sensors) == 1:
+            return self.sensors[0].read(core, kinematics)
+        return {s.name: s.read(core, kinematics) for s in self.sensors}
+
+    def row(self, obs, index: int):
+        """Body ``index``'s observation out of a batch's."""
+        if isinstance(obs, dict):
+            return {k: v[index] for k, v in obs.items()}
+        return obs[index]
+
+    @staticmethod
+    def copy(obs):
+        return {k: v.copy() for k, v in obs.items()} if isinstance(obs, dict) else obs.copy()

@@ -1,0 +1,69 @@
+"""Active-vision primitives: histograms, backprojection, optical flow, triangulation."""
+
+import cv2
+import numpy as np
+import pytest
+
+from envs.fish import fish_body
+from envs.perception import (
+    colour_histogram,
+    intersection,
+    locate,
+    scaled,
+    translational_flow,
+    triangulate,
+)
+from envs.render import Scene
+from envs.retina import RetinaParams, gaze_rotation, render_eye
+
+
+def _textured(seed=0, size=64):
+    rng = np.random.default_rng(seed)
+    noise = rng.uniform(0, 255, (size // 4, size // 4, 3)).astype(np.uint8)
+    return cv2.resize(noise, (size, size), interpolation=cv2.INTER_CUBIC)
+
+
+def test_histogram_intersection_of_an_image_with_itself_is_one():
+    image = _textured()
+    assert intersection(colour_histogram(image), colour_histogram(image)) == pytest.approx(1.0)
+    other = np.zeros_like(image)
+    assert intersection(colour_histogram(other), colour_histogram(image)) < 0.1
+    model = colour_histogram(image)
+    assert scaled(model, 100.0).sum() == pytest.approx(100.0)
+
+
+def test_backprojection_of_a_red_target_peaks_on_the_target():
+    body = fish_body()
+    x = body.rest_positions - body.rest_positions.mean(axis=0)
+    x = x @ np.array([[0, -1, 0], [1, 0, 0], [0, 0, 1]]).T + [1.0, 0.25, 0.05]
+    scene = Scene(seabed_z=-0.4).add(body, x, (220, 40, 40))
+    decoy = body.rest_positions - body.rest_positions.mean(axis=0) + [1.2, -0.3, 0.0]
+    scene.add(body, decoy, (230, 210, 40))  # a yellow fish elsewhere
+    image = render_eye(scene, np.zeros(3), gaze_rotation(np.eye(3), 0.0, 0.0))[1]  # 60 deg
+    red = (image[..., 0] > 70) & (image[..., 1] < 40) & (image[..., 2] < 40)
+    close_up = render_eye(Scene(seabed_z=-0.4).add(body, x, (220, 40, 40)), np.zeros(3),
+                          gaze_rotation(np.eye(3), np.radians(14.0), np.radians(3.0)))[2]
+    target = (close_up[..., 0] > 70) & (close_up[..., 1] < 40) & (close_up[..., 2] < 40)
+    model = scaled(colour_histogram(close_up, target), float(red.sum()))  # the model image
+    px, py, strength = locate(image, model, radius=2)
+    ys, xs = np.nonzero(red)
+    assert red.sum() > 15 and strength > 0
+    assert abs(px - xs.mean()) < 3 and abs(py - ys.mean()) < 3  # on the red fish, not the yellow
+
+
+@pytest.mark.parametrize("shift", [(1.3, -0.7), (-2.6, 1.9), (0.4, 0.0)])
+def test_optical_flow_recovers_a_known_shift_within_half_a_pixel(shift):
+    image = _textured(seed=3)
+    moved = cv2.warpAffine(image, np.float32([[1, 0, shift[0]], [0, 1, shift[1]]]), (64, 64),
+                           flags=cv2.INTER_LINEAR, borderMode=cv2.BORDER_REFLECT)
+    dx, dy = translational_flow(image, moved)
+    assert abs(dx - shift[0]) < 0.5 and abs(dy - shift[1]) < 0.5, (dx, dy)
+
+
+def test_triangulated_range_of_a_verged_target_at_two_body_lengths_is_within_ten_percent():
+    length, baseline = 0.30, 2 * RetinaParams().eye_offset[1] * 0.30
+    target = np.array([2.0 * length, 0.1 * length])  # ahead, a little to the left
+    angles = [np.arctan2(target[1] - side * baseline / 2, target[0]) for side in (1, -1)]
+    estimate = triangulate(angles[0], angles[1], baseline)
+    assert estimate == pytest.approx(np.hypot(*target), rel=0.1)
+    assert triangulate(0.1, 0.1, baseline) == float("inf")  # parallel gaze: no range

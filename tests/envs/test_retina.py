@@ -1,0 +1,79 @@
+"""The retina: coaxial foveated cameras, pure functions of the scene and the eye poses."""
+
+import numpy as np
+import pytest
+
+from envs.fish import fish_body
+from envs.render import Scene
+from envs.retina import RetinaParams, composite, gaze_rotation, render_eye
+
+HEAD = np.eye(3)  # rows forward (+x), left (+y), up (+z)
+EYE = np.zeros(3)
+
+
+def _fish_at(centre, colour, yaw=np.pi / 2):
+    """A fish body broadside on (turned ``yaw`` about z), its mid-body at ``centre``."""
+    body = fish_body()
+    x = body.rest_positions - body.rest_positions.mean(axis=0)
+    c, s = np.cos(yaw), np.sin(yaw)
+    x = x @ np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]]).T + centre
+    return body, x, colour
+
+
+def _red(image):
+    return (image[..., 0] > 70) & (image[..., 1] < 30) & (image[..., 2] < 30)
+
+
+def _scene(*fishes):
+    scene = Scene(seabed_z=-5.0)
+    for fish in fishes:
+        scene.add(*fish)
+    return scene
+
+
+def test_an_object_straight_ahead_is_at_the_centre_of_every_level():
+    scene = _scene(_fish_at([1.0, 0.0, 0.0], (255, 0, 0)))
+    levels = render_eye(scene, EYE, gaze_rotation(HEAD, 0.0, 0.0))
+    assert levels.shape == (4, 64, 64, 3) and levels.dtype == np.uint8
+    for image in levels:
+        assert _red(image)[30:34, 30:34].any()  # at the centre of every level
+    assert _red(levels[3])[28:36, 28:36].all()
+    sizes = [_red(image).sum() for image in levels]
+    assert sizes == sorted(sizes)  # each level magnifies twice as much
+
+
+def test_an_object_40_degrees_off_axis_is_seen_by_level_0_and_not_the_fovea():
+    angle = np.radians(40.0)
+    scene = _scene(_fish_at([np.cos(angle), np.sin(angle), 0.0], (255, 0, 0), yaw=angle + 1.57))
+    levels = render_eye(scene, EYE, gaze_rotation(HEAD, 0.0, 0.0))
+    assert _red(levels[0]).sum() > 5
+    assert _red(levels[3]).sum() == 0
+    turned = render_eye(scene, EYE, gaze_rotation(HEAD, angle, 0.0))  # gaze 40 deg left
+    assert _red(turned[3])[30:34, 30:34].all()
+
+
+def test_a_nearer_object_occludes_a_farther_one():
+    near, far = _fish_at([0.8, 0.0, 0.0], (0, 0, 255)), _fish_at([1.6, 0.0, 0.0], (255, 0, 0))
+    alone = _red(render_eye(_scene(far), EYE, gaze_rotation(HEAD, 0.0, 0.0))[3]).sum()
+    seen = []
+    for order in ((near, far), (far, near)):  # whatever order the scene lists them in
+        fovea = render_eye(_scene(*order), EYE, gaze_rotation(HEAD, 0.0, 0.0))[3]
+        assert (fovea[28:36, 28:36, 2] > 70).all() and not _red(fovea)[28:36, 28:36].any()
+        seen.append(_red(fovea).sum())
+    assert seen[0] == seen[1] < 0.1 * alone  # the far fish shows only past the near one's tail
+
+
+def test_gaze_up_looks_up_and_the_composite_stacks_the_levels():
+    rotation = gaze_rotation(HEAD, 0.0, np.radians(30.0))
+    np.testing.assert_allclose(rotation[2], [np.cos(np.radians(30)), 0.0, np.sin(np.radians(30))])
+    np.testing.assert_allclose(np.linalg.det(rotation), 1.0)
+    levels = np.stack([np.full((64, 64, 3), 40 * (k + 1), np.uint8) for k in range(4)])
+    out = composite(levels)
+    assert out.shape == (512, 512, 3)
+    assert out[0, 0, 0] == 40 and out[256, 256, 0] == 160 and out[200, 200, 0] == 120
+
+
+def test_retina_params_are_checked():
+    with pytest.raises(ValueError, match="field_of_view"):
+        RetinaParams(field_of_view=200.0)
+    assert RetinaParams().focal(3) == pytest.approx(32.0 / np.tan(np.radians(7.5)))

@@ -1,0 +1,53 @@
+"""The sensor seam: a toy sensor added through ``sensors=`` gives a Dict observation that both
+Gymnasium's and stable-baselines3's env checkers accept, in the single and the vector env."""
+
+import gymnasium as gym
+import numpy as np
+import pytest
+from gymnasium.utils.env_checker import check_env
+
+import envs  # noqa: F401
+from envs.sensors import Proprioception
+
+
+class DepthGauge:
+    """Depth of the centre of mass below the start, in body lengths."""
+
+    name = "depth"
+
+    def space(self, core):
+        return gym.spaces.Box(-1e4, 1e4, (1,), np.float32)
+
+    def read(self, core, kinematics):
+        depth = (core.state.origin[:, 2] - kinematics.com[:, 2]) / core.body.length
+        return depth[:, None].astype(np.float32)
+
+
+def test_a_toy_sensor_gives_a_dict_observation_both_checkers_accept():
+    from stable_baselines3.common.env_checker import check_env as sb3_check_env
+
+    env = gym.make("Animat/FishSwim-v0", sensors=[Proprioception(), DepthGauge()],
+                   duration=1.0)
+    assert isinstance(env.observation_space, gym.spaces.Dict)
+    assert set(env.observation_space.spaces) == {"proprioception", "depth"}
+    check_env(env.unwrapped, skip_render_check=True)
+    sb3_check_env(env.unwrapped, warn=True)
+    obs, _ = env.reset(seed=0)
+    assert obs["depth"].shape == (1,) and obs["proprioception"].shape == (150,)
+    assert env.observation_space.contains(obs)
+
+
+def test_the_vector_env_batches_each_sensor_and_keeps_final_observations():
+    vec = gym.make_vec("Animat/FishSwim-v0", num_envs=3, duration=0.1,
+                       sensors=[Proprioception(), DepthGauge()], autoreset_mode="same_step")
+    obs, _ = vec.reset(seed=0)
+    assert obs["depth"].shape == (3, 1) and obs["proprioception"].shape == (3, 150)
+    for _ in range(2):
+        obs, _, _, truncated, info = vec.step(np.zeros((3, 6), np.float32))
+    assert truncated.all() and info["final_obs"]["depth"].shape == (3, 1)
+    assert vec.observation_space.contains(obs)
+
+
+def test_sensor_names_must_be_unique():
+    with pytest.raises(ValueError, match="unique"):
+        gym.make("Animat/FishSwim-v0", sensors=[DepthGauge(), DepthGauge()])

@@ -1,0 +1,97 @@
+"""The body seam: a second animal defined entirely as data here, with its own node count and
+actuator count, swims in the fish envs via ``body=`` and goes through a learning round, with
+no change to library code."""
+
+import gymnasium as gym
+import numpy as np
+from gymnasium.utils.env_checker import check_env
+
+import envs  # noqa: F401
+from envs.body import CROSS, MUSCLE, ORDINARY, BodySpec
+from envs.physics.system import DEFAULT_DT, STABILITY_MARGIN, stable_step
+from learners.registry import make_learner
+
+SIGNS = [(1, 1), (-1, 1), (-1, -1), (1, -1)]  # ring corners (y, z): ul, ur, lr, ll
+
+
+def eel_body() -> BodySpec:
+    """A 0.4 m, 3-ring eel: 14 nodes (nose, 3 rings of 4, tail tip), 50 elements, 8 muscles
+    in 4 actuators (left and right, front and back segment), 16 faces, 2 fins."""
+    stations = [(-0.1, 0.015), (-0.2, 0.012), (-0.3, 0.008)]
+    nodes = [(0.0, 0.0, 0.0)] + [(x, sy * h, sz * h) for x, h in stations for sy, sz in SIGNS]
+    nodes.append((-0.4, 0.0, 0.0))
+    rings = [[1 + 4 * k + c for c in range(4)] for k in range(3)]
+    elements, kinds, actuator = [], [], []
+
+    def add(i, j, kind, act=-1):
+        elements.append((i, j))
+        kinds.append(kind)
+        actuator.append(act)
+
+    for c in range(4):
+        add(0, rings[0][c], ORDINARY)
+        add(rings[2][c], 13, ORDINARY)
+    for ring in rings:
+        for c in range(4):
+            add(ring[c], ring[(c + 1) % 4], ORDINARY)
+        add(ring[0], ring[2], CROSS)
+        add(ring[1], ring[3], CROSS)
+    for k, (front, back) in enumerate(zip(rings[:-1], rings[1:])):
+        for c in range(4):
+            left = c in (0, 3)
+            add(front[c], back[c], MUSCLE, k if left else 2 + k)
+            add(front[c], back[(c + 1) % 4], CROSS)
+            add(front[(c + 1) % 4], back[c], CROSS)
+    faces = [(0, rings[0][c], rings[0][(c + 1) % 4], rings[0][(c + 1) % 4]) for c in range(4)]
+    faces += [(f[c], f[(c + 1) % 4], b[(c + 1) % 4], b[c])
+              for f, b in zip(rings[:-1], rings[1:]) for c in range(4)]
+    faces += [(rings[2][c], 13, rings[2][(c + 1) % 4], rings[2][(c + 1) % 4]) for c in range(4)]
+    positions, faces = np.array(nodes), np.array(faces)
+    p = positions[faces]
+    normals = np.cross(p[:, 2] - p[:, 0], p[:, 3] - p[:, 1])
+    inward = np.einsum("fk,fk->f", normals, p.mean(axis=1) * [0.0, 1.0, 1.0]) < 0
+    faces[inward] = faces[inward, ::-1]
+    weights = np.where(faces == np.roll(faces, 1, axis=1), 0.0, 1.0)
+    weights /= weights.sum(axis=1, keepdims=True)
+    masses = np.array([0.01] + [0.04] * 4 + [0.03] * 4 + [0.02] * 4 + [0.01])
+    kinds = np.array(kinds)
+    return BodySpec(
+        name="eel", rest_positions=positions, masses=masses, volumes=masses / 1000.0,
+        elements=np.array(elements), kinds=kinds,
+        stiffness=np.where(kinds == MUSCLE, 150.0, 300.0), damping=np.full(len(kinds), 0.05),
+        actuator=np.array(actuator),
+        actuator_names=("left_front", "left_back", "right_front", "right_back"),
+        max_contraction=0.4, faces=faces, face_weights=weights,
+        fin_nodes=np.array([[1, 4], [2, 3]]), fin_areas=np.array([3e-4, 3e-4]),
+        fin_names=("left", "right"), frame_front=np.array([0, 1, 2, 3, 4]),
+        frame_back=np.array(rings[2]), frame_up=np.array([1, 2, 5, 6]),
+        frame_down=np.array([3, 4, 7, 8]))
+
+
+def test_an_eel_defined_here_swims_in_the_fish_env():
+    eel = eel_body()
+    assert DEFAULT_DT < STABILITY_MARGIN * stable_step(eel)
+    env = gym.make("Animat/FishSwim-v0", body=eel, duration=2.0)
+    check_env(env.unwrapped, skip_render_check=True)
+    assert env.action_space.shape == (4,)
+    assert env.observation_space.shape == (2 * 14 * 3 + 6 + 4,)
+    env.reset(seed=0)
+    t = np.arange(40) * env.unwrapped.dt
+    wave = np.sin(2 * np.pi * 2.0 * t)
+    for k in range(40):  # left and right alternate, the back segment lagging
+        w0, w1 = wave[k], np.sin(2 * np.pi * 2.0 * t[k] - 0.8)
+        env.step(np.array([w0, w1, -w0, -w1], np.float32))
+    assert env.unwrapped.node_positions.shape == (14, 3)
+    assert np.isfinite(env.unwrapped.node_positions).all()
+    vec = gym.make_vec("Animat/FishSwim-v0", num_envs=3, body=eel, duration=1.0)
+    assert vec.single_action_space.shape == (4,)
+
+
+def test_an_eel_goes_through_an_annealing_round():
+    eel = eel_body()
+    learner = make_learner("annealing", "Animat/FishSwim-v0", {"body": eel, "duration": 1.0},
+                           {"chains": 4, "nodes": 5, "start_states": 2}, seed=0)
+    result = learner.learn(4 * 2 * 20 * 2)  # two rounds of 4 chains x 2 starts x 20 steps
+    assert result.env_steps == 4 * 2 * 20 * 2
+    assert np.array(result.artefacts["controller"]["nodes"]).shape[0] == 4  # one row per actuator
+    assert np.isfinite(result.metrics["eval/speed_bl_per_s"])
