@@ -48,7 +48,7 @@ def backproject(image: np.ndarray, model_hist: np.ndarray, radius: int) -> np.nd
     image_hist = colour_histogram(image)
     ratio = np.minimum(model_hist / np.maximum(image_hist, 1e-6), 1.0).astype(np.float32)
     evidence = cv2.calcBackProject([np.ascontiguousarray(image)], [0, 1, 2], ratio,
-                                   [0, 256] * 3, 1.0)
+                                   [0, 256] * 3, 255.0) / 255.0  # uint8 output: scale up
     size = 2 * int(radius) + 1
     disk = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (size, size)).astype(np.float32)
     return cv2.filter2D(evidence.astype(np.float32), -1, disk / disk.sum(),

@@ -67,3 +67,15 @@ def test_triangulated_range_of_a_verged_target_at_two_body_lengths_is_within_ten
     estimate = triangulate(angles[0], angles[1], baseline)
     assert estimate == pytest.approx(np.hypot(*target), rel=0.1)
     assert triangulate(0.1, 0.1, baseline) == float("inf")  # parallel gaze: no range
+
+
+def test_backprojection_keeps_fractional_ratios():
+    """A colour the model has half as often as the image gets evidence 0.5, not 0."""
+    from envs.perception import backproject
+
+    image = np.zeros((16, 16, 3), np.uint8)
+    image[:, :8] = (200, 30, 30)
+    model = colour_histogram(image) * 0.5
+    evidence = backproject(image, model, radius=0)
+    assert evidence[8, 2] == pytest.approx(0.5, abs=0.01)
+    assert evidence[8, 12] == pytest.approx(0.5, abs=0.01)
