@@ -2,7 +2,8 @@
 
 Importing ``envs`` registers the Gymnasium environments under the ``Animat`` namespace:
 ``Animat/FishSwim-v0``, ``Animat/FishTurn-v0`` and ``Animat/FishReach-v0``, each with a native
-batched vector env (``gym.make_vec(id, num_envs=256)``).
+batched vector env (``gym.make_vec(id, num_envs=256)``), and ``Animat/FishPursuit-v0``
+(vision-guided pursuit; :mod:`envs.pursuit`).
 """
 
 from __future__ import annotations
@@ -18,6 +19,8 @@ def _register() -> None:
             continue
         gym.register(id=env_id, entry_point="envs.fish_env:FishEnv",
                      vector_entry_point="envs.fish_env:FishVectorEnv", kwargs={"task": task})
+    if "Animat/FishPursuit-v0" not in gym.registry:
+        gym.register(id="Animat/FishPursuit-v0", entry_point="envs.pursuit:FishPursuitEnv")
 
 
 _register()

@@ -1,0 +1,65 @@
+"""Navigation-level control of fish: (speed, turn, pitch) commands run through the motor
+controllers, for any number of fish at once.
+
+The paper's navigation sends a turn angle to the left- or right-turn-MC when it is above a
+threshold, and otherwise swims with the swim-MC; up and down go to the fin-MC. A
+:class:`Navigator` keeps, per fish, which MC is running and since when: a turn command of
+``turn`` in [-1, 1] (positive: left) with ``|turn| > turn_threshold`` starts a turn of
+``|turn| * max_turn`` that runs to its end before the next command is taken; otherwise the
+swim-MC runs at ``speed`` in [0, 1] (its ease-in restarts after a turn). The result is the
+fish env's action: the six actuations as ``2u - 1`` and the two fin entries.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from envs.motor import FinParams, fin_mc, swim_mc, to_action, turn_duration, turn_mc
+
+
+@dataclass(frozen=True)
+class NavigationParams:
+    """turn_threshold: |turn| below which the fish swims; max_turn: rad, the turn of a
+    command of 1."""
+
+    turn_threshold: float = 0.15
+    max_turn: float = np.pi / 2
+
+
+class Navigator:
+    """Motor state of ``count`` fish: the running MC's kind (0 swim, +1 left turn, -1 right
+    turn), its angle and its start time (s)."""
+
+    def __init__(self, count: int, params: NavigationParams = NavigationParams()) -> None:
+        self.params = params
+        self.kind = np.zeros(count, dtype=int)
+        self.angle = np.zeros(count)
+        self.start = np.zeros(count)
+
+    def reset(self, rows: np.ndarray) -> None:
+        self.kind[rows], self.angle[rows], self.start[rows] = 0, 0.0, 0.0
+
+    def actions(self, commands: np.ndarray, time: float | np.ndarray) -> np.ndarray:
+        """(count, 8) fish-env actions (6 actuations, 2 fins) at ``time`` (s, scalar or per
+        fish) for commands (count, 3): speed in [0, 1], turn and pitch in [-1, 1]."""
+        commands = np.asarray(commands, dtype=float)
+        time = np.broadcast_to(np.asarray(time, dtype=float), self.kind.shape)
+        out = np.empty((len(self.kind), 8), np.float32)
+        for k in range(len(self.kind)):
+            speed, turn, pitch = np.clip(commands[k], [0.0, -1.0, -1.0], 1.0)
+            elapsed = time[k] - self.start[k]
+            if self.kind[k] != 0 and elapsed >= turn_duration(self.angle[k]):
+                self.kind[k], self.start[k] = 0, time[k]  # the turn is over: swim again
+            if self.kind[k] == 0 and abs(turn) > self.params.turn_threshold:
+                self.kind[k], self.start[k] = (1 if turn > 0 else -1), time[k]
+                self.angle[k] = abs(turn) * self.params.max_turn
+            elapsed = time[k] - self.start[k]
+            if self.kind[k] == 0:
+                u = swim_mc(float(speed), elapsed)
+            else:
+                u = turn_mc(float(self.angle[k]), elapsed, self.kind[k] > 0)
+            out[k, :6] = to_action(u)
+            out[k, 6:] = fin_mc(pitch=float(pitch)) / FinParams().max_angle
+        return out

@@ -1,0 +1,220 @@
+"""``Animat/FishPursuit-v0``: an observer fish with eyes pursues a reddish prey fish.
+
+## Description
+Three fish of :mod:`envs.fish` share the water (one batched simulation): the observer (orange),
+whose two eyes (:mod:`envs.retina`) are the only way it sees; a reddish prey that swims about
+and turns away when the observer comes within ``flee_distance_bl``; and a yellow fish of the
+same size that swims straight across, passing behind the prey a few seconds in. Every fish
+moves only through its motor controllers (:mod:`envs.navigation`).
+
+## Action Space
+``Box(-1, 1, (7,), float32)``: swim speed (mapped to [0, 1]), turn (positive: left; above
+0.15 it starts a turn of up to 90 deg that runs to its end), pitch (the fin-MC); then the gaze
+of the left and the right eye, theta (left, units of 60 deg) and phi (up, units of 30 deg),
+relative to the head.
+
+## Observation Space
+``Dict``: ``left_eye`` and ``right_eye`` ``Box(0, 255, (64, 64, 12), uint8)`` (the 4 levels'
+RGB stacked, level 0 = 120 deg first, level 3 = the fovea last), ``gaze`` ``Box(-1, 1, (4,))``
+(the gaze as commanded, in the action's units) and ``proprioception`` (the fish envs' 150
+entries). It takes stable-baselines3's ``MultiInputPolicy`` as it is.
+
+## Rewards
+``r = (d_prev - d) / L + 0.05 * target_in_fovea`` per step: the distance closed on the prey
+(body lengths L) plus a small bonus for holding it in both foveas.
+
+## Info (ground truth, for evaluation only)
+``target_in_fovea`` (the prey's centre within both foveas' 7.5 deg half-angle),
+``target_distance`` (m, head to the prey's centre of mass), ``passer_in_fovea``, ``gaze``
+(rad: theta_L, phi_L, theta_R, phi_R), ``vergence`` (theta_R - theta_L, rad),
+``range_estimate`` (m, triangulated from the gaze), ``time`` (s).
+
+## Starting State
+The observer at the origin heading +x; the prey ``start_distance_bl`` ahead at a bearing
+within +-20 deg, heading away within +-60 deg; the passer 3 BL to the side of the line of
+sight, 2 BL beyond the prey, heading across it.
+
+## Episode End
+No termination; truncation after ``duration`` s (default 20).
+
+## Arguments
+``duration`` (s, 20), ``start_distance_bl`` ((3, 5)), ``flee_distance_bl`` (2.5),
+``prey_speed`` (0.5), ``render_mode`` (``"rgb_array"``: third person, 480x360;
+``"retina"``: the two eyes' composites side by side, 512x1024).
+"""
+
+from __future__ import annotations
+
+import gymnasium as gym
+import numpy as np
+
+from envs.fish_core import OBS_LIMIT, FishBatch
+from envs.navigation import Navigator
+from envs.perception import triangulate
+from envs.render import Camera, Scene, look_at
+from envs.retina import RetinaParams, composite, eye_positions, gaze_rotation, render_eyes
+from envs.tasks import SwimTask
+
+OBSERVER, PREY, PASSER = 0, 1, 2
+COLOURS = ((250, 140, 60), (220, 50, 40), (230, 210, 40))
+THETA_RANGE, PHI_RANGE = np.radians(60.0), np.radians(30.0)
+FOVEA_HALF_ANGLE = np.radians(7.5)
+
+
+def _yaw_matrix(yaw: float) -> np.ndarray:
+    c, s = np.cos(yaw), np.sin(yaw)
+    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+
+
+class FishPursuitEnv(gym.Env):
+    """Pursuit of a prey fish by vision (see the module docstring)."""
+
+    metadata = {"render_modes": ["rgb_array", "retina"], "render_fps": 20}
+
+    def __init__(self, render_mode: str | None = None, duration: float = 20.0,
+                 start_distance_bl: tuple[float, float] = (3.0, 5.0),
+                 flee_distance_bl: float = 2.5, prey_speed: float = 0.5) -> None:
+        if render_mode not in (None, "rgb_array", "retina"):
+            raise ValueError(f"render_mode must be None, 'rgb_array' or 'retina', got "
+                             f"{render_mode!r}")
+        self.render_mode = render_mode
+        self.core = FishBatch(3, SwimTask(), duration=duration, fins=True)
+        self.dt, self.body_length = self.core.dt, self.core.body.length
+        self.start_distance_bl = tuple(float(v) for v in start_distance_bl)
+        self.flee_distance_bl, self.prey_speed = float(flee_distance_bl), float(prey_speed)
+        self.retina = RetinaParams()
+        self.navigator = Navigator(3)
+        eye = gym.spaces.Box(0, 255, (self.retina.size, self.retina.size,
+                                      3 * self.retina.levels), np.uint8)
+        self.observation_space = gym.spaces.Dict({
+            "left_eye": eye, "right_eye": eye,
+            "gaze": gym.spaces.Box(-1.0, 1.0, (4,), np.float32),
+            "proprioception": gym.spaces.Box(-OBS_LIMIT, OBS_LIMIT, (self.core.obs_size,),
+                                             np.float32)})
+        self.action_space = gym.spaces.Box(-1.0, 1.0, (7,), np.float32)
+        self.gaze = np.zeros(4)
+        self._started = False
+
+    # --- the world -----------------------------------------------------------------------
+    def _place(self, row: int, position: np.ndarray, yaw: float) -> None:
+        body, state = self.core.body, self.core.state
+        state.x[row] = (state.x[row] - body.rest_positions[0]) @ _yaw_matrix(yaw).T + position
+        state.v[row] = 0.0
+
+    def reset(self, *, seed: int | None = None, options: dict | None = None):
+        super().reset(seed=seed)
+        rng, length = self.np_random, self.body_length
+        self.core.reset_rows(np.arange(3), [rng, rng, rng])
+        distance = rng.uniform(*self.start_distance_bl) * length
+        bearing = np.radians(rng.uniform(-20.0, 20.0))
+        prey_at = distance * np.array([np.cos(bearing), np.sin(bearing), 0.0])
+        self._place(PREY, prey_at, bearing + np.radians(rng.uniform(-60.0, 60.0)))
+        side = rng.choice([-1.0, 1.0])
+        across = np.array([-np.sin(bearing), np.cos(bearing), 0.0])
+        beyond = prey_at + 2.0 * length * prey_at / np.linalg.norm(prey_at)
+        self._place(PASSER, beyond + side * 3.0 * length * across,
+                    bearing + (-side) * np.pi / 2)
+        self.core.state.origin[:] = self.core.kinematics().com
+        self.navigator.reset(np.arange(3))
+        self.gaze[:] = 0.0
+        self._time = 0.0
+        self._distance = self._target_distance(self.core.kinematics())
+        self._started = True
+        return self._observe(), self._info(self.core.kinematics())
+
+    def _behaviours(self, kinematics) -> np.ndarray:
+        """(2, 3) commands of the prey (flees when the observer is near) and the passer."""
+        com, frames = kinematics.com, kinematics.frames
+        away = com[OBSERVER] - com[PREY]
+        near = np.linalg.norm(away) < self.flee_distance_bl * self.body_length
+        left_of_prey = float(away @ frames[PREY, 1])
+        turn = (-0.8 if left_of_prey > 0 else 0.8) if near else 0.0
+        return np.array([[self.prey_speed, turn, 0.0], [1.0, 0.0, 0.0]])
+
+    def step(self, action):
+        if not self._started:
+            raise RuntimeError("call reset() before step()")
+        action = np.asarray(action, dtype=np.float64)
+        if action.shape != (7,) or not np.all(np.isfinite(action)):
+            raise ValueError(f"action must be 7 finite numbers, got {action.tolist()}")
+        action = np.clip(action, -1.0, 1.0)
+        kinematics = self.core.kinematics()
+        observer = [[0.5 * (action[0] + 1.0), action[1], action[2]]]
+        commands = np.concatenate([observer, self._behaviours(kinematics)])
+        moves = self.navigator.actions(commands, self._time)
+        self.gaze[:] = action[3:]
+        _, _, kinematics = self.core.step(moves.astype(np.float64))
+        self._time += self.dt
+        distance = self._target_distance(kinematics)
+        info = self._info(kinematics)
+        reward = (self._distance - distance) / self.body_length + 0.05 * info["target_in_fovea"]
+        self._distance = distance
+        truncated = bool(self.core.truncated[OBSERVER])
+        return self._observe(kinematics), float(reward), False, truncated, info
+
+    # --- the eyes ------------------------------------------------------------------------
+    def _gaze_angles(self) -> np.ndarray:
+        """(2, 2) rad: (theta, phi) of the left and right eye."""
+        return self.gaze.reshape(2, 2) * [THETA_RANGE, PHI_RANGE]
+
+    def _eyes(self, kinematics):
+        """Eye positions (2, 3) and camera rotations (2, 3, 3) in the world."""
+        frame = kinematics.frames[OBSERVER]
+        positions = eye_positions(frame, self.core.state.x[OBSERVER, 0], self.body_length,
+                                  self.retina)
+        rotations = np.stack([gaze_rotation(frame, *angles) for angles in self._gaze_angles()])
+        return positions, rotations
+
+    def scene(self) -> Scene:
+        scene = Scene(seabed_z=-0.5)
+        for row in range(3):
+            scene.add(self.core.body, self.core.state.x[row], COLOURS[row])
+        return scene
+
+    def retina_images(self, kinematics=None) -> np.ndarray:
+        """(2, levels, size, size, 3) uint8: what the observer's eyes see now."""
+        positions, rotations = self._eyes(kinematics or self.core.kinematics())
+        return render_eyes(self.scene(), positions, rotations, self.retina)
+
+    def _observe(self, kinematics=None):
+        kinematics = kinematics or self.core.kinematics()
+        images = self.retina_images(kinematics)
+        stacked = [np.concatenate(list(eye), axis=-1) for eye in images]  # (64, 64, 12)
+        return {"left_eye": stacked[0], "right_eye": stacked[1],
+                "gaze": self.gaze.astype(np.float32),
+                "proprioception": self.core.observe(kinematics)[OBSERVER]}
+
+    def _target_distance(self, kinematics) -> float:
+        return float(np.linalg.norm(kinematics.com[PREY] - self.core.state.x[OBSERVER, 0]))
+
+    def _in_foveas(self, point: np.ndarray, positions, rotations) -> bool:
+        for position, rotation in zip(positions, rotations):
+            direction = point - position
+            cosine = direction @ rotation[2] / np.linalg.norm(direction)
+            if cosine < np.cos(FOVEA_HALF_ANGLE):
+                return False
+        return True
+
+    def _info(self, kinematics) -> dict:
+        positions, rotations = self._eyes(kinematics)
+        angles = self._gaze_angles()
+        baseline = float(np.linalg.norm(positions[0] - positions[1]))
+        return {"target_in_fovea": self._in_foveas(kinematics.com[PREY], positions, rotations),
+                "passer_in_fovea": self._in_foveas(kinematics.com[PASSER], positions,
+                                                   rotations),
+                "target_distance": self._target_distance(kinematics),
+                "gaze": angles.reshape(-1).copy(),
+                "vergence": float(angles[1, 0] - angles[0, 0]),
+                "range_estimate": triangulate(angles[0, 0], angles[1, 0], baseline),
+                "time": self._time}
+
+    def render(self):
+        if self.render_mode == "retina":
+            images = self.retina_images()
+            return np.concatenate([composite(images[0]), composite(images[1])], axis=1)
+        if self.render_mode == "rgb_array":
+            centre = self.core.kinematics().com.mean(axis=0)
+            eye = centre + np.array([-1.0, -2.0, 1.2]) * self.body_length * 1.5
+            camera = Camera(480, 360, 432.0, eye, look_at(eye, centre))
+            return camera.render(self.scene(), centre)
+        return None

@@ -1,0 +1,54 @@
+"""The pursuit env and the navigation layer under it."""
+
+import warnings
+
+import gymnasium as gym
+import numpy as np
+import pytest
+from gymnasium.utils.env_checker import check_env
+
+import envs  # noqa: F401
+from envs.fish_env import FishEnv
+from envs.navigation import Navigator
+
+
+def test_pursuit_passes_both_checkers_without_warnings():
+    from stable_baselines3.common.env_checker import check_env as sb3_check_env
+
+    env = gym.make("Animat/FishPursuit-v0", duration=2.0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        check_env(env.unwrapped)
+        sb3_check_env(env.unwrapped, warn=True)
+
+
+def test_pursuit_observation_info_and_renders():
+    env = gym.make("Animat/FishPursuit-v0", render_mode="retina", duration=1.0).unwrapped
+    obs, info = env.reset(seed=3)
+    assert obs["left_eye"].shape == (64, 64, 12) and obs["left_eye"].dtype == np.uint8
+    assert set(info) >= {"target_in_fovea", "target_distance", "gaze", "vergence",
+                         "range_estimate", "passer_in_fovea"}
+    assert env.render().shape == (512, 1024, 3)
+    env.render_mode = "rgb_array"
+    assert env.render().shape == (360, 480, 3)
+    with pytest.raises(ValueError, match="7 finite numbers"):
+        env.step(np.full(7, np.nan))
+    steps = 0
+    while True:
+        *_, truncated, info = env.step(env.action_space.sample())
+        steps += 1
+        if truncated:
+            break
+    assert steps == 20 and info["time"] == pytest.approx(1.0)
+
+
+def test_a_left_turn_command_turns_the_fish_left_then_it_swims_on():
+    env = FishEnv("swim", duration=8.0, fins=True)
+    env.reset(seed=0)
+    navigator = Navigator(1)
+    headings = []
+    for k in range(160):
+        command = [[1.0, 1.0 if k == 20 else 0.0, 0.0]]  # one full turn command at 1 s
+        headings.append(env.step(navigator.actions(command, k * env.dt)[0])[4]["heading_deg"])
+    assert 60.0 < headings[100] - headings[19] < 120.0
+    assert abs(headings[-1] - headings[100]) < 30.0  # swimming on, not turning
