@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from learners.active_vision import ActiveVisionLearner
 from learners.base import Learner
 from learners.blackbox import AnnealingLearner, CMAESLearner
 from learners.handmc import HandMCLearner
@@ -12,7 +13,7 @@ from learners.repertoire import BasicTrainingLearner
 
 LEARNERS: dict[str, type[Learner]] = {
     cls.name: cls for cls in (AnnealingLearner, CMAESLearner, PPOLearner, HandMCLearner,
-                              BasicTrainingLearner, MacroLearner)
+                              BasicTrainingLearner, MacroLearner, ActiveVisionLearner)
 }
 
 

@@ -25,6 +25,7 @@ TINY = {
         {"name": "turn", "env_id": "Animat/FishTurn-v0", "env_kwargs": {"duration": 0.5},
          "params": {"nodes": 4, "period": None}}], "annealing": {"chains": 8}}, 1920),
     "macro": ({"chains": 8, "slots": 2}, 960),
+    "active_vision": ({"episodes": 2}, 20),
 }
 
 
@@ -51,6 +52,9 @@ def test_learner_runs_on_a_tiny_budget_and_logs_the_shared_tags(name, tmp_path,
         env_id, tags = "Animat/FishReach-v0", ("eval/return", "eval/final_distance_bl")
     if name == "basic_training":
         tags = ("eval/return",)
+    if name == "active_vision":
+        env_id, tags = "Animat/FishPursuit-v0", ("eval/return", "eval/fovea_fraction",
+                                                 "eval/distance_closed_bl")
     sink = MemorySink()
     learner = make_learner(name, env_id, TINY_ENV, params, seed=0, logger=Logger([sink]))
     result = learner.learn(budget, checkpoint_dir=tmp_path)

@@ -1,0 +1,170 @@
+"""The paper's vision-guided pursuit controller as a policy, and as a learner that learns
+nothing (like ``handmc``) so that it stands in comparisons on ``Animat/FishPursuit-v0``.
+
+:class:`ActiveVisionPolicy` sees only the observation (the two eyes' levels, the gaze, the
+proprioception), never ``info`` or the simulator. Each frame, each eye detects the target by
+its model histogram (:func:`envs.active_vision.detect`, the finest level that sees all of it)
+and saccades onto it; an eye that has lost the target sweeps its gaze back toward straight
+ahead. Navigation follows the paper: the turn angle theta_P is the mean of the eyes' theta;
+above ``turn_threshold`` it goes to the turn-MCs (left or right, in proportion), otherwise the
+fish swims at full speed; the mean phi goes to the fins for up and down.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import gymnasium as gym
+import numpy as np
+
+import envs  # noqa: F401
+from envs.active_vision import VisionParams, detect, model_histogram, saccade
+from envs.fish import fish_body
+from envs.pursuit import COLOURS, PHI_RANGE, PREY, THETA_RANGE
+from envs.render import Scene
+from envs.retina import RetinaParams, gaze_rotation, render_eye
+from learners.base import Learner, LearnResult, typed_params
+
+
+def prey_model_histogram(retina: RetinaParams = RetinaParams()) -> np.ndarray:
+    """The visual memory of the prey: its colour histogram from a model image, the prey seen
+    broadside in open water through a fovea (what differs from the empty water)."""
+    body = fish_body()
+    x = body.rest_positions - body.rest_positions.mean(axis=0)
+    x = x @ np.array([[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]]).T + [1.2, 0.0, 0.0]
+    eye, rotation = np.zeros(3), gaze_rotation(np.eye(3), 0.0, 0.0)
+    seen = render_eye(Scene(seabed_z=-0.5).add(body, x, COLOURS[PREY]), eye, rotation, retina)
+    empty = render_eye(Scene(seabed_z=-0.5), eye, rotation, retina)
+    level = retina.levels - 2  # the whole fish fits at 30 deg
+    return model_histogram(seen[level], background=np.all(seen[level] == empty[level], -1))
+
+
+@dataclass(frozen=True)
+class ActiveVisionParams:
+    """turn_threshold: deg of theta_P above which the fish turns; turn_gain: turn command per
+    90 deg of theta_P; pitch_gain: fin command per 30 deg of phi_P; search_decay: the share of
+    its angle a lost eye keeps per frame; detect_threshold: histogram intersection; lead: frames
+by which the gaze leads the target's motion (its direction's change since the last frame)."""
+
+    turn_threshold: float = 15.0
+    turn_gain: float = 1.0
+    pitch_gain: float = 1.0
+    search_decay: float = 0.8
+    detect_threshold: float = 0.3
+    lead: float = 1.0
+
+
+class ActiveVisionPolicy:
+    """``predict(obs) -> (action, None)`` like an SB3 policy, for one pursuit env."""
+
+    def __init__(self, params: ActiveVisionParams = ActiveVisionParams(),
+                 retina: RetinaParams = RetinaParams()) -> None:
+        self.params, self.retina = params, retina
+        self.vision = VisionParams(detect_threshold=params.detect_threshold,
+                                   model_level=retina.levels - 2)
+        self.model = prey_model_histogram(retina)
+        self.reset()
+
+    def reset(self) -> None:
+        """Forget the last frame's target directions (call at an episode's start)."""
+        self.last = [None, None]
+
+    def _levels(self, stacked: np.ndarray) -> np.ndarray:
+        """(64, 64, 3 L) -> (L, 64, 64, 3)."""
+        size = self.retina.size
+        return stacked.reshape(size, size, self.retina.levels, 3).transpose(2, 0, 1, 3)
+
+    def predict(self, obs: dict, state=None, episode_start=None, deterministic: bool = True):
+        gaze = np.asarray(obs["gaze"], float).reshape(2, 2) * [THETA_RANGE, PHI_RANGE]
+        new, seen = gaze.copy(), []
+        for k, key in enumerate(("left_eye", "right_eye")):
+            level, x, y = detect(self._levels(obs[key]), self.model, self.vision)
+            if level >= 0:
+                direction = np.array(saccade(gaze[k, 0], gaze[k, 1], level, x, y, self.retina))
+                motion = 0.0 if self.last[k] is None else direction - self.last[k]
+                new[k] = direction + self.params.lead * motion
+                self.last[k] = direction
+                seen.append(k)
+            else:
+                new[k], self.last[k] = self.params.search_decay * gaze[k], None
+        new = np.clip(new, [-THETA_RANGE, -PHI_RANGE], [THETA_RANGE, PHI_RANGE])
+        theta_p, phi_p = new[seen, 0].mean() if seen else 0.0, new[seen, 1].mean() if seen else 0.0
+        turn = 0.0
+        if seen and abs(np.degrees(theta_p)) > self.params.turn_threshold:
+            turn = float(np.clip(self.params.turn_gain * theta_p / (np.pi / 2), -1.0, 1.0))
+        pitch = float(np.clip(self.params.pitch_gain * phi_p / PHI_RANGE, -1.0, 1.0))
+        gaze_action = (new / [THETA_RANGE, PHI_RANGE]).reshape(-1)
+        return np.concatenate([[1.0, turn, pitch], gaze_action]).astype(np.float32), None
+
+
+@dataclass(frozen=True)
+class PursuitEvalParams:
+    """episodes: seeded pursuit episodes scored (seeds seed .. seed + episodes - 1);
+    policy: the ActiveVisionPolicy's params."""
+
+    episodes: int = 5
+    policy: dict | None = None
+
+
+def pursuit_metrics(env: gym.Env, policy, seed: int) -> dict[str, float]:
+    """One episode: ``fovea_fraction`` (share of frames after the first foveation with the
+    target in both foveas), ``distance_closed_bl``, ``passer_fraction`` (frames after it
+    with the passer in both foveas and the target not: the gaze taken by the passer),
+    ``return``, and the first foveation's frame."""
+    obs, info = env.reset(seed=seed)
+    if hasattr(policy, "reset"):
+        policy.reset()
+    length = env.unwrapped.body_length
+    start, first, held, passer, total, frames = info["target_distance"], None, 0, 0, 0.0, 0
+    while True:
+        action, _ = policy.predict(obs)
+        obs, reward, _, truncated, info = env.step(action)
+        total += reward
+        if first is None and info["target_in_fovea"]:
+            first = frames
+        if first is not None:
+            held += bool(info["target_in_fovea"])
+            passer += bool(info["passer_in_fovea"] and not info["target_in_fovea"])
+        frames += 1
+        if truncated:
+            break
+    after = max(frames - (first if first is not None else frames), 1)
+    return {"fovea_fraction": held / after if first is not None else 0.0,
+            "passer_fraction": passer / after, "return": total,
+            "distance_closed_bl": (start - info["target_distance"]) / length,
+            "first_foveation_frame": float(first if first is not None else -1)}
+
+
+class ActiveVisionLearner(Learner):
+    """Scores :class:`ActiveVisionPolicy` on the pursuit env over ``episodes`` seeds (learns
+    nothing); logs ``eval/return``, ``eval/fovea_fraction``, ``eval/distance_closed_bl``
+    (means, with ``_std`` over the episodes) and ``eval/passer_fraction``."""
+
+    name = "active_vision"
+
+    def __init__(self, *args, **kwargs) -> None:
+        super().__init__(*args, **kwargs)
+        self.own = typed_params(PursuitEvalParams, self.params, f"learner {self.name!r}")
+        self.policy_params = typed_params(ActiveVisionParams, self.own.policy or {},
+                                          f"learner {self.name!r}.policy")
+
+    def learn(self, budget_env_steps: int, checkpoint_dir: str | Path | None = None
+              ) -> LearnResult:
+        start = time.perf_counter()
+        env = gym.make(self.env_id, **self.env_kwargs)
+        steps = env.unwrapped.core.episode_steps * self.own.episodes
+        if budget_env_steps < steps:
+            raise ValueError(f"budget too small: scoring needs {steps} env steps")
+        self.log_hparams()
+        policy = ActiveVisionPolicy(self.policy_params)
+        runs = [pursuit_metrics(env, policy, self.seed + k) for k in range(self.own.episodes)]
+        metrics = {}
+        for key in ("return", "fovea_fraction", "distance_closed_bl", "passer_fraction"):
+            values = np.array([r[key] for r in runs])
+            metrics[f"eval/{key}"] = float(values.mean())
+            metrics[f"eval/{key}_std"] = float(values.std())
+        self.logger.scalars(metrics, steps)
+        return LearnResult(env_steps=steps, wall_seconds=time.perf_counter() - start,
+                           metrics=metrics, artefacts={"episodes": runs})
