@@ -61,7 +61,8 @@ def model_histogram(model_image: np.ndarray, background: np.ndarray | None = Non
 def detect(levels: np.ndarray, model: np.ndarray, params: VisionParams = VisionParams()
            ) -> tuple[int, float, float]:
     """(level, x, y): the finest level that sees the whole target, and where the target is
-    there (pixels: the centroid of its backprojection), or (-1, nan, nan). A level detects
+    there (pixels: the centre of the extent of its backprojection above half its peak), or
+    (-1, nan, nan). A level detects
     the target when the histogram intersection with the model, scaled to the level by the
     area ratio 4^(level - model_level), passes ``detect_threshold``; a finer level whose
     evidence touches the image border sees only part of it, and the next coarser one is
@@ -78,11 +79,8 @@ def detect(levels: np.ndarray, model: np.ndarray, params: VisionParams = VisionP
         edge = target[0].any() or target[-1].any() or target[:, 0].any() or target[:, -1].any()
         if edge and level > 0:
             continue
-        weights = np.where(target, evidence, 0.0)
-        ys, xs = np.indices(weights.shape)
-        total = weights.sum()
-        return (level, float((weights * xs).sum() / total) + 0.5,
-                float((weights * ys).sum() / total) + 0.5)
+        ys, xs = np.nonzero(target)  # the centre of the target's extent in the image
+        return level, 0.5 * (xs.min() + xs.max()) + 0.5, 0.5 * (ys.min() + ys.max()) + 0.5
     return -1, float("nan"), float("nan")
 
 
