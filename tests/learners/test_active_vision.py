@@ -1,6 +1,6 @@
 """The paper's vision-guided pursuit controller on Animat/FishPursuit-v0 (it sees only the
-observation). Floors under the figures measured on seeds 0-4 (fovea 0.54-0.66 of frames after the
-first foveation, 1.4-3.0 BL closed, the passer holding the gaze on <= 4% of frames); the
+observation). Floors under the figures measured on seeds 0-4 (fovea 0.49-0.77 of frames after the
+first foveation, 1.8-3.5 BL closed, the passer holding the gaze on <= 3% of frames); the
 issue's target (>= 90% in both foveas) is not reached yet."""
 
 import gymnasium as gym
