@@ -6,6 +6,7 @@
                  [--address ADDR] [--out PARENT]
     animat compare RUN_DIR_OR_PARENT ... [--metric eval/return] [--threshold X] [-o REPORT]
     animat bench [--seconds S] [--breakdown]
+    animat figures --out DIR [--seed S] [--frames N]
     animat list
 
 A bad config or override stops before any work with one line naming the file, the field path
@@ -54,6 +55,10 @@ def _parser() -> argparse.ArgumentParser:
     bench.add_argument("--num-envs", type=int, default=256)
     bench.add_argument("--breakdown", action="store_true",
                        help="where an integration step's time goes, per force term")
+    figures = sub.add_parser("figures", help="the paper's Figs. 5, 7, 8 from a pursuit")
+    figures.add_argument("--out", type=Path, required=True, help="folder for the PNG files")
+    figures.add_argument("--seed", type=int, default=0)
+    figures.add_argument("--frames", type=int, default=150)
     sub.add_parser("list", help="registered envs, learners and shipped configs")
     return parser
 
@@ -125,6 +130,16 @@ def cmd_list(args) -> int:
     return 0 if all(e in gym.registry for e in envs.ENV_IDS) else 1
 
 
+def cmd_figures(args) -> int:
+    from experiments.figures import make_figures
+
+    if args.frames < 8:
+        raise RunError(f"--frames must be at least 8, got {args.frames}")
+    result = make_figures(args.out, args.seed, args.frames)
+    print(f"figures in {args.out}: " + ", ".join(f"{k} {v:.3g}" for k, v in result.items()))
+    return 0
+
+
 def cmd_bench(args) -> int:
     from envs.bench import report, report_breakdown, run
 
@@ -140,7 +155,7 @@ def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
     args.argv = argv  # recorded in each run folder's command.txt
     handlers = {"run": cmd_run, "sweep": cmd_sweep, "compare": cmd_compare, "list": cmd_list,
-                "bench": cmd_bench}
+                "bench": cmd_bench, "figures": cmd_figures}
     try:
         return handlers[args.command](args)
     except (ConfigError, RunError, FileNotFoundError) as error:
