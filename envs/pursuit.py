@@ -40,7 +40,8 @@ No termination; truncation after ``duration`` s (default 20).
 ## Arguments
 ``duration`` (s, 20), ``start_distance_bl`` ((3, 5)), ``flee_distance_bl`` (2.5),
 ``prey_speed`` (0.5), ``render_mode`` (``"rgb_array"``: third person, 480x360;
-``"retina"``: the two eyes' composites side by side, 512x1024).
+``"retina"``: the two eyes' composites side by side, 512x1024). Public attributes: ``dt``,
+``body_length``, ``episode_steps``, ``scene()``, ``retina_images()``.
 """
 
 from __future__ import annotations
@@ -94,6 +95,11 @@ class FishPursuitEnv(gym.Env):
         self.action_space = gym.spaces.Box(-1.0, 1.0, (7,), np.float32)
         self.gaze = np.zeros(4)
         self._started = False
+
+    @property
+    def episode_steps(self) -> int:
+        """Env steps per episode (``duration / dt``)."""
+        return self.core.episode_steps
 
     # --- the world -----------------------------------------------------------------------
     def _place(self, row: int, position: np.ndarray, yaw: float) -> None:

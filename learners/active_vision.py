@@ -149,7 +149,7 @@ class ActiveVisionLearner(Learner):
               ) -> LearnResult:
         start = time.perf_counter()
         env = gym.make(self.env_id, **self.env_kwargs)
-        steps = env.unwrapped.core.episode_steps * self.own.episodes
+        steps = env.unwrapped.episode_steps * self.own.episodes
         if budget_env_steps < steps:
             raise ValueError(f"budget too small: scoring needs {steps} env steps")
         self.log_hparams()
