@@ -41,7 +41,8 @@ No termination; truncation after ``duration`` s (default 20).
 ``duration`` (s, 20), ``start_distance_bl`` ((3, 5)), ``flee_distance_bl`` (2.5),
 ``prey_speed`` (0.5), ``render_mode`` (``"rgb_array"``: third person, 480x360;
 ``"retina"``: the two eyes' composites side by side, 512x1024). Public attributes: ``dt``,
-``body_length``, ``episode_steps``, ``scene()``, ``retina_images()``.
+``body_length``, ``episode_steps``, ``episode_summary()``, ``scene()``,
+``retina_images()``.
 """
 
 from __future__ import annotations
@@ -60,6 +61,35 @@ OBSERVER, PREY, PASSER = 0, 1, 2
 COLOURS = ((250, 140, 60), (220, 50, 40), (230, 210, 40))
 THETA_RANGE, PHI_RANGE = np.radians(60.0), np.radians(30.0)
 FOVEA_HALF_ANGLE = np.radians(7.5)
+
+
+class PursuitSummary:
+    """Episode metrics of a pursuit from each step's info (the same interface as
+    :class:`envs.tasks.EpisodeSummary`, one episode): ``fovea_fraction`` (share of the frames
+    after the first foveation with the prey in both foveas), ``distance_closed_bl``,
+    ``passer_fraction`` (frames after it with the passer in both foveas and the prey not: the
+    gaze taken by the passer) and ``first_foveation_frame`` (-1: never)."""
+
+    def __init__(self, body_length: float, start_distance: float) -> None:
+        self.length, self.start = body_length, start_distance
+        self.frames, self.first, self.held, self.passer = 0, None, 0, 0
+        self.last: dict = {}
+
+    def update(self, info: dict) -> None:
+        if self.first is None and info["target_in_fovea"]:
+            self.first = self.frames
+        if self.first is not None:
+            self.held += bool(info["target_in_fovea"])
+            self.passer += bool(info["passer_in_fovea"] and not info["target_in_fovea"])
+        self.frames += 1
+        self.last = info
+
+    def summary(self) -> dict[str, float]:
+        after = max(self.frames - (self.first if self.first is not None else self.frames), 1)
+        return {"fovea_fraction": self.held / after if self.first is not None else 0.0,
+                "passer_fraction": self.passer / after,
+                "distance_closed_bl": (self.start - self.last["target_distance"]) / self.length,
+                "first_foveation_frame": float(self.first if self.first is not None else -1)}
 
 
 def _yaw_matrix(yaw: float) -> np.ndarray:
@@ -95,6 +125,10 @@ class FishPursuitEnv(gym.Env):
         self.action_space = gym.spaces.Box(-1.0, 1.0, (7,), np.float32)
         self.gaze = np.zeros(4)
         self._started = False
+
+    def episode_summary(self) -> PursuitSummary:
+        """A summary for the episode that :meth:`reset` just began."""
+        return PursuitSummary(self.body_length, self._distance)
 
     @property
     def episode_steps(self) -> int:

@@ -104,32 +104,19 @@ class PursuitEvalParams:
 
 
 def pursuit_metrics(env: gym.Env, policy, seed: int) -> dict[str, float]:
-    """One episode: ``fovea_fraction`` (share of frames after the first foveation with the
-    target in both foveas), ``distance_closed_bl``, ``passer_fraction`` (frames after it
-    with the passer in both foveas and the target not: the gaze taken by the passer),
-    ``return``, and the first foveation's frame."""
-    obs, info = env.reset(seed=seed)
+    """One seeded episode of ``policy`` (anything with ``predict(obs)``): the env's
+    :class:`envs.pursuit.PursuitSummary` figures and the ``return``."""
+    obs, _ = env.reset(seed=seed)
     if hasattr(policy, "reset"):
         policy.reset()
-    length = env.unwrapped.body_length
-    start, first, held, passer, total, frames = info["target_distance"], None, 0, 0, 0.0, 0
+    summary, total = env.unwrapped.episode_summary(), 0.0
     while True:
         action, _ = policy.predict(obs)
         obs, reward, _, truncated, info = env.step(action)
         total += reward
-        if first is None and info["target_in_fovea"]:
-            first = frames
-        if first is not None:
-            held += bool(info["target_in_fovea"])
-            passer += bool(info["passer_in_fovea"] and not info["target_in_fovea"])
-        frames += 1
+        summary.update(info)
         if truncated:
-            break
-    after = max(frames - (first if first is not None else frames), 1)
-    return {"fovea_fraction": held / after if first is not None else 0.0,
-            "passer_fraction": passer / after, "return": total,
-            "distance_closed_bl": (start - info["target_distance"]) / length,
-            "first_foveation_frame": float(first if first is not None else -1)}
+            return {**summary.summary(), "return": total}
 
 
 class ActiveVisionLearner(Learner):

@@ -92,21 +92,37 @@ class PPOLearner(Learner):
                    policy_kwargs=parse_policy_kwargs(self.hp["policy_kwargs"]),
                    **{k: self.hp[k] for k in keys})
 
+    def _native(self) -> bool:
+        """Whether the env has a native batched vector env (the fish envs) or is stepped as
+        ``n_envs`` single envs (e.g. the pursuit)."""
+        return gym.spec(self.env_id).vector_entry_point is not None
+
     def _venv(self, checkpoint: Path | None):
-        from stable_baselines3.common.vec_env import VecNormalize
+        from stable_baselines3.common.vec_env import DummyVecEnv, VecNormalize
 
         from learners.sb3_adapter import NativeVecEnv
 
-        venv = NativeVecEnv(self.env_id, int(self.hp["n_envs"]), self.env_kwargs, self.seed)
+        n_envs = int(self.hp["n_envs"])
+        if self._native():
+            venv = NativeVecEnv(self.env_id, n_envs, self.env_kwargs, self.seed)
+        else:
+            venv = DummyVecEnv([lambda: gym.make(self.env_id, **self.env_kwargs)] * n_envs)
+            venv.seed(self.seed)
         if not self.hp["normalize"]:
             return venv
         if checkpoint is not None:
             return VecNormalize.load(str(checkpoint / "vecnormalize.pkl"), venv)
-        return VecNormalize(venv, gamma=float(self.hp["gamma"]))
+        space = venv.observation_space
+        keys = None  # a Dict observation: normalise its non-image entries only
+        if isinstance(space, gym.spaces.Dict):
+            keys = [k for k, sub in space.spaces.items() if sub.dtype != np.uint8]
+        return VecNormalize(venv, gamma=float(self.hp["gamma"]), norm_obs_keys=keys)
 
     def evaluate(self, model, venv) -> dict[str, float]:
         """Deterministic episodes from the black-box learners' start states (seeds ``seed`` ..
         ``seed + START_STATES - 1``): means, and ``_std`` the spread over them."""
+        if not self._native():
+            return self._evaluate_singly(model, venv)
         if getattr(self, "_eval_env", None) is None:
             self._eval_env = gym.make_vec(self.env_id, num_envs=START_STATES, **self.env_kwargs)
         env = self._eval_env
@@ -123,6 +139,32 @@ class PPOLearner(Learner):
         return {"eval/return": float(total.mean()),
                 **{f"eval/{k}": float(v.mean()) for k, v in metrics.items()},
                 **{f"eval/{k}_std": float(v.std()) for k, v in metrics.items()}}
+
+    def _evaluate_singly(self, model, venv) -> dict[str, float]:
+        """The same protocol, one episode at a time, scored by the env's own
+        ``episode_summary()``."""
+        if getattr(self, "_eval_env", None) is None:
+            self._eval_env = gym.make(self.env_id, **self.env_kwargs)
+        env, runs = self._eval_env, []
+        for k in range(START_STATES):
+            obs, _ = env.reset(seed=self.seed + k)
+            summary, total = env.unwrapped.episode_summary(), 0.0
+            while True:
+                seen = venv.normalize_obs(obs) if hasattr(venv, "normalize_obs") else obs
+                action, _ = model.predict(seen, deterministic=True)
+                obs, reward, _, truncated, info = env.step(action)
+                total += reward
+                summary.update(info)
+                if truncated:
+                    break
+            runs.append({"return": total, **summary.summary()})
+        out = {}
+        for key in runs[0]:
+            values = np.array([r[key] for r in runs])
+            out[f"eval/{key}"] = float(values.mean())
+            if key != "return":
+                out[f"eval/{key}_std"] = float(values.std())
+        return out
 
     def learn(self, budget_env_steps: int, checkpoint_dir: str | Path | None = None
               ) -> LearnResult:

@@ -34,3 +34,16 @@ def test_the_learner_refuses_a_budget_below_its_episodes():
                            {"episodes": 2})
     with pytest.raises(ValueError, match="budget too small"):
         learner.learn(10)
+
+
+def test_ppo_learns_on_the_pursuit_from_pixels_and_reports_the_same_metrics():
+    params = {"policy": "MultiInputPolicy", "n_envs": 2, "n_steps": 16, "batch_size": 32,
+              "n_epochs": 1, "eval_every": 32, "torch_threads": 1,
+              "policy_kwargs": "dict(net_arch=[16], "
+                               "features_extractor_kwargs={'cnn_output_dim': 16})"}
+    learner = make_learner("ppo", "Animat/FishPursuit-v0", {"duration": 1.0}, params)
+    result = learner.learn(32)
+    for key in ("eval/return", "eval/fovea_fraction", "eval/distance_closed_bl",
+                "eval/passer_fraction"):
+        assert key in result.metrics
+    assert result.env_steps == 32
