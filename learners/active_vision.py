@@ -26,6 +26,7 @@ from envs.pursuit import COLOURS, PHI_RANGE, PREY, THETA_RANGE
 from envs.render import Scene
 from envs.retina import RetinaParams, gaze_rotation, render_eye
 from learners.base import Learner, LearnResult, typed_params
+from learners.rollout import score_episode, spread
 
 
 def prey_model_histogram(retina: RetinaParams = RetinaParams()) -> np.ndarray:
@@ -103,22 +104,6 @@ class PursuitEvalParams:
     policy: dict | None = None
 
 
-def pursuit_metrics(env: gym.Env, policy, seed: int) -> dict[str, float]:
-    """One seeded episode of ``policy`` (anything with ``predict(obs)``): the env's
-    :class:`envs.pursuit.PursuitSummary` figures and the ``return``."""
-    obs, _ = env.reset(seed=seed)
-    if hasattr(policy, "reset"):
-        policy.reset()
-    summary, total = env.unwrapped.episode_summary(), 0.0
-    while True:
-        action, _ = policy.predict(obs)
-        obs, reward, _, truncated, info = env.step(action)
-        total += reward
-        summary.update(info)
-        if truncated:
-            return {**summary.summary(), "return": total}
-
-
 class ActiveVisionLearner(Learner):
     """Scores :class:`ActiveVisionPolicy` on the pursuit env over ``episodes`` seeds (learns
     nothing); logs ``eval/return``, ``eval/fovea_fraction``, ``eval/distance_closed_bl``
@@ -141,12 +126,8 @@ class ActiveVisionLearner(Learner):
             raise ValueError(f"budget too small: scoring needs {steps} env steps")
         self.log_hparams()
         policy = ActiveVisionPolicy(self.policy_params)
-        runs = [pursuit_metrics(env, policy, self.seed + k) for k in range(self.own.episodes)]
-        metrics = {}
-        for key in ("return", "fovea_fraction", "distance_closed_bl", "passer_fraction"):
-            values = np.array([r[key] for r in runs])
-            metrics[f"eval/{key}"] = float(values.mean())
-            metrics[f"eval/{key}_std"] = float(values.std())
+        runs = [score_episode(env, policy, self.seed + k) for k in range(self.own.episodes)]
+        metrics = spread(runs)
         self.logger.scalars(metrics, steps)
         return LearnResult(env_steps=steps, wall_seconds=time.perf_counter() - start,
                            metrics=metrics, artefacts={"episodes": runs})

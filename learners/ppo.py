@@ -21,7 +21,7 @@ import numpy as np
 
 from envs.tasks import EpisodeSummary
 from learners.base import Learner, LearnResult, typed_params
-from learners.rollout import START_STATES
+from learners.rollout import START_STATES, score_episode, spread
 
 
 @dataclass(frozen=True)
@@ -142,29 +142,17 @@ class PPOLearner(Learner):
 
     def _evaluate_singly(self, model, venv) -> dict[str, float]:
         """The same protocol, one episode at a time, scored by the env's own
-        ``episode_summary()``."""
+        ``episode_summary()`` (:func:`learners.rollout.score_episode`)."""
         if getattr(self, "_eval_env", None) is None:
             self._eval_env = gym.make(self.env_id, **self.env_kwargs)
-        env, runs = self._eval_env, []
-        for k in range(START_STATES):
-            obs, _ = env.reset(seed=self.seed + k)
-            summary, total = env.unwrapped.episode_summary(), 0.0
-            while True:
+
+        class Deterministic:
+            def predict(self, obs):
                 seen = venv.normalize_obs(obs) if hasattr(venv, "normalize_obs") else obs
-                action, _ = model.predict(seen, deterministic=True)
-                obs, reward, _, truncated, info = env.step(action)
-                total += reward
-                summary.update(info)
-                if truncated:
-                    break
-            runs.append({"return": total, **summary.summary()})
-        out = {}
-        for key in runs[0]:
-            values = np.array([r[key] for r in runs])
-            out[f"eval/{key}"] = float(values.mean())
-            if key != "return":
-                out[f"eval/{key}_std"] = float(values.std())
-        return out
+                return model.predict(seen, deterministic=True)
+
+        return spread([score_episode(self._eval_env, Deterministic(), self.seed + k)
+                       for k in range(START_STATES)])
 
     def learn(self, budget_env_steps: int, checkpoint_dir: str | Path | None = None
               ) -> LearnResult:

@@ -92,3 +92,30 @@ class BatchEvaluator:
             summary.update(info)
         self.env_steps += count * self.steps
         return total[:count], {k: v[:count] for k, v in summary.summary().items()}
+
+
+def score_episode(env: gym.Env, policy, seed: int) -> dict[str, float]:
+    """One seeded episode of ``policy`` (anything with ``predict(obs) -> (action, state)``;
+    ``reset()`` called first if it has one) in a single env that sums its own episodes up
+    (``env.unwrapped.episode_summary()``, e.g. the pursuit): the summary's figures and the
+    ``return``."""
+    obs, _ = env.reset(seed=seed)
+    if hasattr(policy, "reset"):
+        policy.reset()
+    summary, total = env.unwrapped.episode_summary(), 0.0
+    while True:
+        action, _ = policy.predict(obs)
+        obs, reward, _, truncated, info = env.step(action)
+        total += reward
+        summary.update(info)
+        if truncated:
+            return {**summary.summary(), "return": total}
+
+
+def spread(runs: list[dict[str, float]]) -> dict[str, float]:
+    """``eval/<key>`` means over episodes, with ``eval/<key>_std`` beside each."""
+    out = {}
+    for key in runs[0]:
+        values = np.array([r[key] for r in runs])
+        out[f"eval/{key}"], out[f"eval/{key}_std"] = float(values.mean()), float(values.std())
+    return out

@@ -7,14 +7,15 @@ import gymnasium as gym
 import pytest
 
 import envs  # noqa: F401
-from learners.active_vision import ActiveVisionPolicy, pursuit_metrics
+from learners.active_vision import ActiveVisionPolicy
 from learners.registry import make_learner
+from learners.rollout import score_episode
 
 
 @pytest.mark.parametrize("seed", [0, 3])
 def test_active_vision_policy_pursues_the_prey(seed):
     env = gym.make("Animat/FishPursuit-v0", duration=20.0)
-    metrics = pursuit_metrics(env, ActiveVisionPolicy(), seed)
+    metrics = score_episode(env, ActiveVisionPolicy(), seed)
     assert metrics["first_foveation_frame"] >= 0
     assert metrics["fovea_fraction"] > 0.4, metrics
     assert metrics["distance_closed_bl"] > 1.0, metrics
