@@ -53,7 +53,7 @@ import numpy as np
 from envs.fish_core import OBS_LIMIT, FishBatch
 from envs.navigation import Navigator
 from envs.perception import triangulate
-from envs.render import Camera, Scene, look_at
+from envs.render import Camera, Scene, look_at, yaw_matrix
 from envs.retina import RetinaParams, composite, eye_positions, gaze_rotation, render_eyes
 from envs.tasks import SwimTask
 
@@ -90,11 +90,6 @@ class PursuitSummary:
                 "passer_fraction": self.passer / after,
                 "distance_closed_bl": (self.start - self.last["target_distance"]) / self.length,
                 "first_foveation_frame": float(self.first if self.first is not None else -1)}
-
-
-def _yaw_matrix(yaw: float) -> np.ndarray:
-    c, s = np.cos(yaw), np.sin(yaw)
-    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
 
 
 class FishPursuitEnv(gym.Env):
@@ -138,7 +133,7 @@ class FishPursuitEnv(gym.Env):
     # --- the world -----------------------------------------------------------------------
     def _place(self, row: int, position: np.ndarray, yaw: float) -> None:
         body, state = self.core.body, self.core.state
-        state.x[row] = (state.x[row] - body.rest_positions[0]) @ _yaw_matrix(yaw).T + position
+        state.x[row] = (state.x[row] - body.rest_positions[0]) @ yaw_matrix(yaw).T + position
         state.v[row] = 0.0
 
     def reset(self, *, seed: int | None = None, options: dict | None = None):

@@ -98,6 +98,19 @@ class Scene:
         return np.concatenate(segments)
 
 
+def yaw_matrix(yaw: float) -> np.ndarray:
+    """(3, 3) rotation by ``yaw`` rad about the world's z axis (positive: to the left)."""
+    c, s = np.cos(yaw), np.sin(yaw)
+    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+
+
+def posed(body: BodySpec, centre, yaw: float = 0.0) -> np.ndarray:
+    """(N, 3) node positions, m: the body's rest shape with the mean of its nodes at
+    ``centre`` (3,), turned by ``yaw`` about z (0: heading +x). For staging scenes."""
+    x = body.rest_positions - body.rest_positions.mean(axis=0)
+    return x @ yaw_matrix(yaw).T + np.asarray(centre, float)
+
+
 def box(centre, size) -> np.ndarray:
     """(6, 4, 3) the faces of an axis-aligned box, corners ordered so normals point out."""
     c, h = np.asarray(centre, float), 0.5 * np.asarray(size, float)

@@ -15,7 +15,7 @@ import time
 import numpy as np
 
 from envs.fish import fish_body
-from envs.render import Camera, Scene, box, look_at
+from envs.render import Camera, Scene, box, look_at, posed
 from envs.retina import RetinaParams, eye_positions, gaze_rotation, render_eyes
 
 
@@ -25,9 +25,8 @@ def paper_scene(seed: int = 0) -> Scene:
     scene = Scene(seabed_z=-1.0)
     for k in range(10):
         yaw = rng.uniform(-np.pi, np.pi)
-        c, s = np.cos(yaw), np.sin(yaw)
-        x = body.rest_positions @ np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]]).T
-        x += rng.normal(0.0, 0.004, x.shape) + [*rng.uniform(-1.5, 1.5, 2), rng.uniform(-.3, .3)]
+        x = posed(body, [*rng.uniform(-1.5, 1.5, 2), rng.uniform(-.3, .3)], yaw)
+        x += rng.normal(0.0, 0.004, x.shape)
         if k == 0:
             x = body.rest_positions.copy()
         scene.add(body, x, (250, 140, 60) if k else (200, 60, 50))

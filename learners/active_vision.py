@@ -26,7 +26,7 @@ import envs  # noqa: F401
 from envs.active_vision import VisionParams, detect, model_histogram, saccade
 from envs.fish import fish_body
 from envs.pursuit import COLOURS, PHI_RANGE, PREY, THETA_RANGE
-from envs.render import Scene
+from envs.render import Scene, posed
 from envs.retina import RetinaParams, gaze_rotation, render_eye
 from learners.base import Learner, LearnResult, typed_params
 from learners.rollout import score_episode, spread
@@ -36,8 +36,7 @@ def prey_model_histogram(retina: RetinaParams = RetinaParams()) -> np.ndarray:
     """The visual memory of the prey: its colour histogram from a model image, the prey seen
     broadside in open water through a fovea (what differs from the empty water)."""
     body = fish_body()
-    x = body.rest_positions - body.rest_positions.mean(axis=0)
-    x = x @ np.array([[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]]).T + [1.2, 0.0, 0.0]
+    x = posed(body, [1.2, 0.0, 0.0], np.pi / 2)
     eye, rotation = np.zeros(3), gaze_rotation(np.eye(3), 0.0, 0.0)
     seen = render_eye(Scene(seabed_z=-0.5).add(body, x, COLOURS[PREY]), eye, rotation, retina)
     empty = render_eye(Scene(seabed_z=-0.5), eye, rotation, retina)
@@ -86,9 +85,6 @@ class ActiveVisionPolicy:
                                    model_level=retina.levels - 2)
         self.model = prey_model_histogram(retina)
         self.body = fish_body()  # the observer's body: which nodes define its head frame
-
-    def reset(self) -> None:
-        """Start an episode (the policy keeps no state between frames)."""
 
     def _levels(self, stacked: np.ndarray) -> np.ndarray:
         """(64, 64, 3 L) -> (L, 64, 64, 3)."""

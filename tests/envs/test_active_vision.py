@@ -6,7 +6,7 @@ import pytest
 
 from envs.active_vision import detect, foveate, model_histogram, verge
 from envs.fish import fish_body
-from envs.render import Scene
+from envs.render import Scene, posed
 from envs.retina import RetinaParams, eye_positions, gaze_rotation, render_eye
 
 HEAD = np.eye(3)
@@ -15,9 +15,7 @@ LENGTH = 0.30
 
 def _fish(centre, yaw):
     body = fish_body()
-    x = body.rest_positions - body.rest_positions.mean(axis=0)
-    c, s = np.cos(yaw), np.sin(yaw)
-    return body, x @ np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]]).T + centre
+    return body, posed(body, centre, yaw)
 
 
 def _scene(with_target=True, with_decoy=True):

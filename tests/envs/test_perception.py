@@ -13,7 +13,7 @@ from envs.perception import (
     translational_flow,
     triangulate,
 )
-from envs.render import Scene
+from envs.render import Scene, posed
 from envs.retina import RetinaParams, gaze_rotation, render_eye
 
 
@@ -34,10 +34,9 @@ def test_histogram_intersection_of_an_image_with_itself_is_one():
 
 def test_backprojection_of_a_red_target_peaks_on_the_target():
     body = fish_body()
-    x = body.rest_positions - body.rest_positions.mean(axis=0)
-    x = x @ np.array([[0, -1, 0], [1, 0, 0], [0, 0, 1]]).T + [1.0, 0.25, 0.05]
+    x = posed(body, [1.0, 0.25, 0.05], np.pi / 2)
     scene = Scene(seabed_z=-0.4).add(body, x, (220, 40, 40))
-    decoy = body.rest_positions - body.rest_positions.mean(axis=0) + [1.2, -0.3, 0.0]
+    decoy = posed(body, [1.2, -0.3, 0.0])
     scene.add(body, decoy, (230, 210, 40))  # a yellow fish elsewhere
     image = render_eye(scene, np.zeros(3), gaze_rotation(np.eye(3), 0.0, 0.0))[1]  # 60 deg
     red = (image[..., 0] > 70) & (image[..., 1] < 40) & (image[..., 2] < 40)

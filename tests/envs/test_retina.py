@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from envs.fish import fish_body
-from envs.render import Scene
+from envs.render import Scene, posed
 from envs.retina import RetinaParams, composite, gaze_rotation, render_eye
 
 HEAD = np.eye(3)  # rows forward (+x), left (+y), up (+z)
@@ -14,10 +14,7 @@ EYE = np.zeros(3)
 def _fish_at(centre, colour, yaw=np.pi / 2):
     """A fish body broadside on (turned ``yaw`` about z), its mid-body at ``centre``."""
     body = fish_body()
-    x = body.rest_positions - body.rest_positions.mean(axis=0)
-    c, s = np.cos(yaw), np.sin(yaw)
-    x = x @ np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]]).T + centre
-    return body, x, colour
+    return body, posed(body, centre, yaw), colour
 
 
 def _red(image):

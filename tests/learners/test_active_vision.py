@@ -22,8 +22,8 @@ def test_active_vision_policy_pursues_the_prey(seed):
     assert metrics["passer_fraction"] < 0.1, metrics
 
 
-def test_the_policy_never_reads_info_or_the_simulator():
-    """It is given the observation only; a dict without the ground truth keys is enough."""
+def test_the_policy_acts_from_a_copy_of_the_observation_alone():
+    """It holds no env: a copied observation dict (no info, no simulator) is all it gets."""
     env = gym.make("Animat/FishPursuit-v0", duration=1.0)
     obs, _ = env.reset(seed=0)
     action, _ = ActiveVisionPolicy().predict({k: v.copy() for k, v in obs.items()})
