@@ -21,7 +21,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from envs.perception import backproject, colour_histogram, intersection, scaled, triangulate
+from envs.perception import (
+    backproject,
+    colour_histogram,
+    intersection,
+    scaled,
+    translational_flow,
+    triangulate,
+)
 from envs.retina import RetinaParams
 
 
@@ -30,13 +37,14 @@ class VisionParams:
     """detect_threshold: histogram intersection for a detection; model_level: the level the
     model image was taken at (its size there); saccades: gaze moves per foveation at most;
     centred: pixels from the fovea's centre that count as foveated; radius: the backprojection
-    disk, pixels."""
+    disk, pixels; min_evidence: the backprojection's peak below which a level sees nothing."""
 
     detect_threshold: float = 0.3
     model_level: int = 3
     saccades: int = 4
     centred: float = 2.0
-    radius: int = 2
+    radius: int = 1
+    min_evidence: float = 0.5
 
 
 @dataclass
@@ -61,21 +69,36 @@ def model_histogram(model_image: np.ndarray, background: np.ndarray | None = Non
 def detect(levels: np.ndarray, model: np.ndarray, params: VisionParams = VisionParams()
            ) -> tuple[int, float, float]:
     """(level, x, y): the finest level that sees the whole target, and where the target is
-    there (pixels: the centre of the extent of its backprojection above half its peak), or
-    (-1, nan, nan). A level detects
-    the target when the histogram intersection with the model, scaled to the level by the
-    area ratio 4^(level - model_level), passes ``detect_threshold``; a finer level whose
-    evidence touches the image border sees only part of it, and the next coarser one is
-    used."""
-    count = float(model.sum())
+    there (pixels: the centre of the extent of its evidence), or (-1, nan, nan).
+
+    ``model``: the visual memory, one histogram (B, B, B) or one per model image (V, B, B, B),
+    e.g. the target from several sides. At each level, from the fovea outward: the
+    backprojection of all the views together (each weighted alike, scaled to the whole image
+    so that every pixel of a target colour is evidence however big the target looks) marks
+    the candidate region, where the evidence is above half its peak (the peak at least
+    ``min_evidence``). The level detects the target when the histogram intersection of that
+    region with a view's histogram scaled to the level passes ``detect_threshold`` for some
+    view: scaled by the area ratio 4^(level - model_level), or to the region's own size if
+    the target looks smaller than that (farther away). A finer level whose region touches
+    the image border sees only part of the target, and the next coarser one is used."""
+    views = model.reshape((-1,) + model.shape[-3:])
+    counts = views.reshape(len(views), -1).sum(axis=1)
+    if np.any(counts <= 0):
+        raise ValueError("a model histogram is empty")
+    image_pixels = float(levels.shape[1] * levels.shape[2])
+    whole = scaled((views / counts[:, None, None, None]).sum(axis=0), image_pixels)
     for level in range(levels.shape[0] - 1, -1, -1):
-        expected = scaled(model, max(count * 4.0 ** (level - params.model_level), 1.0))
-        if intersection(colour_histogram(levels[level]), expected) < params.detect_threshold:
+        evidence = backproject(levels[level], whole, params.radius)
+        peak = float(evidence.max())
+        if peak < params.min_evidence:
             continue
-        evidence = backproject(levels[level], expected, params.radius)
-        if evidence.max() <= 0:
+        target = evidence >= 0.5 * peak
+        region, pixels = colour_histogram(levels[level], target), float(target.sum())
+        expected = np.minimum(counts * 4.0 ** (level - params.model_level), pixels)
+        match = max(intersection(region, scaled(view, max(size, 1.0)))
+                    for view, size in zip(views, expected))
+        if match < params.detect_threshold:
             continue
-        target = evidence >= 0.5 * evidence.max()
         edge = target[0].any() or target[-1].any() or target[:, 0].any() or target[:, -1].any()
         if edge and level > 0:
             continue
@@ -112,6 +135,23 @@ def foveate(look: Callable[[float, float], np.ndarray], model: np.ndarray, theta
     centre = 0.5 * retina.size
     foveated = level >= 0 and np.hypot(x - centre, y - centre) <= params.centred
     return Fixation(theta, phi, bool(foveated), found + [level])
+
+
+def correlate(left_fovea: np.ndarray, look_right: Callable[[float, float], np.ndarray],
+              right: Fixation, retina: RetinaParams = RetinaParams(), moves: int = 3,
+              tolerance: float = 0.25) -> Fixation:
+    """The right eye turned onto the point the left eye fixates (the paper: "the two retinal
+    images must be correlated to keep them verged accurately"): the translational offset of
+    the left fovea's image ``left_fovea`` (S, S, 3) in the right one
+    (:func:`envs.perception.translational_flow`) taken as a saccade in the fovea, repeated
+    up to ``moves`` times until it is below ``tolerance`` pixels."""
+    theta, phi, fovea, centre = right.theta, right.phi, retina.levels - 1, 0.5 * retina.size
+    for _ in range(moves):
+        dx, dy = translational_flow(left_fovea, look_right(theta, phi)[fovea])
+        if np.hypot(dx, dy) < tolerance:
+            break
+        theta, phi = saccade(theta, phi, fovea, centre + dx, centre + dy, retina)
+    return Fixation(theta, phi, right.foveated, right.levels)
 
 
 def verge(left: Fixation, right: Fixation, baseline: float) -> tuple[float, float]:

@@ -29,6 +29,12 @@ entries). It takes stable-baselines3's ``MultiInputPolicy`` as it is.
 (rad: theta_L, phi_L, theta_R, phi_R), ``vergence`` (theta_R - theta_L, rad),
 ``range_estimate`` (m, triangulated from the gaze), ``time`` (s).
 
+## Scene
+A sand-tiled seabed 0.5 m below, water with depth haze, and a seeded scenery per episode
+(:mod:`envs.scenery`): 5 rocks and 12 plants on the seabed (below the swimming layer) and 15
+food particles floating, over 6 m x 6 m ahead of the start. The fish wear textured skins
+(:func:`envs.render.fish_skin`): countershading, bands and a checker.
+
 ## Starting State
 The observer at the origin heading +x; the prey ``start_distance_bl`` ahead at a bearing
 within +-20 deg, heading away within +-60 deg; the passer 3 BL to the side of the line of
@@ -53,26 +59,33 @@ import numpy as np
 from envs.fish_core import OBS_LIMIT, FishBatch
 from envs.navigation import Navigator
 from envs.perception import triangulate
-from envs.render import Camera, Scene, look_at, yaw_matrix
+from envs.render import Camera, Scene, fish_skin, look_at, yaw_matrix
 from envs.retina import RetinaParams, composite, eye_positions, gaze_rotation, render_eyes
+from envs.scenery import SceneryParams, furnish, scatter
 from envs.tasks import SwimTask
 
 OBSERVER, PREY, PASSER = 0, 1, 2
 COLOURS = ((250, 140, 60), (220, 50, 40), (230, 210, 40))
 THETA_RANGE, PHI_RANGE = np.radians(60.0), np.radians(30.0)
 FOVEA_HALF_ANGLE = np.radians(7.5)
+SEABED_Z = -0.5  # m
+SCENERY = SceneryParams(rocks=5, plants=12, food=15, low=(-1.5, -3.0), high=(4.5, 3.0))
 
 
 class PursuitSummary:
     """Episode metrics of a pursuit from each step's info (the same interface as
     :class:`envs.tasks.EpisodeSummary`, one episode): ``fovea_fraction`` (share of the frames
-    after the first foveation with the prey in both foveas), ``distance_closed_bl``,
+    after the first foveation with the prey in both foveas), ``fovea_fraction_150`` (the same
+    over the ``WINDOW`` = 150 frames after it, or as many as the episode has),
+    ``distance_closed_bl``,
     ``passer_fraction`` (frames after it with the passer in both foveas and the prey not: the
     gaze taken by the passer) and ``first_foveation_frame`` (-1: never)."""
 
+    WINDOW = 150
+
     def __init__(self, body_length: float, start_distance: float) -> None:
         self.length, self.start = body_length, start_distance
-        self.frames, self.first, self.held, self.passer = 0, None, 0, 0
+        self.frames, self.first, self.held, self.passer, self.held_window = 0, None, 0, 0, 0
         self.last: dict = {}
 
     def update(self, info: dict) -> None:
@@ -80,13 +93,17 @@ class PursuitSummary:
             self.first = self.frames
         if self.first is not None:
             self.held += bool(info["target_in_fovea"])
+            if self.frames < self.first + self.WINDOW:
+                self.held_window += bool(info["target_in_fovea"])
             self.passer += bool(info["passer_in_fovea"] and not info["target_in_fovea"])
         self.frames += 1
         self.last = info
 
     def summary(self) -> dict[str, float]:
         after = max(self.frames - (self.first if self.first is not None else self.frames), 1)
-        return {"fovea_fraction": self.held / after if self.first is not None else 0.0,
+        seen = self.first is not None
+        return {"fovea_fraction": self.held / after if seen else 0.0,
+                "fovea_fraction_150": self.held_window / min(after, self.WINDOW) if seen else 0.0,
                 "passer_fraction": self.passer / after,
                 "distance_closed_bl": (self.start - self.last["target_distance"]) / self.length,
                 "first_foveation_frame": float(self.first if self.first is not None else -1)}
@@ -119,6 +136,8 @@ class FishPursuitEnv(gym.Env):
                                              np.float32)})
         self.action_space = gym.spaces.Box(-1.0, 1.0, (7,), np.float32)
         self.gaze = np.zeros(4)
+        self.skins = [fish_skin(self.core.body, colour) for colour in COLOURS]
+        self._scenery: list = []
         self._started = False
 
     def episode_summary(self) -> PursuitSummary:
@@ -150,6 +169,7 @@ class FishPursuitEnv(gym.Env):
         self._place(PASSER, beyond + side * 3.0 * length * across,
                     bearing + (-side) * np.pi / 2)
         self.core.state.origin[:] = self.core.kinematics().com
+        self._scenery = scatter(rng, SEABED_Z, SCENERY)
         self.navigator.reset(np.arange(3))
         self.gaze[:] = 0.0
         self._time = 0.0
@@ -201,9 +221,10 @@ class FishPursuitEnv(gym.Env):
         return positions, rotations
 
     def scene(self) -> Scene:
-        scene = Scene(seabed_z=-0.5)
+        """What there is to see now: the three fish in their skins, and the scenery."""
+        scene = furnish(Scene(seabed_z=SEABED_Z), self._scenery)
         for row in range(3):
-            scene.add(self.core.body, self.core.state.x[row], COLOURS[row])
+            scene.add(self.core.body, self.core.state.x[row], self.skins[row])
         return scene
 
     def retina_images(self, kinematics=None) -> np.ndarray:
@@ -251,5 +272,5 @@ class FishPursuitEnv(gym.Env):
             centre = self.core.kinematics().com.mean(axis=0)
             eye = centre + np.array([-1.0, -2.0, 1.2]) * self.body_length * 1.5
             camera = Camera(480, 360, 432.0, eye, look_at(eye, centre))
-            return camera.render(self.scene(), centre)
+            return camera.render(self.scene())
         return None

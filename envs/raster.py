@@ -6,6 +6,11 @@ camera-space depths and one colour; a pixel takes the colour of the nearest tria
 covers its centre (depth interpolated as 1/z across the triangle, which is exact for planar
 triangles under perspective). Occlusion is therefore per pixel, whatever order the triangles
 come in. Triangles with a vertex nearer than ``near`` are dropped (no clipping).
+
+Around the triangles, two per-pixel passes on the same camera rays: :func:`seabed_into` first
+(the seabed plane, ray-cast, with a sand texture of tiles), and :func:`water_into` last (the
+water's colour by the ray's elevation, and depth haze: everything fades into that colour as
+``exp(-distance / visibility)``).
 """
 
 from __future__ import annotations
@@ -82,6 +87,76 @@ def rasterize_world(triangles, colours, eye, rotation, focal, image, zbuffer, ne
     rasterize(pixels, depths, colours, image, zbuffer, near)
 
 
+@njit(cache=True, inline="always")
+def _ray(rotation, focal, height, width, i, j):
+    """World direction (not normalised; unit depth along the camera axis) of pixel (i, j)."""
+    rx, ry = (j + 0.5 - 0.5 * width) / focal, (i + 0.5 - 0.5 * height) / focal
+    return (rotation[0, 0] * rx + rotation[1, 0] * ry + rotation[2, 0],
+            rotation[0, 1] * rx + rotation[1, 1] * ry + rotation[2, 1],
+            rotation[0, 2] * rx + rotation[1, 2] * ry + rotation[2, 2])
+
+
+@njit(cache=True)
+def seabed_into(image, zbuffer, eye, rotation, focal, seabed_z, tile, sand, far) -> None:
+    """Ray-cast the seabed (the plane z = ``seabed_z``, m) into ``image`` and ``zbuffer`` where
+    it is nearer than what is there and within ``far`` m: ``sand`` (3,) RGB in square tiles of
+    ``tile`` m, each tile's brightness a checker plus a hash of its indices (texture that
+    optical flow can lock onto)."""
+    height, width = zbuffer.shape
+    if eye[2] <= seabed_z:
+        return
+    for i in range(height):
+        for j in range(width):
+            dx, dy, dz = _ray(rotation, focal, height, width, i, j)
+            if dz >= 0.0:
+                continue
+            depth = (seabed_z - eye[2]) / dz
+            if depth >= zbuffer[i, j] or depth * np.sqrt(dx * dx + dy * dy + dz * dz) > far:
+                continue
+            u = int(np.floor((eye[0] + depth * dx) / tile))
+            v = int(np.floor((eye[1] + depth * dy) / tile))
+            noise = ((u * 73856093) ^ (v * 19349663)) & 1023
+            shade = 0.78 + 0.1 * ((u + v) & 1) + 0.14 * noise / 1023.0
+            zbuffer[i, j] = depth
+            for c in range(3):
+                image[i, j, c] = min(255.0, sand[c] * shade)
+
+
+HAZE_STEPS = 64  # table entries per unit of distance / visibility
+HAZE_TABLE = np.exp(-np.arange(16 * HAZE_STEPS + 2) / HAZE_STEPS)  # exp(-u), u in [0, 16]
+
+
+@njit(cache=True, fastmath=True)
+def water_into(image, zbuffer, rotation, focal, top, bottom, visibility) -> None:
+    """The water: a pixel that shows nothing takes the water's colour along its ray (``top``
+    (3,) RGB looking straight up, ``bottom`` straight down, blended by the ray's elevation);
+    a pixel showing something at distance d (m, along the ray) is hazed toward that colour,
+    keeping ``exp(-d / visibility)`` of its own (from :data:`HAZE_TABLE`, linearly
+    interpolated: within 1e-4 of the exponential; nothing is kept beyond 16 visibilities)."""
+    height, width = zbuffer.shape
+    last = HAZE_TABLE.shape[0] - 2
+    for i in range(height):
+        for j in range(width):
+            dx, dy, dz = _ray(rotation, focal, height, width, i, j)
+            length = np.sqrt(dx * dx + dy * dy + dz * dz)
+            up = 0.5 * (1.0 + dz / length)
+            u = min(zbuffer[i, j] * length / visibility, 16.0) * HAZE_STEPS
+            k = min(int(u), last)
+            keep = HAZE_TABLE[k] + (u - k) * (HAZE_TABLE[k + 1] - HAZE_TABLE[k])
+            if u >= 16.0 * HAZE_STEPS:
+                keep = 0.0
+            for c in range(3):
+                water = bottom[c] + up * (top[c] - bottom[c])
+                image[i, j, c] = np.uint8(water + keep * (np.float64(image[i, j, c]) - water)
+                                          + 0.5)
+
+
 def quads_to_triangles(corners: np.ndarray) -> np.ndarray:
-    """(F, 4, ...) quads (a triangle repeats a corner) -> (2F, 3, ...) triangles."""
-    return np.concatenate([corners[:, [0, 1, 2]], corners[:, [0, 2, 3]]], axis=0)
+    """(F, 4, ...) quads (a triangle repeats a corner) -> (2F, 3, ...) triangles: (0, 1, 2)
+    of every quad, then (0, 2, 3)."""
+    count = len(corners)
+    out = np.empty((2 * count, 3) + corners.shape[2:], corners.dtype)
+    out[:count] = corners[:, :3]
+    out[count:, 0] = corners[:, 0]
+    out[count:, 1:] = corners[:, 2:]
+    return out

@@ -1,10 +1,11 @@
-"""Pictures of the world (OpenCV), split into what is there and how it is seen.
+"""Pictures of the world, split into what is there and how it is seen.
 
-* :class:`Scene`: the bodies (their faces at the current node positions, each with a colour)
-  and the seabed, all in the world frame, m.
-* :class:`Camera`: a pinhole camera (image size, focal length, pose) that rasterises a scene:
-  water background, seabed grid, then the bodies' shadows on the seabed and their faces, flat
-  shaded, through a depth buffer (:mod:`envs.raster`, per-pixel occlusion).
+* :class:`Scene`: the bodies (their faces at the current node positions, each flat-coloured
+  or with a textured skin), rigid meshes (obstacles, plants, food), the seabed and the water's
+  haze, all in the world frame, m.
+* :class:`Camera`: a pinhole camera (image size, focal length, pose) that draws a scene
+  through :mod:`envs.raster`: the sand-tiled seabed, then the shadows and faces, flat shaded,
+  through a depth buffer (per-pixel occlusion), then the water and its depth haze.
 
 :class:`BodyRenderer` is the envs' third-person view: a camera that follows one body's centre of
 mass from behind and to the side. The eyes (a later sensor) are cameras on the head looking at
@@ -14,15 +15,19 @@ the same scene.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import NamedTuple
 
-import cv2
 import numpy as np
 
 from envs.body import BodySpec
-from envs.raster import quads_to_triangles, rasterize_world
+from envs.raster import quads_to_triangles, rasterize_world, seabed_into, water_into
 
 FISH_COLOUR = (250, 140, 60)  # RGB
 SHADOW_COLOUR = (25, 40, 45)
+SHADOW_LIFT = 0.002  # m: shadows lie this far above the seabed (no fight for its pixels)
+SAND = np.array([150.0, 135.0, 100.0])  # RGB of the seabed
+WATER_TOP, WATER_BOTTOM = np.array([60.0, 130.0, 180.0]), np.array([8.0, 35.0, 70.0])
+FAR = 40.0  # m: the seabed is not drawn beyond this (it has faded into the water by then)
 NEAR = 0.01  # m: faces with a corner nearer to a camera than this are not drawn
 
 
@@ -36,22 +41,38 @@ def look_at(eye: np.ndarray, target: np.ndarray) -> np.ndarray:
     return np.stack([right, down, forward])
 
 
+class Frame(NamedTuple):
+    """A scene prepared for one instant (:meth:`Scene.prepare`), shared by every camera that
+    looks at it: world triangles (T, 3, 3) m, their shaded colours (T, 3) uint8, and the
+    seabed and water of :class:`Scene`."""
+
+    triangles: np.ndarray
+    colours: np.ndarray
+    seabed_z: float
+    tile: float
+    visibility: float
+
+
 @dataclass
 class Scene:
-    """What there is to see: bodies at node positions, and a seabed grid.
+    """What there is to see: bodies at node positions, rigid meshes, the seabed and the water.
 
     Attributes:
-        bodies: [(body, x (N, 3) m, RGB colour)].
-        meshes: [(corners (F, 4, 3) m, RGB colour)]: rigid things (obstacles, food), as quads
-            (a triangle repeats a corner).
+        bodies: [(body, x (N, 3) m, colour)]: colour is RGB (3,) for a flat-coloured body, or a
+            skin (4F, 3) from :func:`fish_skin` (each face drawn as 2 x 2 sub-faces).
+        meshes: [(corners (F, 4, 3) m, RGB colour)]: rigid things (obstacles, plants, food), as
+            quads (a triangle repeats a corner).
         seabed_z: the seabed's height, m (world frame).
-        grid: seabed grid spacing, m.
+        grid: the seabed's sand tiles, m.
+        visibility: the water's haze, m: what is d away keeps exp(-d / visibility) of its
+            colour.
     """
 
-    bodies: list[tuple[BodySpec, np.ndarray, tuple[int, int, int]]] = field(default_factory=list)
+    bodies: list[tuple[BodySpec, np.ndarray, object]] = field(default_factory=list)
     meshes: list[tuple[np.ndarray, tuple[int, int, int]]] = field(default_factory=list)
     seabed_z: float = -0.3
     grid: float = 0.1
+    visibility: float = 8.0
     light: np.ndarray = field(default_factory=lambda: np.array([0.3, -0.4, 0.87]))
 
     def add(self, body: BodySpec, x: np.ndarray, colour=FISH_COLOUR) -> Scene:
@@ -62,40 +83,67 @@ class Scene:
         self.meshes.append((np.asarray(corners, float), colour))
         return self
 
-    def triangles(self) -> tuple[np.ndarray, np.ndarray]:
-        """(T, 3, 3) world triangles of every face and of its shadow on the seabed, and
-        (T, 3) uint8 their flat-shaded colours (the same for every camera: compute once per
-        frame and hand to :meth:`Camera.draw`)."""
-        things = [(x[body.faces], colour) for body, x, colour in self.bodies] + self.meshes
-        if not things:
-            return np.zeros((0, 3, 3)), np.zeros((0, 3), np.uint8)
-        quads = np.concatenate([q for q, _ in things])
-        base = np.concatenate([np.tile(np.array(c, float), (len(q), 1)) for q, c in things])
-        shadow = quads.copy()
-        shadow[..., 2] = self.seabed_z
+    def _solids(self) -> tuple[list[np.ndarray], list[np.ndarray]]:
+        """Quads (F, 4, 3) and their base colours (F, 3) of every body and mesh."""
+        quads, colours = [], []
+        for body, x, colour in self.bodies:
+            faces, base = x[body.faces], np.asarray(colour, float)
+            if base.ndim == 2:  # a skin: one colour per sub-face
+                faces = subdivide(faces)
+            quads.append(faces)
+            colours.append(np.broadcast_to(base, (len(faces), 3)))
+        for corners, colour in self.meshes:
+            quads.append(corners)
+            colours.append(np.broadcast_to(np.asarray(colour, float), (len(corners), 3)))
+        return quads, colours
+
+    def prepare(self) -> Frame:
+        """This instant's triangles: every face flat-shaded by the light, and the bodies'
+        shadows just above the seabed (compute once per frame and hand to
+        :meth:`Camera.draw`)."""
+        quads, base = self._solids()
+        if not quads:
+            return Frame(np.zeros((0, 3, 3)), np.zeros((0, 3), np.uint8), self.seabed_z,
+                         self.grid, self.visibility)
+        quads, base = np.concatenate(quads), np.concatenate(base)
+        shadow = np.concatenate([np.zeros((0, 4, 3))]
+                                + [x[body.faces] for body, x, _ in self.bodies])
+        shadow[..., 2] = self.seabed_z + SHADOW_LIFT
         normals = np.cross(quads[:, 2] - quads[:, 0], quads[:, 3] - quads[:, 1])
         normals /= np.maximum(np.linalg.norm(normals, axis=1, keepdims=True), 1e-12)
         shade = 0.35 + 0.65 * np.maximum(0.0, normals @ self.light)
-        colours = np.concatenate([np.tile(SHADOW_COLOUR, (len(quads), 1)),
-                                  shade[:, None] * base]).astype(np.uint8)
-        return (quads_to_triangles(np.concatenate([shadow, quads])),
-                np.concatenate([colours, colours]))
+        colours = np.concatenate([np.tile(SHADOW_COLOUR, (len(shadow), 1)),
+                                  np.minimum(shade[:, None] * base, 255.0)]).astype(np.uint8)
+        return Frame(quads_to_triangles(np.concatenate([shadow, quads])),
+                     np.concatenate([colours, colours]), self.seabed_z, self.grid,
+                     self.visibility)
 
-    def grid_segments(self, centre: np.ndarray) -> np.ndarray:
-        """(G, 2, 3) the seabed grid lines within 8 spacings of ``centre`` (3,) m."""
-        span, z = 8 * self.grid, self.seabed_z
-        start = np.floor((np.asarray(centre)[:2] - span) / self.grid) * self.grid
-        ticks = np.arange(0, 2 * span + 1e-9, self.grid)
-        segments = []
-        for axis in (0, 1):
-            a = np.zeros((len(ticks), 3))
-            a[:, axis] = start[axis] + ticks
-            a[:, 1 - axis] = start[1 - axis]
-            a[:, 2] = z
-            b = a.copy()
-            b[:, 1 - axis] += 2 * span
-            segments.append(np.stack([a, b], axis=1))
-        return np.concatenate(segments)
+
+_HALF = np.array([[1, 0, 0, 0], [.5, .5, 0, 0], [.25, .25, .25, .25], [.5, 0, 0, .5],
+                  [.5, .5, 0, 0], [0, 1, 0, 0], [0, .5, .5, 0], [.25, .25, .25, .25],
+                  [.25, .25, .25, .25], [0, .5, .5, 0], [0, 0, 1, 0], [0, 0, .5, .5],
+                  [.5, 0, 0, .5], [.25, .25, .25, .25], [0, 0, .5, .5], [0, 0, 0, 1]])
+
+
+def subdivide(quads: np.ndarray) -> np.ndarray:
+    """(F, 4, 3) quads (corners a, b, c, d) -> (4F, 4, 3): each split into 2 x 2 by its edge
+    midpoints and centre (face k's four parts are rows 4k .. 4k + 3)."""
+    return (_HALF @ quads).reshape(-1, 4, 3)
+
+
+def fish_skin(body: BodySpec, colour) -> np.ndarray:
+    """(4F, 3) RGB per sub-face (:func:`subdivide`): ``colour`` countershaded (darker on the
+    back, lighter on the belly, by the rest-shape face normal) with dark bands every sixth
+    of the body length and a light checker between sub-faces: texture for optical flow."""
+    rest = subdivide(body.rest_positions[body.faces])
+    centres = rest.mean(axis=1)
+    normals = np.cross(rest[:, 2] - rest[:, 0], rest[:, 3] - rest[:, 1])
+    up = normals[:, 2] / np.maximum(np.linalg.norm(normals, axis=1), 1e-12)
+    along = (body.rest_positions[0, 0] - centres[:, 0]) / body.length  # 0 nose .. 1 tail
+    bands = 1.0 - 0.3 * (np.cos(2 * np.pi * 6 * along) > 0.5)
+    checker = 1.0 + 0.12 * (np.arange(len(rest)) % 2)
+    brightness = (1.0 - 0.18 * up) * bands * checker
+    return np.minimum(brightness[:, None] * np.asarray(colour, float), 255.0)
 
 
 def yaw_matrix(yaw: float) -> np.ndarray:
@@ -111,14 +159,20 @@ def posed(body: BodySpec, centre, yaw: float = 0.0) -> np.ndarray:
     return x @ yaw_matrix(yaw).T + np.asarray(centre, float)
 
 
-def box(centre, size) -> np.ndarray:
-    """(6, 4, 3) the faces of an axis-aligned box, corners ordered so normals point out."""
-    c, h = np.asarray(centre, float), 0.5 * np.asarray(size, float)
+BOX_FACES = np.array([(0, 3, 2, 1), (4, 5, 6, 7), (0, 1, 5, 4), (2, 3, 7, 6), (1, 2, 6, 5),
+                      (0, 4, 7, 3)])  # quads of box_corners, ordered so normals point out
+
+
+def box_corners(centre, size) -> np.ndarray:
+    """(8, 3) corners of an axis-aligned box: the bottom four, then the top four."""
     signs = np.array([[-1, -1, -1], [1, -1, -1], [1, 1, -1], [-1, 1, -1],
                       [-1, -1, 1], [1, -1, 1], [1, 1, 1], [-1, 1, 1]])
-    corners = c + signs * h
-    faces = [(0, 3, 2, 1), (4, 5, 6, 7), (0, 1, 5, 4), (2, 3, 7, 6), (1, 2, 6, 5), (0, 4, 7, 3)]
-    return corners[np.array(faces)]
+    return np.asarray(centre, float) + signs * 0.5 * np.asarray(size, float)
+
+
+def box(centre, size) -> np.ndarray:
+    """(6, 4, 3) the faces of an axis-aligned box, corners ordered so normals point out."""
+    return box_corners(centre, size)[BOX_FACES]
 
 
 @dataclass
@@ -141,39 +195,25 @@ class Camera:
                            self.height / 2 + self.focal * cam[..., 1] / safe], axis=-1)
         return pixels, depth
 
-    def render(self, scene: Scene, centre: np.ndarray) -> np.ndarray:
-        """(height, width, 3) uint8 RGB picture of ``scene``, the seabed grid drawn around
-        ``centre`` (3,) m."""
-        return self.draw(*scene.triangles(), scene.grid_segments(centre))
+    def render(self, scene: Scene) -> np.ndarray:
+        """(height, width, 3) uint8 RGB picture of ``scene``."""
+        return self.draw(scene.prepare())
 
-    def draw(self, triangles: np.ndarray, colours: np.ndarray, segments: np.ndarray
-             ) -> np.ndarray:
-        """The picture of prepared geometry (:meth:`Scene.triangles`,
-        :meth:`Scene.grid_segments`): background and grid lines first, then the triangles
-        through the depth buffer (:func:`envs.raster.rasterize`)."""
-        image = self._background()
-        pixels, depth = self.project(segments)
-        for (a, b), (da, db) in zip(np.int32(pixels), depth):
-            if da > NEAR and db > NEAR:
-                cv2.line(image, tuple(a), tuple(b), (90, 130, 140), 1, cv2.LINE_AA)
-        if len(triangles):
-            zbuffer = np.full((self.height, self.width), np.inf)
-            rasterize_world(triangles, colours, np.asarray(self.eye, float),
-                            np.ascontiguousarray(self.rotation, float), float(self.focal), image,
-                            zbuffer, NEAR)
+    def draw(self, frame: Frame) -> np.ndarray:
+        """The picture of a prepared scene: the seabed (ray-cast), then the triangles through
+        the depth buffer (:func:`envs.raster.rasterize`), then the water and its haze."""
+        image = np.zeros((self.height, self.width, 3), np.uint8)
+        zbuffer = np.full((self.height, self.width), np.inf)
+        eye = np.asarray(self.eye, float)
+        rotation = np.ascontiguousarray(self.rotation, float)
+        seabed_into(image, zbuffer, eye, rotation, float(self.focal), float(frame.seabed_z),
+                    float(frame.tile), SAND, FAR)
+        if len(frame.triangles):
+            rasterize_world(frame.triangles, frame.colours, eye, rotation, float(self.focal),
+                            image, zbuffer, NEAR)
+        water_into(image, zbuffer, rotation, float(self.focal), WATER_TOP, WATER_BOTTOM,
+                   float(frame.visibility))
         return image
-
-    def _background(self) -> np.ndarray:
-        key = (self.width, self.height)
-        if key not in _BACKGROUNDS:
-            rows = (np.arange(self.height) + 0.5)[:, None] / self.height
-            top, bottom = np.array([40, 110, 170.0]), np.array([10, 40, 80.0])
-            column = (1 - rows) * top + rows * bottom
-            _BACKGROUNDS[key] = np.repeat(column[:, None, :], self.width, axis=1).astype(np.uint8)
-        return _BACKGROUNDS[key].copy()
-
-
-_BACKGROUNDS: dict[tuple[int, int], np.ndarray] = {}
 
 
 class BodyRenderer:
@@ -184,7 +224,7 @@ class BodyRenderer:
         body: the body description (its faces are drawn).
         width, height: image size, pixels.
         seabed_depth: the seabed's distance below the start depth, m.
-        grid: seabed grid spacing, m.
+        grid: the seabed's sand tiles, m.
     """
 
     def __init__(self, body: BodySpec, width: int = 480, height: int = 360,
@@ -200,4 +240,4 @@ class BodyRenderer:
         eye = centre + self.offset
         camera = Camera(self.width, self.height, self.focal, eye, look_at(eye, centre))
         scene = Scene(seabed_z=self.seabed_z, grid=self.grid).add(self.body, x)
-        return camera.render(scene, centre)
+        return camera.render(scene)

@@ -19,7 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from envs.render import Camera, Scene
+from envs.render import Camera, Frame, Scene
 
 
 @dataclass(frozen=True)
@@ -66,16 +66,14 @@ def eye_positions(frame: np.ndarray, head: np.ndarray, length: float,
 
 
 def render_eye(scene: Scene, position: np.ndarray, rotation: np.ndarray,
-               params: RetinaParams = RetinaParams(), prepared=None) -> np.ndarray:
+               params: RetinaParams = RetinaParams(), frame: Frame | None = None) -> np.ndarray:
     """(levels, size, size, 3) uint8: the eye's images from level 0 (widest) to the fovea.
-    ``prepared``: the scene's (triangles, colours, grid segments), when already computed for
-    this frame (both eyes share them)."""
-    if prepared is None:
-        prepared = (*scene.triangles(), scene.grid_segments(position))
+    ``frame``: the scene already prepared for this instant (both eyes share it)."""
+    frame = scene.prepare() if frame is None else frame
     images = []
     for level in range(params.levels):
         camera = Camera(params.size, params.size, params.focal(level), position, rotation)
-        images.append(camera.draw(*prepared))
+        images.append(camera.draw(frame))
     return np.stack(images)
 
 
@@ -83,8 +81,8 @@ def render_eyes(scene: Scene, positions: np.ndarray, rotations: np.ndarray,
                 params: RetinaParams = RetinaParams()) -> np.ndarray:
     """(2, levels, size, size, 3) uint8: both eyes (positions (2, 3), rotations (2, 3, 3))
     from one preparation of the scene."""
-    prepared = (*scene.triangles(), scene.grid_segments(positions.mean(axis=0)))
-    return np.stack([render_eye(scene, p, r, params, prepared)
+    frame = scene.prepare()
+    return np.stack([render_eye(scene, p, r, params, frame)
                      for p, r in zip(positions, rotations)])
 
 

@@ -15,26 +15,24 @@ import time
 import numpy as np
 
 from envs.fish import fish_body
-from envs.render import Camera, Scene, box, look_at, posed
+from envs.render import Camera, Scene, fish_skin, look_at, posed
 from envs.retina import RetinaParams, eye_positions, gaze_rotation, render_eyes
+from envs.scenery import SceneryParams, furnish, scatter
 
 
 def paper_scene(seed: int = 0) -> Scene:
-    """10 fishes, 15 food particles (1 cm cubes) and 5 obstacles within a 3 m square."""
+    """10 fishes in textured skins, 15 food particles, 5 rocks and 12 plants within a 3 m
+    square (:mod:`envs.scenery`), over a sand seabed 1 m down."""
     rng, body = np.random.default_rng(seed), fish_body()
-    scene = Scene(seabed_z=-1.0)
+    scene = furnish(Scene(seabed_z=-1.0), scatter(rng, -1.0, SceneryParams(
+        rock_height=0.8, plant_height=0.9)))
     for k in range(10):
         yaw = rng.uniform(-np.pi, np.pi)
         x = posed(body, [*rng.uniform(-1.5, 1.5, 2), rng.uniform(-.3, .3)], yaw)
         x += rng.normal(0.0, 0.004, x.shape)
         if k == 0:
             x = body.rest_positions.copy()
-        scene.add(body, x, (250, 140, 60) if k else (200, 60, 50))
-    for _ in range(15):
-        scene.add_mesh(box([*rng.uniform(-1.5, 1.5, 2), rng.uniform(-.5, .5)], [0.01] * 3),
-                       (230, 230, 120))
-    for _ in range(5):
-        scene.add_mesh(box([*rng.uniform(-1.5, 1.5, 2), -0.6], [0.3, 0.3, 0.8]), (120, 110, 100))
+        scene.add(body, x, fish_skin(body, (250, 140, 60) if k else (200, 60, 50)))
     return scene
 
 
@@ -48,7 +46,7 @@ def eyes_once(scene: Scene, params: RetinaParams) -> None:
 
 def third_person_once(scene: Scene) -> None:
     eye = np.array([-1.0, -2.0, 1.0])
-    Camera(480, 360, 432.0, eye, look_at(eye, np.zeros(3))).render(scene, np.zeros(3))
+    Camera(480, 360, 432.0, eye, look_at(eye, np.zeros(3))).render(scene)
 
 
 def rate(fn, seconds: float) -> float:
@@ -71,8 +69,9 @@ def main(argv: list[str] | None = None) -> None:
         eyes.append(rate(lambda: eyes_once(scene, params), args.seconds / args.rounds / 2))
         view.append(rate(lambda: third_person_once(scene), args.seconds / args.rounds / 2))
     eyes_rate, view_rate = float(np.median(eyes)), float(np.median(view))
-    faces = len(scene.triangles()[0]) // 4  # two triangles per face, and its shadow
-    print(f"scene: 10 fishes, 15 food particles, 5 obstacles ({faces} faces)")
+    triangles = len(scene.prepare().triangles)
+    print(f"scene: 10 fishes, 15 food particles, 5 rocks, 12 plants ({triangles} triangles, "
+          "shadows included)")
     print(f"both retinas (8 cameras of 64x64): {eyes_rate:8.1f} frame-sets/s "
           f"({8 * eyes_rate:.0f} camera images/s)")
     print(f"third-person 480x360 view:         {view_rate:8.1f} frames/s")

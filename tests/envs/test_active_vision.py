@@ -4,7 +4,7 @@ beside it), verge on it, and range it by triangulation."""
 import numpy as np
 import pytest
 
-from envs.active_vision import detect, foveate, model_histogram, verge
+from envs.active_vision import correlate, detect, foveate, model_histogram, verge
 from envs.fish import fish_body
 from envs.render import Scene, posed
 from envs.retina import RetinaParams, eye_positions, gaze_rotation, render_eye
@@ -49,6 +49,12 @@ def test_both_eyes_foveate_the_red_fish_and_range_it_within_ten_percent(start):
         centre = fovea[30:34, 30:34]
         assert (centre[..., 0] > 60).all() and (centre[..., 1] < 40).all()  # red, not yellow
         fixations.append(fixation)
+    left = fixations[0]
+    fixations[1] = correlate(render_eye(scene, eyes[0], gaze_rotation(HEAD, left.theta,
+                                                                     left.phi))[3],
+                             lambda theta, phi: render_eye(scene, eyes[1],
+                                                           gaze_rotation(HEAD, theta, phi)),
+                             fixations[1])
     baseline = float(np.linalg.norm(eyes[0] - eyes[1]))
     vergence, distance = verge(*fixations, baseline)
     target = scene.bodies[0][1]

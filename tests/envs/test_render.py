@@ -16,10 +16,8 @@ def test_a_nearer_body_hides_the_one_behind_it():
     behind = body.rest_positions + [0.0, 0.0, 0.0]
     front = body.rest_positions + [0.0, -0.3, 0.0]  # between the camera and the first fish
     camera = _camera([-0.15, -1.0, 0.0], [-0.15, 0.0, 0.0])
-    centre = np.zeros(3)
-    alone = camera.render(Scene().add(body, behind, (255, 0, 0)), centre)
-    both = camera.render(Scene().add(body, behind, (255, 0, 0)).add(body, front, (0, 0, 255)),
-                         centre)
+    alone = camera.render(Scene().add(body, behind, (255, 0, 0)))
+    both = camera.render(Scene().add(body, behind, (255, 0, 0)).add(body, front, (0, 0, 255)))
     red_alone = (alone[..., 0] > 120) & (alone[..., 2] < 60)
     red_both = (both[..., 0] > 120) & (both[..., 2] < 60)
     blue_both = (both[..., 2] > 120) & (both[..., 0] < 60)
