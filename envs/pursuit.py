@@ -79,13 +79,19 @@ class PursuitSummary:
     over the ``WINDOW`` = 150 frames after it, or as many as the episode has),
     ``distance_closed_bl``,
     ``passer_fraction`` (frames after it with the passer in both foveas and the prey not: the
-    gaze taken by the passer) and ``first_foveation_frame`` (-1: never)."""
+    gaze taken by the passer), ``first_foveation_frame`` (-1: never), and over the frames
+    with the prey in both foveas: ``vergence_first_deg`` and ``vergence_last_deg`` (means of
+    the first and last ``ENDS`` = 40 of them) and ``range_error`` (the median of
+    ``|range_estimate / target_distance - 1|`` over those where the eyes converge, so that
+    the range is finite; NaN when there are none)."""
 
-    WINDOW = 150
+    WINDOW, ENDS = 150, 40
 
     def __init__(self, body_length: float, start_distance: float) -> None:
         self.length, self.start = body_length, start_distance
         self.frames, self.first, self.held, self.passer, self.held_window = 0, None, 0, 0, 0
+        self.vergence: list[float] = []
+        self.range_errors: list[float] = []
         self.last: dict = {}
 
     def update(self, info: dict) -> None:
@@ -96,6 +102,11 @@ class PursuitSummary:
             if self.frames < self.first + self.WINDOW:
                 self.held_window += bool(info["target_in_fovea"])
             self.passer += bool(info["passer_in_fovea"] and not info["target_in_fovea"])
+        if info["target_in_fovea"]:
+            self.vergence.append(float(np.degrees(info["vergence"])))
+            if np.isfinite(info["range_estimate"]):  # the eyes converge
+                self.range_errors.append(abs(info["range_estimate"] / info["target_distance"]
+                                             - 1))
         self.frames += 1
         self.last = info
 
@@ -106,7 +117,15 @@ class PursuitSummary:
                 "fovea_fraction_150": self.held_window / min(after, self.WINDOW) if seen else 0.0,
                 "passer_fraction": self.passer / after,
                 "distance_closed_bl": (self.start - self.last["target_distance"]) / self.length,
-                "first_foveation_frame": float(self.first if self.first is not None else -1)}
+                "first_foveation_frame": float(self.first if self.first is not None else -1),
+                "vergence_first_deg": _mean(self.vergence[:self.ENDS]),
+                "vergence_last_deg": _mean(self.vergence[-self.ENDS:]),
+                "range_error": float(np.median(self.range_errors)) if self.range_errors
+                else float("nan")}
+
+
+def _mean(values: list[float]) -> float:
+    return float(np.mean(values)) if values else float("nan")
 
 
 class FishPursuitEnv(gym.Env):

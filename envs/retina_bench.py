@@ -1,7 +1,8 @@
 """Retina benchmark: both eyes (8 cameras) over the paper's scene, frame-sets per second.
 
-``python -m envs.retina_bench``: 10 fishes (their bodies deformed by random actuation), 15
-food particles and 5 obstacles, seen by the two eyes of the first fish; frame-sets (all 8
+``python -m envs.retina_bench``: 10 fishes in textured skins (their nodes jittered by a few
+mm), 15 food particles, 5 rocks and 12 plants over a sand seabed, seen by the two eyes of the
+first fish; frame-sets (all 8
 cameras) per wall second on one core, beside the third-person 480x360 view of the same scene
 as a reference measured in the same rounds, and the paper's 1995 figure (about 4 frames per
 second for this scene, without vision).

@@ -58,7 +58,7 @@ def _parser() -> argparse.ArgumentParser:
     figures = sub.add_parser("figures", help="the paper's Figs. 5, 7, 8 from a pursuit")
     figures.add_argument("--out", type=Path, required=True, help="folder for the PNG files")
     figures.add_argument("--seed", type=int, default=0)
-    figures.add_argument("--frames", type=int, default=150)
+    figures.add_argument("--frames", type=int, default=400)
     sub.add_parser("list", help="registered envs, learners and shipped configs")
     return parser
 

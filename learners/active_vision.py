@@ -33,6 +33,7 @@ import numpy as np
 import envs  # noqa: F401
 from envs.active_vision import VisionParams, detect, model_histogram, saccade
 from envs.fish import fish_body
+from envs.perception import translational_flow
 from envs.pursuit import COLOURS, PHI_RANGE, PREY, SEABED_Z, THETA_RANGE
 from envs.render import Scene, fish_skin, posed
 from envs.retina import RetinaParams, gaze_rotation, render_eye
@@ -80,7 +81,12 @@ class ActiveVisionParams:
     its angle a lost eye keeps per frame; detect_threshold: histogram intersection; stabilise:
     the share of the head's yaw over the next frame (``frame_dt`` s) that the eyes
     counter-rotate (the least-squares gain of the measured yaw on the predicted one is 0.6-0.7);
-    speed: the swim-MC's speed in [0, 1] while not turning."""
+    speed: the swim-MC's speed in [0, 1] while not turning; flow_limit: pixels: an eye that
+    had the target in its fovea last frame follows it by the optical flow between the two
+    foveal images (the paper's stabilisation) when the flow is at most this, and re-detects
+    otherwise (0: always re-detect; measured on seeds 100-104: 0 holds the prey on 0.985 of
+    the frames, 2 px on 0.979, 4 px on 0.898, 8 px on 0.595: each flow estimate builds on the
+    last one, and the errors add up until a re-detection)."""
 
     turn_threshold: float = 20.0
     turn_gain: float = 1.0
@@ -90,6 +96,7 @@ class ActiveVisionParams:
     stabilise: float = 0.75
     frame_dt: float = 0.05
     speed: float = 0.6
+    flow_limit: float = 0.0
 
 
 class ActiveVisionPolicy:
@@ -102,6 +109,30 @@ class ActiveVisionPolicy:
                                    model_level=retina.levels - 2)
         self.model = prey_model_histogram(retina)
         self.body = fish_body()  # the observer's body: which nodes define its head frame
+        self.reset()
+
+    def reset(self) -> None:
+        """Forget the last frame (call at the start of an episode)."""
+        self._fovea: list[np.ndarray | None] = [None, None]  # last foveal image per eye
+        self._at: list[tuple[float, float] | None] = [None, None]  # target there, pixels
+        self.flow_frames = 0  # eye-frames located by optical flow since the reset
+
+    def _locate(self, k: int, levels: np.ndarray) -> tuple[int, float, float]:
+        """(level, x, y) of the target in eye ``k``: by the optical flow from its last foveal
+        image when it was in the fovea and moved at most ``flow_limit`` pixels, else by
+        detection."""
+        fovea, last, at = levels[-1], self._fovea[k], self._at[k]
+        found = None
+        if self.params.flow_limit > 0 and last is not None and at is not None:
+            dx, dy = translational_flow(last, fovea)
+            if np.hypot(dx, dy) <= self.params.flow_limit:
+                found = (len(levels) - 1, at[0] + dx, at[1] + dy)
+                self.flow_frames += 1
+        if found is None:
+            found = detect(levels, self.model, self.vision)
+        in_fovea = found[0] == len(levels) - 1
+        self._fovea[k], self._at[k] = fovea, (found[1], found[2]) if in_fovea else None
+        return found
 
     def _levels(self, stacked: np.ndarray) -> np.ndarray:
         """(64, 64, 3 L) -> (L, 64, 64, 3)."""
@@ -112,7 +143,7 @@ class ActiveVisionPolicy:
         gaze = np.asarray(obs["gaze"], float).reshape(2, 2) * [THETA_RANGE, PHI_RANGE]
         new, seen = gaze.copy(), []
         for k, key in enumerate(("left_eye", "right_eye")):
-            level, x, y = detect(self._levels(obs[key]), self.model, self.vision)
+            level, x, y = self._locate(k, self._levels(obs[key]))
             if level >= 0:
                 new[k] = saccade(gaze[k, 0], gaze[k, 1], level, x, y, self.retina)
                 seen.append(k)

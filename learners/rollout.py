@@ -113,9 +113,13 @@ def score_episode(env: gym.Env, policy, seed: int) -> dict[str, float]:
 
 
 def spread(runs: list[dict[str, float]]) -> dict[str, float]:
-    """``eval/<key>`` means over episodes, with ``eval/<key>_std`` beside each."""
+    """``eval/<key>`` means over episodes, with ``eval/<key>_std`` beside each. A figure that
+    is undefined (NaN) in an episode (e.g. the vergence of a pursuit that never foveated) is
+    averaged over the episodes that have it, and left out if none has."""
     out = {}
     for key in runs[0]:
-        values = np.array([r[key] for r in runs])
-        out[f"eval/{key}"], out[f"eval/{key}_std"] = float(values.mean()), float(values.std())
+        values = np.array([r[key] for r in runs], dtype=float)
+        values = values[~np.isnan(values)]
+        if len(values):
+            out[f"eval/{key}"], out[f"eval/{key}_std"] = float(values.mean()), float(values.std())
     return out

@@ -10,6 +10,7 @@ from gymnasium.utils.env_checker import check_env
 import envs  # noqa: F401
 from envs.fish_env import FishEnv
 from envs.navigation import Navigator
+from envs.pursuit import PursuitSummary
 
 
 def test_pursuit_passes_both_checkers_without_warnings():
@@ -52,3 +53,24 @@ def test_a_left_turn_command_turns_the_fish_left_then_it_swims_on():
         headings.append(env.step(navigator.actions(command, k * env.dt)[0])[4]["heading_deg"])
     assert 60.0 < headings[100] - headings[19] < 120.0
     assert abs(headings[-1] - headings[100]) < 30.0  # swimming on, not turning
+
+
+def test_the_pursuit_summary_counts_after_the_first_foveation():
+    summary = PursuitSummary(body_length=0.3, start_distance=0.9)
+    for frame in range(400):
+        held = 10 <= frame < 300  # first foveation at frame 10, lost for good at 300
+        summary.update({"target_in_fovea": held, "passer_in_fovea": False,
+                        "target_distance": 0.9 - 0.001 * frame, "vergence": np.radians(2.0),
+                        "range_estimate": np.inf if frame == 20 else 0.95 * (0.9 - 0.001 * frame)
+                        })
+    out = summary.summary()
+    assert out["first_foveation_frame"] == 10
+    assert out["fovea_fraction"] == pytest.approx(290 / 390)
+    assert out["fovea_fraction_150"] == 1.0
+    assert out["distance_closed_bl"] == pytest.approx(0.399 / 0.3)
+    assert out["vergence_first_deg"] == pytest.approx(2.0)
+    assert out["range_error"] == pytest.approx(0.05)  # the one infinite range is left out
+    never = PursuitSummary(0.3, 0.9)
+    never.update({"target_in_fovea": False, "passer_in_fovea": True, "target_distance": 0.9,
+                  "vergence": 0.0, "range_estimate": np.inf})
+    assert never.summary()["fovea_fraction"] == 0.0 and np.isnan(never.summary()["range_error"])

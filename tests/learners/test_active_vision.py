@@ -9,7 +9,12 @@ import pytest
 
 import envs  # noqa: F401
 from envs.active_vision import VisionParams, detect
-from learners.active_vision import MODEL_VIEWS, ActiveVisionPolicy, prey_model_histogram
+from learners.active_vision import (
+    MODEL_VIEWS,
+    ActiveVisionParams,
+    ActiveVisionPolicy,
+    prey_model_histogram,
+)
 from learners.registry import make_learner
 from learners.rollout import score_episode
 
@@ -22,6 +27,14 @@ def test_active_vision_policy_pursues_the_prey(seed):
     assert metrics["fovea_fraction_150"] >= 0.9 and metrics["fovea_fraction"] >= 0.9, metrics
     assert metrics["distance_closed_bl"] > 0.5, metrics
     assert metrics["passer_fraction"] < 0.02, metrics
+
+
+def test_stabilising_by_optical_flow_follows_the_prey_between_detections():
+    env = gym.make("Animat/FishPursuit-v0", duration=20.0)
+    policy = ActiveVisionPolicy(ActiveVisionParams(flow_limit=2.0))
+    metrics = score_episode(env, policy, 0)
+    assert policy.flow_frames > 20  # some frames were located by the flow alone
+    assert metrics["fovea_fraction"] >= 0.9, metrics
 
 
 def test_the_policy_acts_from_a_copy_of_the_observation_alone():
