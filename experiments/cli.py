@@ -90,7 +90,7 @@ def cmd_run(args) -> int:
 
 
 def cmd_sweep(args) -> int:
-    from experiments.sweep import parse_seeds, prepare, run_local, run_ray
+    from experiments.sweep import parse_seeds, prepare, run_local, run_ray, summary_table
 
     try:
         seeds = parse_seeds(args.seeds)
@@ -102,8 +102,7 @@ def cmd_sweep(args) -> int:
         results = run_ray(folders, args.address)
     else:
         results = run_local(folders, args.jobs, progress=lambda folder: _progress(args, config))
-    for folder, result in zip(folders, results):
-        print(f"{folder}: {result['status']} {json.dumps(result.get('metrics', {}))}")
+    print(summary_table(folders, results, config.eval.metric))
     return 0 if all(r["status"] == "done" for r in results) else 1
 
 

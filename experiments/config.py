@@ -138,10 +138,11 @@ def validate(data: Any, source: str) -> ExperimentConfig:
 
 def check_buildable(config: ExperimentConfig, source: str) -> None:
     """Build the env and the learner once (cheap: no learning, no files written) so that an env
-    keyword or a learner parameter that cannot be used stops the run before any work, as
-    ConfigError on ``env.kwargs`` or ``learner.params``."""
+    keyword, a learner parameter or a budget that cannot be used stops the run before any
+    work, as ConfigError on ``env.kwargs``, ``learner.params`` or ``budget.env_steps``."""
     import gymnasium as gym
 
+    from learners.base import BudgetError
     from learners.registry import make_learner
 
     try:
@@ -151,6 +152,8 @@ def check_buildable(config: ExperimentConfig, source: str) -> None:
     try:
         make_learner(config.learner.name, config.env.id, config.env.kwargs,
                      config.learner.params, config.seed).check_budget(config.budget.env_steps)
+    except BudgetError as error:
+        raise ConfigError(source, "budget.env_steps", str(error)) from None
     except (ValueError, TypeError, KeyError, OSError) as error:
         message = error.args[0] if isinstance(error, KeyError) and error.args else str(error)
         raise ConfigError(source, "learner.params", str(message)) from None

@@ -47,7 +47,7 @@ def run_local(folders: list[Path], jobs: int = 1, progress=None) -> list[dict]:
     """Execute the folders here: in this process (jobs = 1; ``progress(folder)`` may give each
     run a progress sink) or as ``jobs`` subprocesses."""
     if jobs <= 1:
-        return [execute(folder, progress(folder) if progress else None) for folder in folders]
+        return [_execute_one(folder, progress) for folder in folders]
 
     def one(folder: Path) -> dict:
         subprocess.run([sys.executable, "-m", "experiments", "run", "--resume", str(folder),
@@ -56,6 +56,43 @@ def run_local(folders: list[Path], jobs: int = 1, progress=None) -> list[dict]:
 
     with ThreadPoolExecutor(max_workers=jobs) as pool:
         return list(pool.map(one, folders))
+
+
+def _execute_one(folder: Path, progress=None) -> dict:
+    """One run in this process; a failure is recorded in its result.json (and the sweep goes
+    on with the next seed)."""
+    try:
+        return execute(folder, progress(folder) if progress else None)
+    except Exception:
+        return read_status(folder)
+
+
+def summary_table(folders: list[Path], results: list[dict], metric: str | None) -> str:
+    """The sweep's outcome, one row per run: seed, status, the config's metric, env steps,
+    wall seconds and the folder; then each failed run's one-line error."""
+    metric = metric or "eval/return"
+    rows = [("seed", "status", metric, "env steps", "wall s", "folder")]
+    errors = []
+    for folder, result in zip(folders, results):
+        seed = str(load_seed(folder))
+        value = result.get("metrics", {}).get(metric)
+        rows.append((seed, result["status"], "—" if value is None else f"{value:.4g}",
+                     f"{result.get('env_steps', 0):,}", f"{result.get('wall_seconds', 0.0):.1f}",
+                     str(folder)))
+        if result["status"] != "done":
+            error = str(result.get("error") or "no error recorded").splitlines()[0]
+            errors.append(f"seed {seed} {result['status']}: {error}")
+    widths = [max(len(row[k]) for row in rows) for k in range(len(rows[0]))]
+    lines = ["  ".join(cell.ljust(width) for cell, width in zip(row, widths)).rstrip()
+             for row in rows]
+    return "\n".join(lines + errors)
+
+
+def load_seed(folder: Path) -> int:
+    """The seed a run folder's config.yaml holds."""
+    import yaml
+
+    return int(yaml.safe_load((Path(folder) / "config.yaml").read_text())["seed"])
 
 
 def run_ray(folders: list[Path], address: str | None = None, num_cpus: int | None = None

@@ -37,7 +37,13 @@ from envs.perception import translational_flow
 from envs.pursuit import COLOURS, PHI_RANGE, PREY, SEABED_Z, THETA_RANGE
 from envs.render import Scene, fish_skin, posed
 from envs.retina import RetinaParams, gaze_rotation, render_eye
-from learners.base import Learner, LearnResult, typed_params
+from learners.base import (
+    Learner,
+    LearnResult,
+    check_scoring_budget,
+    episode_steps,
+    typed_params,
+)
 from learners.rollout import score_episode, spread
 
 MODEL_VIEWS = tuple((distance, np.radians(yaw)) for distance in (0.7, 1.2)
@@ -184,13 +190,16 @@ class ActiveVisionLearner(Learner):
         self.policy_params = typed_params(ActiveVisionParams, self.own.policy or {},
                                           f"learner {self.name!r}.policy")
 
+    def check_budget(self, budget_env_steps: int) -> None:
+        check_scoring_budget(budget_env_steps, self.own.episodes,
+                             episode_steps(self.env_id, self.env_kwargs))
+
     def learn(self, budget_env_steps: int, checkpoint_dir: str | Path | None = None
               ) -> LearnResult:
+        self.check_budget(budget_env_steps)
         start = time.perf_counter()
         env = gym.make(self.env_id, **self.env_kwargs)
         steps = env.unwrapped.episode_steps * self.own.episodes
-        if budget_env_steps < steps:
-            raise ValueError(f"budget too small: scoring needs {steps} env steps")
         self.log_hparams()
         policy = ActiveVisionPolicy(self.policy_params)
         runs = [score_episode(env, policy, self.seed + k) for k in range(self.own.episodes)]

@@ -84,6 +84,14 @@ class AnnealingState:
     rng: dict
 
 
+MIN_POPULATION = 1
+
+
+def with_population(params: AnnealingParams, size: int) -> AnnealingParams:
+    """The same settings with ``size`` candidates per round (a smaller budget's)."""
+    return replace(params, chains=int(size))
+
+
 def population(params: AnnealingParams) -> int:
     """Candidates per round: one proposal per chain."""
     return params.chains

@@ -33,6 +33,30 @@ class LearnResult:
     artefacts: dict[str, Any] = field(default_factory=dict)
 
 
+def episode_steps(env_id: str, env_kwargs: dict | None = None) -> int:
+    """Env steps in one episode of the env (its ``episode_steps``), without running it."""
+    import gymnasium as gym
+
+    env = gym.make(env_id, **(env_kwargs or {}))
+    try:
+        return int(env.unwrapped.episode_steps)
+    finally:
+        env.close()
+
+
+def check_scoring_budget(budget_env_steps: int, episodes: int, steps: int) -> None:
+    """Raise :class:`BudgetError` if ``episodes`` scored episodes of ``steps`` env steps do
+    not fit the budget."""
+    if budget_env_steps < episodes * steps:
+        raise BudgetError(f"{budget_env_steps} is less than the {episodes * steps} env steps "
+                          f"scoring takes ({episodes} episodes of {steps})")
+
+
+class BudgetError(ValueError):
+    """The run's budget cannot work for this learner (e.g. less than one round): said in one
+    line, before anything runs."""
+
+
 class Learner(ABC):
     """Base class. Subclasses set ``name`` and implement :meth:`learn`.
 
@@ -61,8 +85,8 @@ class Learner(ABC):
         checkpoints there as it goes and resume from the last one if present."""
 
     def check_budget(self, budget_env_steps: int) -> None:
-        """Raise ValueError if the learner cannot work with this budget (checked before any
-        work; the default takes any)."""
+        """Raise :class:`BudgetError` if the learner cannot work with this budget (checked
+        before any work or file; the default takes any)."""
         return None
 
     def log_hparams(self) -> None:

@@ -28,8 +28,10 @@ import numpy as np
 from learners import annealing, cmaes
 from learners.abstraction import abstract, most_compact
 from learners.base import (
+    BudgetError,
     Learner,
     LearnResult,
+    episode_steps,
     load_checkpoint,
     save_checkpoint,
     typed_params,
@@ -38,7 +40,7 @@ from learners.base import (
 from learners.controller import TentController, play
 from learners.rollout import START_STATES, BatchEvaluator
 
-REFINE_KEYS = {"env_steps", "threshold"}
+REFINE_KEYS = {"share", "threshold"}
 
 
 @dataclass(frozen=True)
@@ -172,20 +174,24 @@ class BlackBoxLearner(Learner):
         return self.optimizer.fit_encoding(opt_params, self.nodes)
 
     def _configure_refine(self, refine: dict | None) -> dict | None:
-        """``refine``: {``env_steps`` (taken from the budget), ``threshold`` (the FFT threshold
-        of the abstraction refined, default 0.5), and optimiser parameters that differ in the
-        frequency space (e.g. ``step_size``)}; smoothing is off there."""
+        """``refine``: {``share`` (the fraction of the run's budget it gets, in (0, 1)),
+        ``threshold`` (the FFT threshold of the abstraction refined, default 0.5), and
+        optimiser parameters that differ in the frequency space (e.g. ``step_size``)};
+        smoothing is off there."""
         if refine is None:
             return None
         if not isinstance(refine, dict):
             raise ValueError(f"learner {self.name!r}: refine must be a mapping, got {refine!r}")
+        if "env_steps" in refine:
+            raise ValueError(f"learner {self.name!r}: refine.env_steps is gone: give "
+                             "refine.share, the fraction of budget.env_steps it gets (e.g. 0.25)")
         option_names = {f.name for f in fields(self.params_class)}
         unknown_params(refine, REFINE_KEYS | option_names, f"{self.name}.refine")
-        env_steps, threshold = refine.get("env_steps"), refine.get("threshold", 0.5)
-        if not (type(env_steps) is int and env_steps > 0 and type(threshold) in (float, int)
-                and 0.0 <= threshold < 1.0):
-            raise ValueError(f"learner {self.name!r}: refine needs env_steps, an integer > 0, and "
-                             f"threshold in [0, 1); got {env_steps!r}, {threshold!r}")
+        share, threshold = refine.get("share"), refine.get("threshold", 0.5)
+        if not (type(share) in (float, int) and 0.0 < share < 1.0
+                and type(threshold) in (float, int) and 0.0 <= threshold < 1.0):
+            raise ValueError(f"learner {self.name!r}: refine needs share in (0, 1) and "
+                             f"threshold in [0, 1); got {share!r}, {threshold!r}")
         options = self.optimizer.refine_options(
             {k: v for k, v in refine.items() if k not in REFINE_KEYS})
         params = replace(self.opt_params, **options)
@@ -193,7 +199,43 @@ class BlackBoxLearner(Learner):
         if self.optimizer.population(params) != self.population:
             raise ValueError(f"learner {self.name!r}: refine cannot change the population "
                              f"({self.population})")
-        return {"env_steps": env_steps, "threshold": threshold, "params": params}
+        return {"share": float(share), "threshold": threshold, "params": params}
+
+    def _episode_cost(self) -> int:
+        """Env steps to score one candidate: an episode from every start state."""
+        if getattr(self, "_cost", None) is None:
+            self._cost = episode_steps(self.env_id, self.env_kwargs) * int(self.own.start_states)
+        return self._cost
+
+    def plan(self, budget_env_steps: int) -> dict:
+        """How this run spends ``budget_env_steps``: the learning phase gets the budget less
+        the refinement's share; a population that one round of the learning phase cannot
+        afford shrinks to what it can (never below the optimiser's minimum). Raises
+        :class:`BudgetError` when even that does not fit."""
+        cost = self._episode_cost()
+        refine = int(round(budget_env_steps * self.refine["share"])) if self.refine else 0
+        learn = budget_env_steps - refine
+        smallest = int(self.optimizer.MIN_POPULATION)
+        if learn < smallest * cost:
+            phase = f" (its budget less refine.share {self.refine['share']:g})" if refine else ""
+            raise BudgetError(
+                f"{budget_env_steps} is less than one round of {self.name}: "
+                f"the learning phase{phase} needs at least {smallest * cost} env steps "
+                f"({smallest} candidates x {cost} env steps each)")
+        return {"episode_cost": cost, "learn_env_steps": learn, "refine_env_steps": refine,
+                "population": min(self.population, learn // cost),
+                "configured_population": self.population}
+
+    def check_budget(self, budget_env_steps: int) -> None:
+        self.plan(budget_env_steps)
+
+    def _fit_population(self, size: int) -> None:
+        """Use ``size`` candidates per round in both phases."""
+        if size == self.population:
+            return
+        self.opt_params = self.optimizer.with_population(self.opt_params, size)
+        if self.refine:
+            self.refine["params"] = self.optimizer.with_population(self.refine["params"], size)
 
     @property
     def population(self) -> int:
@@ -214,9 +256,11 @@ class BlackBoxLearner(Learner):
     def learn(self, budget_env_steps: int, checkpoint_dir: str | Path | None = None
               ) -> LearnResult:
         """Phase "learn" searches the encoding of :meth:`controller` with the budget less
-        ``refine.env_steps``; phase "refine" (when configured) then searches the frequency
-        parameters of the learned controller's FFT abstraction with the rest."""
-        self.check_budget(budget_env_steps)
+        the refinement's share; phase "refine" (when configured) then searches the frequency
+        parameters of the learned controller's FFT abstraction with the rest (see
+        :meth:`plan`)."""
+        plan = self.plan(budget_env_steps)
+        self._fit_population(plan["population"])
         evaluator = BatchEvaluator(self.env_id, self.env_kwargs, self.population, self.seed,
                                    self.own.start_states)
         path = Path(checkpoint_dir) / "checkpoint.pkl" if checkpoint_dir else None
@@ -230,8 +274,7 @@ class BlackBoxLearner(Learner):
             run = Run([self._phase(self.opt_params, self._x0(evaluator.action_size),
                                    self.seed)])
         start = time.perf_counter() - run.wall
-        refine_steps = self.refine["env_steps"] if self.refine else 0
-        self._run_phase(run, 0, evaluator, budget_env_steps - refine_steps, path, start)
+        self._run_phase(run, 0, evaluator, plan["learn_env_steps"], path, start)
         learned = run.phases[0].best
         if (self.refine and learned is not None and len(run.phases) == 1
                 and run.env_steps + evaluator.episode_cost <= budget_env_steps):
@@ -240,13 +283,10 @@ class BlackBoxLearner(Learner):
             self._run_phase(run, 1, evaluator, budget_env_steps, path, start)
         if path:
             save_checkpoint(path, run)
-        return self._result(run, evaluator)
-
-    def check_budget(self, budget_env_steps: int) -> None:
-        """Raise ValueError if ``refine`` leaves the first phase nothing."""
-        if self.refine and self.refine["env_steps"] >= budget_env_steps:
-            raise ValueError(f"refine.env_steps ({self.refine['env_steps']}) must be less than "
-                             f"the budget ({budget_env_steps}): the first phase needs some")
+        result = self._result(run, evaluator)
+        result.artefacts["budget"] = {**plan, "population": self.population,
+                                      "phases_run": len(run.phases)}
+        return result
 
     def _start_refining(self, run: Run, x: np.ndarray, evaluator: BatchEvaluator) -> None:
         """Phase 2 starts at the truncated abstraction, which is scored first (one episode,

@@ -5,7 +5,7 @@ controller parameters: the baseline that answers "was annealing a good choice?".
 from __future__ import annotations
 
 import warnings
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -31,6 +31,14 @@ class CMAESState:
     """The pycma strategy object (it holds its own generator; it pickles for checkpoints)."""
 
     es: object
+
+
+MIN_POPULATION = 2
+
+
+def with_population(params: CMAESParams, size: int) -> CMAESParams:
+    """The same settings with ``size`` candidates per round (a smaller budget's)."""
+    return replace(params, popsize=int(size))
 
 
 def population(params: CMAESParams) -> int:

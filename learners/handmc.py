@@ -7,7 +7,7 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
-from learners.base import Learner, LearnResult, typed_params
+from learners.base import Learner, LearnResult, check_scoring_budget, episode_steps, typed_params
 from learners.controller import play
 from learners.rollout import START_STATES, BatchEvaluator
 
@@ -37,13 +37,16 @@ class HandMCLearner(Learner):
         self.own = typed_params(HandMCParams, self.params, f"learner {self.name!r}")
         self.speed = self.own.speed
 
+    def check_budget(self, budget_env_steps: int) -> None:
+        check_scoring_budget(budget_env_steps, self.own.start_states,
+                             episode_steps(self.env_id, self.env_kwargs))
+
     def learn(self, budget_env_steps: int, checkpoint_dir: str | Path | None = None
               ) -> LearnResult:
+        self.check_budget(budget_env_steps)
         start = time.perf_counter()
         evaluator = BatchEvaluator(self.env_id, self.env_kwargs, num_envs=1, seed=self.seed,
                                    num_starts=self.own.start_states)
-        if budget_env_steps < evaluator.episode_cost:
-            raise ValueError(f"budget too small: scoring needs {evaluator.episode_cost} env steps")
         self.log_hparams()
         actuation = evaluator.task.hand_controller(speed=self.speed)
         actions = play(actuation, evaluator.dt, evaluator.steps)[None]

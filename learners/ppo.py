@@ -20,7 +20,7 @@ import gymnasium as gym
 import numpy as np
 
 from envs.tasks import EpisodeSummary
-from learners.base import Learner, LearnResult, typed_params
+from learners.base import BudgetError, Learner, LearnResult, typed_params
 from learners.rollout import START_STATES, score_episode, spread
 
 
@@ -79,6 +79,13 @@ class PPOLearner(Learner):
     def __init__(self, *args, **kwargs) -> None:
         super().__init__(*args, **kwargs)
         self.hp = asdict(typed_params(PPOParams, self.params, f"learner {self.name!r}"))
+
+    def check_budget(self, budget_env_steps: int) -> None:
+        """One rollout (``n_envs`` x ``n_steps`` env steps) must fit."""
+        rollout = int(self.hp["n_envs"]) * int(self.hp["n_steps"])
+        if budget_env_steps < rollout:
+            raise BudgetError(f"{budget_env_steps} is less than one PPO rollout ({rollout} env "
+                              f"steps: n_envs {self.hp['n_envs']} x n_steps {self.hp['n_steps']})")
 
     def _model(self, venv, checkpoint: Path | None):
         import torch
@@ -158,6 +165,7 @@ class PPOLearner(Learner):
               ) -> LearnResult:
         from stable_baselines3.common.callbacks import BaseCallback
 
+        self.check_budget(budget_env_steps)
         folder = Path(checkpoint_dir) if checkpoint_dir else None
         saved = folder if folder and (folder / "model.zip").exists() else None
         state = json.loads((saved / "state.json").read_text()) if saved else {
@@ -185,7 +193,9 @@ class PPOLearner(Learner):
                     self.next_save += learner.hp["checkpoint_every"]
                 return True
 
-        remaining = budget_env_steps - model.num_timesteps
+        rollout = int(self.hp["n_envs"]) * int(self.hp["n_steps"])
+        # SB3 collects whole rollouts: as many as fit, so the budget is never overrun
+        remaining = budget_env_steps // rollout * rollout - model.num_timesteps
         if remaining > 0:
             model.learn(remaining, callback=Progress(), reset_num_timesteps=saved is None)
         state["metrics"] = self.evaluate(model, venv)

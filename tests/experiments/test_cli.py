@@ -78,7 +78,7 @@ def test_compare_two_learners_writes_table_and_plot(tmp_path):
            "--set", "learner.params={popsize: 8, nodes: 4, period: 0.5}")
     animat("run", config, "--out", tmp_path / "runs" / "c", "--set", "learner.label=hot",
            "--set", "learner.params.initial_temperature=1.0",  # a variant, labelled
-           "--set", "learner.params.refine={env_steps: 1600}")
+           "--set", "learner.params.refine={share: 0.5}")
     report = tmp_path / "report" / "swim.md"
     animat("compare", tmp_path / "runs", "--metric", "eval/speed_bl_per_s", "--threshold",
            "0.0", "-o", report)
@@ -106,7 +106,12 @@ def test_compare_two_learners_writes_table_and_plot(tmp_path):
     (lambda d: d["learner"].update(label="a b/c"), "learner.label: String should match"),
     (lambda d: d["learner"].update(label=".."), "learner.label: String should match"),
     (lambda d: d["learner"]["params"].update(refine={"env_steps": 3200}),
-     "learner.params: refine.env_steps (3200) must be less than the budget (3200)"),
+     "learner.params: learner 'annealing': refine.env_steps is gone: give refine.share"),
+    (lambda d: d["budget"].update(env_steps=30),
+     "budget.env_steps: 30 is less than one round of annealing: the learning phase needs at "
+     "least 40 env steps (1 candidates x 40 env steps each)"),
+    (lambda d: d["learner"].update(name="ppo", params={}),
+     "budget.env_steps: 3200 is less than one PPO rollout (4096 env steps"),
     (lambda d: d["env"]["kwargs"].update(duration=-1),
      "env.kwargs: duration must be > 0 seconds, got -1"),
     (lambda d: d["learner"]["params"].update(chainz=3),
@@ -196,3 +201,28 @@ def test_local_sweep_one_folder_per_seed(tmp_path):
                    for r in results)
     assert seeds == [0, 1, 2]
     assert all(json.loads(r.read_text())["status"] == "done" for r in results)
+
+
+def test_a_sweep_goes_on_past_a_failed_run_and_says_why(tmp_path, monkeypatch):
+    from learners.blackbox import AnnealingLearner
+
+    learn = AnnealingLearner.learn
+
+    def flaky(self, budget, checkpoint_dir=None):
+        if self.seed == 1:
+            raise RuntimeError("the simulator blew up (seed 1)")
+        return learn(self, budget, checkpoint_dir)
+
+    monkeypatch.setattr(AnnealingLearner, "learn", flaky)
+    config = write_config(tmp_path / "tiny.yaml", TINY)
+    result = animat("sweep", config, "--seeds", "0-2", "--out", tmp_path / "sweep", check=False)
+    assert result.returncode == 1 and "Traceback" not in result.stdout + result.stderr
+    lines = result.stdout.strip().splitlines()
+    header, rows = lines[-5].split(), [line.split() for line in lines[-4:-1]]
+    assert header[:3] == ["seed", "status", "eval/speed_bl_per_s"]
+    assert [r[:2] for r in rows] == [["0", "done"], ["1", "failed"], ["2", "done"]]
+    assert rows[1][2] == "—" and float(rows[0][2]) > 0
+    assert lines[-1] == "seed 1 failed: RuntimeError: the simulator blew up (seed 1)"
+    statuses = [json.loads(p.read_text())["status"]
+                for p in sorted((tmp_path / "sweep").rglob("result.json"))]
+    assert sorted(statuses) == ["done", "done", "failed"]  # seed 2 still ran

@@ -85,9 +85,9 @@ def _learn(name, budget, checkpoint_dir=None, seed=3, logger_sink=None, **params
 
 
 REFINE = {"period": 0.5, "nodes": 10}
-REFINE_BY = {"annealing": {"chains": 8, "refine": {"env_steps": 1600, "threshold": 0.3,
+REFINE_BY = {"annealing": {"chains": 8, "refine": {"share": 1 / 3, "threshold": 0.3,
                                                    "step_size": 0.1}},
-             "cmaes": {"popsize": 8, "refine": {"env_steps": 1600, "threshold": 0.3,
+             "cmaes": {"popsize": 8, "refine": {"share": 1 / 3, "threshold": 0.3,
                                                 "sigma0": 0.1}}}
 
 
@@ -115,7 +115,7 @@ def test_refinement_searches_the_abstraction_with_its_share_of_the_budget(name):
     alone, _ = _learn(name, 3200, **REFINE, **{k: v for k, v in REFINE_BY[name].items()
                                               if k != "refine"})
     learned, refined = result.artefacts["learned_metrics"], result.artefacts["abstraction_metrics"]
-    assert learned == alone.metrics  # phase 1 had exactly the budget less refine.env_steps
+    assert learned == alone.metrics  # phase 1 had exactly the budget less refine's share
     assert 4800 - 320 < result.env_steps <= 4800 and refined["refined"]
     assert refined["parameters"] < result.artefacts["parameters"] == 60
     # refining starts by scoring the truncated abstraction itself: it can only improve on it
@@ -166,12 +166,11 @@ def test_bad_refinement_settings_are_named():
     with pytest.raises(ValueError, match="stepsize"):
         make_learner("annealing", ENV, TINY_ENV, {"refine": {"stepsize": 0.1}})
     with pytest.raises(ValueError, match="threshold in"):
-        make_learner("cmaes", ENV, TINY_ENV, {"refine": {"env_steps": 10, "threshold": 2}})
-    with pytest.raises(ValueError, match="env_steps, an integer > 0"):
-        make_learner("annealing", ENV, TINY_ENV, {"refine": {"env_steps": "lots"}})
-    learner = make_learner("annealing", ENV, TINY_ENV, {"refine": {"env_steps": 3200}})
-    with pytest.raises(ValueError, match="must be less than the budget"):
-        learner.learn(3200)
+        make_learner("cmaes", ENV, TINY_ENV, {"refine": {"share": 0.2, "threshold": 2}})
+    with pytest.raises(ValueError, match=r"share in \(0, 1\)"):
+        make_learner("annealing", ENV, TINY_ENV, {"refine": {"share": 1.5}})
+    with pytest.raises(ValueError, match="refine.env_steps is gone: give refine.share"):
+        make_learner("annealing", ENV, TINY_ENV, {"refine": {"env_steps": 3200}})
 
 
 def test_annealing_accepts_downhill_and_cools():

@@ -1,0 +1,47 @@
+"""Every shipped config runs at any budget a user sets: every budget inside a learner is a
+share of ``budget.env_steps`` (refinement, skills, rounds), a population one round cannot
+afford shrinks to what it can, and what cannot work at all is refused before a run folder
+exists."""
+
+import json
+from pathlib import Path
+
+import pytest
+
+from experiments.config import ConfigError, load_config
+from tests.experiments.test_cli import animat
+
+ROOT = Path(__file__).resolve().parents[2]
+CONFIGS = sorted((ROOT / "configs").glob("*.yaml"))
+# cheap enough to run at 20 k env steps in CI (the pursuit's PPO at 20 k takes minutes of
+# rendering; it is validated at both budgets below)
+CHEAP = ["quickstart.yaml", "fish_swim_annealing.yaml", "fish_swim_cmaes.yaml",
+         "fish_swim_handmc.yaml", "fish_swim_ppo.yaml", "fish_reach_macro.yaml",
+         "fish_basic_training.yaml", "fish_pursuit_active_vision.yaml"]
+
+
+@pytest.mark.parametrize("budget", [20_000, 600_000])
+def test_every_shipped_config_validates_at_small_and_large_budgets(budget):
+    for path in CONFIGS:
+        assert load_config(path, [f"budget.env_steps={budget}"]).budget.env_steps == budget
+
+
+@pytest.mark.parametrize("name", CHEAP)
+def test_cheap_shipped_configs_run_at_20k_env_steps(tmp_path, name):
+    out = tmp_path / "run"
+    overrides = ["--set", "budget.env_steps=20000"]
+    if name == "fish_basic_training.yaml":  # not over the shipped repertoire
+        overrides += ["--set", f"learner.params.output={tmp_path / 'repertoire.json'}"]
+    animat("run", ROOT / "configs" / name, "--out", out, "--quiet", *overrides)
+    result = json.loads((out / "result.json").read_text())
+    assert result["status"] == "done" and 0 < result["env_steps"] <= 20_000
+
+
+def test_a_budget_below_one_round_is_refused_in_one_line_with_no_folder(tmp_path):
+    config = ROOT / "configs" / "fish_swim_annealing.yaml"
+    with pytest.raises(ConfigError, match="budget.env_steps: 300 is less than one round"):
+        load_config(config, ["budget.env_steps=300"])
+    out = tmp_path / "run"
+    result = animat("run", config, "--set", "budget.env_steps=300", "--out", out, check=False)
+    assert result.returncode == 2 and len(result.stderr.strip().splitlines()) == 1
+    assert not out.exists()
