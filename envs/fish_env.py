@@ -92,7 +92,7 @@ from envs.fish_core import (
 from envs.physics.system import DEFAULT_DT
 from envs.render import BodyRenderer
 from envs.sensors import Observer
-from envs.tasks import Task, make_task
+from envs.tasks import SingleEpisodeSummary, Task, make_task
 
 RENDER_FPS = 20
 
@@ -159,6 +159,11 @@ class FishEnv(_PublicSurface, gym.Env):
         self.metadata = {**self.metadata, "render_fps": int(round(1.0 / self.dt))}
         self._renderer: BodyRenderer | None = None
         self._started = False
+
+    def episode_summary(self) -> SingleEpisodeSummary:
+        """The task's metrics of the episode :meth:`reset` began, from each step's ``info``
+        (``update(info)``, then ``summary()``)."""
+        return SingleEpisodeSummary(self.task)
 
     def reset(self, *, seed: int | None = None, options: dict | None = None):
         super().reset(seed=seed)

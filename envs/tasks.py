@@ -89,6 +89,17 @@ class EpisodeSummary:
         return {**means, **self.task.final_metrics(self.last)}
 
 
+class SingleEpisodeSummary(EpisodeSummary):
+    """:class:`EpisodeSummary` of one episode in a single env (``info`` of scalars): the
+    summary as floats (the interface of :class:`envs.pursuit.PursuitSummary`)."""
+
+    def __init__(self, task: Task) -> None:
+        super().__init__(task, 1)
+
+    def summary(self) -> dict[str, float]:
+        return {k: float(np.asarray(v).reshape(-1)[0]) for k, v in super().summary().items()}
+
+
 @dataclass
 class SwimTask(Task):
     """Swim forward. u is the swimming speed: the centre of mass's velocity along the start

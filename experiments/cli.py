@@ -5,6 +5,7 @@
     animat sweep CONFIG --seeds 0-4 [--set ...] [--executor local|ray] [--jobs N]
                  [--address ADDR] [--out PARENT]
     animat compare RUN_DIR_OR_PARENT ... [--metric eval/return] [--threshold X] [-o REPORT]
+    animat eval RUN_DIR [--episodes N] [--seeds 0-3] [--video DIR]
     animat bench [--seconds S] [--breakdown]
     animat figures --out DIR [--seed S] [--frames N]
     animat list
@@ -50,6 +51,13 @@ def _parser() -> argparse.ArgumentParser:
     compare.add_argument("--metric", default="eval/return")
     compare.add_argument("--threshold", type=float, help="report env steps to reach it")
     compare.add_argument("-o", "--output", type=Path, help="Markdown report (+ .png plot)")
+    evaluation = sub.add_parser("eval", help="play a finished run's agent over start states")
+    evaluation.add_argument("run_dir", type=Path, help="a finished run folder")
+    evaluation.add_argument("--episodes", type=int, default=4,
+                            help="start states (seeds: the run's seed onward)")
+    evaluation.add_argument("--seeds", help="these seeds instead, e.g. 0-4 or 1,3,5")
+    evaluation.add_argument("--video", type=Path, metavar="DIR",
+                            help="film every episode into DIR (mp4, Gymnasium's RecordVideo)")
     bench = sub.add_parser("bench", help="simulator benchmark against Swimmer-v5")
     bench.add_argument("--seconds", type=float, default=6.0)
     bench.add_argument("--num-envs", type=int, default=256)
@@ -106,6 +114,23 @@ def cmd_sweep(args) -> int:
     return 0 if all(r["status"] == "done" for r in results) else 1
 
 
+def cmd_eval(args) -> int:
+    from experiments.evaluate import evaluate, report
+    from experiments.sweep import parse_seeds
+
+    if args.episodes < 1:
+        raise RunError(f"--episodes must be at least 1, got {args.episodes}")
+    try:
+        seeds = parse_seeds(args.seeds) if args.seeds else None
+    except ValueError as error:
+        raise RunError(str(error)) from None
+    result = evaluate(args.run_dir, seeds, args.episodes, args.video)
+    print(report(result))
+    print(f"written: {args.run_dir / 'eval.json'}" + (f"; videos in {args.video}"
+                                                       if args.video else ""))
+    return 0
+
+
 def cmd_compare(args) -> int:
     from experiments.compare import compare
 
@@ -154,7 +179,7 @@ def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
     args.argv = argv  # recorded in each run folder's command.txt
     handlers = {"run": cmd_run, "sweep": cmd_sweep, "compare": cmd_compare, "list": cmd_list,
-                "bench": cmd_bench, "figures": cmd_figures}
+                "bench": cmd_bench, "figures": cmd_figures, "eval": cmd_eval}
     try:
         return handlers[args.command](args)
     except (ConfigError, RunError, FileNotFoundError) as error:

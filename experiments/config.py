@@ -159,6 +159,16 @@ def check_buildable(config: ExperimentConfig, source: str) -> None:
         raise ConfigError(source, "learner.params", str(message)) from None
 
 
+def migrate(data: dict) -> None:
+    """Bring an older config's fields up to date in place (before any override): a refinement
+    budget in env steps (``refine.env_steps``) becomes its share of the file's budget."""
+    params = (data.get("learner") or {}).get("params") or {}
+    refine, budget = params.get("refine"), (data.get("budget") or {}).get("env_steps")
+    if (isinstance(refine, dict) and type(refine.get("env_steps")) is int
+            and type(budget) is int and 0 < refine["env_steps"] < budget):
+        refine["share"] = refine.pop("env_steps") / budget
+
+
 def load_config(path: str | Path, overrides: list[str] | None = None) -> ExperimentConfig:
     """Read, override and validate a YAML config file."""
     source = str(path)
@@ -171,6 +181,8 @@ def load_config(path: str | Path, overrides: list[str] | None = None) -> Experim
     except yaml.YAMLError as error:
         raise ConfigError(source, "", f"not valid YAML: {str(error).splitlines()[0]}") from None
     data = copy.deepcopy(data) if isinstance(data, dict) else data
+    if isinstance(data, dict):
+        migrate(data)
     for override in overrides or []:
         if not isinstance(data, dict):
             break

@@ -37,6 +37,7 @@ from envs.perception import translational_flow
 from envs.pursuit import COLOURS, PHI_RANGE, PREY, SEABED_Z, THETA_RANGE
 from envs.render import Scene, fish_skin, posed
 from envs.retina import RetinaParams, gaze_rotation, render_eye
+from learners.agents import PolicyAgent
 from learners.base import (
     Learner,
     LearnResult,
@@ -189,6 +190,9 @@ class ActiveVisionLearner(Learner):
         self.own = typed_params(PursuitEvalParams, self.params, f"learner {self.name!r}")
         self.policy_params = typed_params(ActiveVisionParams, self.own.policy or {},
                                           f"learner {self.name!r}.policy")
+
+    def agent(self, artefacts: dict, folder) -> PolicyAgent:
+        return PolicyAgent(ActiveVisionPolicy(self.policy_params), self.env_id, self.env_kwargs)
 
     def check_budget(self, budget_env_steps: int) -> None:
         check_scoring_budget(budget_env_steps, self.own.episodes,

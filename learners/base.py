@@ -33,15 +33,20 @@ class LearnResult:
     artefacts: dict[str, Any] = field(default_factory=dict)
 
 
-def episode_steps(env_id: str, env_kwargs: dict | None = None) -> int:
-    """Env steps in one episode of the env (its ``episode_steps``), without running it."""
+def episode_timing(env_id: str, env_kwargs: dict | None = None) -> tuple[float, int]:
+    """(dt s, env steps per episode) of the env, without running it."""
     import gymnasium as gym
 
     env = gym.make(env_id, **(env_kwargs or {}))
     try:
-        return int(env.unwrapped.episode_steps)
+        return float(env.unwrapped.dt), int(env.unwrapped.episode_steps)
     finally:
         env.close()
+
+
+def episode_steps(env_id: str, env_kwargs: dict | None = None) -> int:
+    """Env steps in one episode of the env (its ``episode_steps``), without running it."""
+    return episode_timing(env_id, env_kwargs)[1]
 
 
 def check_scoring_budget(budget_env_steps: int, episodes: int, steps: int) -> None:
@@ -88,6 +93,11 @@ class Learner(ABC):
         """Raise :class:`BudgetError` if the learner cannot work with this budget (checked
         before any work or file; the default takes any)."""
         return None
+
+    def agent(self, artefacts: dict, folder: Path):
+        """What the finished run in ``folder`` (its ``artefacts.json`` given) acts with: an
+        agent of :mod:`learners.agents`, built from this learner's config."""
+        raise NotImplementedError(f"learner {self.name!r} cannot make an agent of its runs")
 
     def log_hparams(self) -> None:
         self.logger.text("hparams", json.dumps({"learner": self.name, "env_id": self.env_id,

@@ -26,12 +26,14 @@ from typing import Any
 import numpy as np
 
 from learners import annealing, cmaes
-from learners.abstraction import abstract, most_compact
+from learners.abstraction import AbstractController, abstract, most_compact
+from learners.agents import OpenLoopAgent
 from learners.base import (
     BudgetError,
     Learner,
     LearnResult,
     episode_steps,
+    episode_timing,
     load_checkpoint,
     save_checkpoint,
     typed_params,
@@ -228,6 +230,20 @@ class BlackBoxLearner(Learner):
 
     def check_budget(self, budget_env_steps: int) -> None:
         self.plan(budget_env_steps)
+
+    def agent(self, artefacts: dict, folder: Path) -> OpenLoopAgent:
+        """The controller the run reported (``result_from``: the learned one, or its refined
+        abstraction), played open loop."""
+        dt, steps = episode_timing(self.env_id, self.env_kwargs)
+        return OpenLoopAgent(self._player(artefacts), dt, steps, self.env_id, self.env_kwargs)
+
+    def _player(self, artefacts: dict):
+        if artefacts.get("result_from") == "refined abstraction":
+            return PeriodicPlayer(AbstractController.from_dict(artefacts["abstraction"]),
+                                  self.period)
+        nodes = artefacts["controller"]
+        return PeriodicPlayer(TentController(np.array(nodes["nodes"]), nodes["t0"],
+                                             nodes["t1"]), self.period)
 
     def _fit_population(self, size: int) -> None:
         """Use ``size`` candidates per round in both phases."""

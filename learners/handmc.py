@@ -7,6 +7,7 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
+from learners.agents import OpenLoopAgent
 from learners.base import Learner, LearnResult, check_scoring_budget, episode_steps, typed_params
 from learners.controller import play
 from learners.rollout import START_STATES, BatchEvaluator
@@ -36,6 +37,15 @@ class HandMCLearner(Learner):
         super().__init__(*args, **kwargs)
         self.own = typed_params(HandMCParams, self.params, f"learner {self.name!r}")
         self.speed = self.own.speed
+
+    def agent(self, artefacts: dict, folder) -> OpenLoopAgent:
+        import gymnasium as gym
+
+        env = gym.make(self.env_id, **self.env_kwargs)
+        task, dt, steps = env.unwrapped.task, env.unwrapped.dt, env.unwrapped.episode_steps
+        env.close()
+        return OpenLoopAgent(task.hand_controller(speed=float(artefacts.get("speed", self.speed))),
+                             dt, steps, self.env_id, self.env_kwargs)
 
     def check_budget(self, budget_env_steps: int) -> None:
         check_scoring_budget(budget_env_steps, self.own.start_states,

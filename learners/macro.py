@@ -109,6 +109,10 @@ class MacroLearner(BlackBoxLearner):
         return MacroSequence(self.repertoire, self.decode(vector), self.overlap)
 
     def _artefacts(self, x: np.ndarray, duration: float, evaluator) -> dict:
-        return {"sequence": [{"skill": name, "duration": round(d, 3)}
+        return {"sequence": [{"skill": name, "duration": float(d)}
                              for name, d in self.decode(x)],
                 "parameters": int(x.size)}
+
+    def _player(self, artefacts: dict) -> MacroSequence:
+        steps = [(step["skill"], float(step["duration"])) for step in artefacts["sequence"]]
+        return MacroSequence(self.repertoire, steps, self.overlap)

@@ -20,6 +20,7 @@ import gymnasium as gym
 import numpy as np
 
 from envs.tasks import EpisodeSummary
+from learners.agents import PolicyAgent
 from learners.base import BudgetError, Learner, LearnResult, typed_params
 from learners.rollout import START_STATES, score_episode, spread
 
@@ -79,6 +80,23 @@ class PPOLearner(Learner):
     def __init__(self, *args, **kwargs) -> None:
         super().__init__(*args, **kwargs)
         self.hp = asdict(typed_params(PPOParams, self.params, f"learner {self.name!r}"))
+
+    def agent(self, artefacts: dict, folder: Path) -> PolicyAgent:
+        """The saved network, deterministic, with the run's observation normalisation."""
+        from stable_baselines3 import PPO
+        from stable_baselines3.common.vec_env import DummyVecEnv, VecNormalize
+
+        saved = Path(folder) / "checkpoints"
+        if not (saved / "model.zip").exists():
+            raise FileNotFoundError(f"{saved / 'model.zip'}: the run saved no model")
+        model = PPO.load(saved / "model.zip", device="cpu")
+        normalize = None
+        if (saved / "vecnormalize.pkl").exists():
+            venv = DummyVecEnv([lambda: gym.make(self.env_id, **self.env_kwargs)])
+            stats = VecNormalize.load(str(saved / "vecnormalize.pkl"), venv)
+            stats.training, stats.norm_reward = False, False
+            normalize = stats.normalize_obs
+        return PolicyAgent(model, self.env_id, self.env_kwargs, normalize)
 
     def check_budget(self, budget_env_steps: int) -> None:
         """One rollout (``n_envs`` x ``n_steps`` env steps) must fit."""

@@ -17,7 +17,8 @@ from pathlib import Path
 import numpy as np
 
 from learners.abstraction import AbstractController
-from learners.base import Learner, LearnResult, atomic_write, typed_params
+from learners.agents import OpenLoopAgent, SkillSet
+from learners.base import Learner, LearnResult, atomic_write, episode_timing, typed_params
 from learners.blackbox import AnnealingLearner
 from learners.logger import Logger
 
@@ -166,6 +167,17 @@ class BasicTrainingLearner(Learner):
         self._skill_learners = [AnnealingLearner(spec["env_id"], spec.get("env_kwargs", {}),
                                                  {**self.annealing, **spec.get("params", {})},
                                                  self.seed) for spec in self.regimen]
+
+    def agent(self, artefacts: dict, folder: Path) -> SkillSet:
+        """Each skill of the repertoire the run wrote, played open loop in its own env."""
+        if not artefacts.get("repertoire"):
+            raise FileNotFoundError(f"{folder}: the run wrote no repertoire file")
+        agents = {}
+        for name, skill in Repertoire.load(artefacts["repertoire"]).skills.items():
+            env_id, kwargs = skill.metadata["env_id"], skill.metadata.get("env_kwargs", {})
+            dt, steps = episode_timing(env_id, kwargs)
+            agents[name] = OpenLoopAgent(skill.controller, dt, steps, env_id, kwargs)
+        return SkillSet(agents)
 
     def check_budget(self, budget_env_steps: int) -> None:
         """Each skill gets an equal share; its learner must be able to use it."""

@@ -1,0 +1,107 @@
+"""A finished run folder back into something that acts (:func:`load`), and ``animat eval``.
+
+``load(run_dir)`` builds the run's learner from its resolved ``config.yaml`` and asks it for an
+agent of its ``artefacts.json`` (see :mod:`learners.agents`): the learned tent controller or its
+refined abstraction, a macro sequence, a hand-designed MC, PPO's network with its observation
+normalisation, the active-vision controller, or a repertoire's skills. The agent has SB3's
+``predict(obs)``, ``reset()``, ``env_id`` and ``env_kwargs``::
+
+    import gymnasium as gym
+    import envs  # registers Animat/...
+    from experiments.evaluate import load
+
+    agent = load("runs/try")
+    env = gym.make(agent.env_id, **agent.env_kwargs)
+
+:func:`evaluate` plays it over seeded start states (by default the run's own: seeds ``seed``
+.. ``seed + episodes - 1``), optionally filming each episode with Gymnasium's ``RecordVideo``,
+and writes ``eval.json`` into the run folder.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import gymnasium as gym
+import numpy as np
+
+import envs  # noqa: F401
+from experiments.config import load_config
+from experiments.runs import RunError, read_status, write_json
+from learners.agents import SkillSet
+from learners.registry import make_learner
+from learners.rollout import START_STATES, score_episode, spread
+
+
+def load(run_dir: str | Path):
+    """The agent of the finished run in ``run_dir``."""
+    folder = Path(run_dir)
+    status = read_status(folder)
+    if status["status"] != "done":
+        raise RunError(f"{folder}: the run is {status['status']}; only a finished run can be "
+                       "loaded")
+    config = load_config(folder / "config.yaml")
+    artefacts = json.loads((folder / "artefacts.json").read_text())
+    learner = make_learner(config.learner.name, config.env.id, config.env.kwargs,
+                           config.learner.params, config.seed)
+    return learner.agent(artefacts, folder)
+
+
+def _episodes(agent, seeds: list[int], video: Path | None, prefix: str) -> list[dict]:
+    """Score ``agent`` on one seeded episode per seed in its env (filmed into ``video``)."""
+    if video is None:
+        env = gym.make(agent.env_id, **agent.env_kwargs)
+    else:
+        env = gym.wrappers.RecordVideo(
+            gym.make(agent.env_id, render_mode="rgb_array", **agent.env_kwargs),
+            str(video), name_prefix=prefix, episode_trigger=lambda _: True,
+            disable_logger=True)
+    try:
+        return [{"seed": seed, **score_episode(env, agent, seed)} for seed in seeds]
+    finally:
+        env.close()
+
+
+def evaluate(run_dir: str | Path, seeds: list[int] | None = None, episodes: int = START_STATES,
+             video: str | Path | None = None) -> dict:
+    """Play the run's agent on ``seeds`` (default: the run's ``episodes`` evaluation start
+    states); returns and writes ``eval.json``: the seeds, every episode's figures, and
+    ``metrics`` (``eval/<figure>`` means with ``_std``) - per skill for a repertoire."""
+    folder = Path(run_dir)
+    config = load_config(folder / "config.yaml")
+    seeds = list(seeds) if seeds else [config.seed + k for k in range(episodes)]
+    agent = load(folder)
+    video = Path(video) if video else None
+    if isinstance(agent, SkillSet):
+        runs = {name: _episodes(skill, seeds, video, name) for name, skill in agent.agents.items()}
+        metrics = {name: spread([_figures(r) for r in rows]) for name, rows in runs.items()}
+    else:
+        runs = _episodes(agent, seeds, video, config.learner.display_name)
+        metrics = spread([_figures(r) for r in runs])
+    result = {"seeds": seeds, "metric": config.eval.metric, "episodes": runs, "metrics": metrics}
+    write_json(folder / "eval.json", result)
+    return result
+
+
+def _figures(row: dict) -> dict:
+    return {k: v for k, v in row.items() if k != "seed"}
+
+
+def report(result: dict) -> str:
+    """Lines: the config's metric (mean ± std, min and max over the seeds), per skill for a
+    repertoire."""
+    metric, seeds = result["metric"], result["seeds"]
+    tables = result["metrics"]
+    if "eval/return" in tables:  # one agent
+        tables = {"": tables}
+    lines = []
+    for name, metrics in tables.items():
+        key = metric if metric in metrics else "eval/return"
+        rows = result["episodes"][name] if name else result["episodes"]
+        values = np.array([row[key.removeprefix("eval/")] for row in rows])
+        label = f"{name}: " if name else ""
+        lines.append(f"{label}{key} {metrics[key]:.4g} ± {metrics[key + '_std']:.2g} over "
+                     f"{len(seeds)} start states (seeds {', '.join(map(str, seeds))}; min "
+                     f"{values.min():.4g}, max {values.max():.4g})")
+    return "\n".join(lines)

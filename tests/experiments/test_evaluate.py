@@ -1,0 +1,104 @@
+"""``load(run_dir)`` and ``animat eval``: every learner's finished run acts again in its env,
+and scores what the run reported."""
+
+import json
+
+import numpy as np
+import pytest
+
+from experiments.evaluate import evaluate, load
+from experiments.runs import RunError
+from learners.agents import OpenLoopAgent, PolicyAgent, SkillSet
+from tests.experiments.test_cli import ROOT, TINY, animat, write_config
+
+SWIM = {"id": "Animat/FishSwim-v0", "kwargs": {"duration": 0.5}}
+RUNS = {
+    "annealing": ({"chains": 8, "nodes": 4, "period": 0.5}, 3200),
+    "annealing-refined": ({"chains": 8, "nodes": 4, "period": 0.5,
+                           "refine": {"share": 0.5, "threshold": 0.3, "step_size": 0.1}}, 3200),
+    "cmaes": ({"popsize": 8, "nodes": 4, "period": 0.5}, 3200),
+    "handmc": ({}, 40),
+    "ppo": ({"n_envs": 4, "n_steps": 16, "batch_size": 32, "n_epochs": 1, "eval_every": 64,
+             "policy_kwargs": "dict(net_arch=[16])"}, 128),
+}
+
+
+def _run(tmp_path, label, env=SWIM, learner=None, params=None, budget=None, metric=None):
+    name = learner or label.split("-")[0]
+    params, budget = (params, budget) if params is not None else RUNS[label]
+    data = {**TINY, "env": env, "learner": {"name": name, "params": params},
+            "budget": {"env_steps": budget}}
+    if metric:
+        data["eval"] = {"metric": metric}
+    folder = tmp_path / label
+    animat("run", write_config(tmp_path / f"{label}.yaml", data), "--out", folder, "--quiet")
+    return folder
+
+
+@pytest.mark.parametrize("label", sorted(RUNS))
+def test_a_loaded_run_scores_what_the_run_reported(tmp_path, label):
+    folder = _run(tmp_path, label)
+    agent = load(folder)
+    assert isinstance(agent, OpenLoopAgent if label != "ppo" else PolicyAgent)
+    assert agent.env_id == SWIM["id"] and agent.env_kwargs == SWIM["kwargs"]
+    reported = json.loads((folder / "result.json").read_text())["metrics"]
+    result = evaluate(folder)  # the run's own 4 start states
+    assert result["seeds"] == [0, 1, 2, 3]
+    for key in ("eval/return", "eval/speed_bl_per_s"):
+        assert result["metrics"][key] == pytest.approx(reported[key], rel=1e-6, abs=1e-9), key
+    assert json.loads((folder / "eval.json").read_text())["metrics"] == result["metrics"]
+    if label == "annealing-refined":
+        artefacts = json.loads((folder / "artefacts.json").read_text())
+        assert artefacts["budget"]["refine_env_steps"] == 1600
+
+
+def test_macro_and_active_vision_runs_load_and_act(tmp_path):
+    reach = {"id": "Animat/FishReach-v0", "kwargs": {"duration": 1.0}}
+    macro = _run(tmp_path, "macro", env=reach, params={
+        "repertoire": str(ROOT / "repertoires" / "fish.json"), "slots": 2, "chains": 4,
+        "max_duration": 1.0}, budget=800)
+    reported = json.loads((macro / "result.json").read_text())["metrics"]
+    assert evaluate(macro)["metrics"]["eval/return"] == pytest.approx(reported["eval/return"])
+    pursuit = {"id": "Animat/FishPursuit-v0", "kwargs": {"duration": 1.0}}
+    vision = _run(tmp_path, "vision", env=pursuit, learner="active_vision",
+                  params={"episodes": 2}, budget=40, metric="eval/fovea_fraction")
+    assert isinstance(load(vision), PolicyAgent)
+    reported = json.loads((vision / "result.json").read_text())["metrics"]
+    result = evaluate(vision, episodes=2)
+    assert result["metrics"]["eval/fovea_fraction"] == pytest.approx(
+        reported["eval/fovea_fraction"])
+
+
+def test_eval_prints_the_metric_and_films_every_episode(tmp_path):
+    folder = _run(tmp_path, "handmc")
+    out = animat("eval", folder, "--seeds", "5,6", "--video", tmp_path / "video")
+    line = out.stdout.splitlines()[0]
+    assert line.startswith("eval/speed_bl_per_s ") and "over 2 start states (seeds 5, 6" in line
+    films = sorted((tmp_path / "video").glob("*.mp4"))
+    assert len(films) == 2 and all(f.stat().st_size > 1000 for f in films)
+
+
+def test_a_repertoire_run_loads_as_one_agent_per_skill(tmp_path):
+    regimen = [{"name": "swim_slow", "env_id": "Animat/FishSwim-v0",
+                "env_kwargs": {"duration": 0.5}, "params": {"nodes": 4, "period": 0.5}},
+               {"name": "turn_left", "env_id": "Animat/FishTurn-v0",
+                "env_kwargs": {"duration": 0.5, "angle_deg": 30.0},
+                "params": {"nodes": 4, "period": None}}]
+    folder = _run(tmp_path, "basic", learner="basic_training", params={
+        "regimen": regimen, "annealing": {"chains": 4}, "output": str(tmp_path / "rep.json")},
+        budget=640)
+    skills = load(folder)
+    assert isinstance(skills, SkillSet) and sorted(skills.agents) == ["swim_slow", "turn_left"]
+    assert skills.agents["turn_left"].env_id == "Animat/FishTurn-v0"
+    result = evaluate(folder, episodes=1)
+    assert set(result["metrics"]) == {"swim_slow", "turn_left"}
+    assert all(np.isfinite(m["eval/return"]) for m in result["metrics"].values())
+
+
+def test_only_a_finished_run_loads(tmp_path):
+    folder = _run(tmp_path, "handmc")
+    status = json.loads((folder / "result.json").read_text())
+    (folder / "result.json").write_text(json.dumps({**status, "status": "failed"}))
+    with pytest.raises(RunError, match="the run is failed; only a finished run"):
+        load(folder)
+    assert animat("eval", folder, check=False).returncode == 2
