@@ -1,7 +1,7 @@
 """The ``animat`` command (also ``python -m experiments``).
 
-    animat run CONFIG [--set key.path=value ...] [--out DIR]
-    animat run --resume DIR
+    animat run CONFIG [--set key.path=value ...] [--out DIR] [--threads N]
+    animat run --resume DIR [--threads N]
     animat sweep CONFIG --seeds 0-4 [--set ...] [--executor local|ray] [--jobs N]
                  [--address ADDR] [--out PARENT]
     animat compare RUN_DIR_OR_PARENT ... [--metric eval/return] [--threshold X] [-o REPORT]
@@ -9,6 +9,7 @@
     animat bench [--seconds S] [--breakdown]
     animat figures --out DIR [--seed S] [--frames N]
     animat list
+    animat --version
 
 A bad config or override stops before any work with one line naming the file, the field path
 and what is wrong, and exit status 2.
@@ -27,46 +28,93 @@ from experiments.runs import RunError, create_run, execute, resume
 CONFIG_DIR = Path(__file__).resolve().parent.parent / "configs"
 
 
+EXAMPLES = """examples:
+  animat run configs/quickstart.yaml                       # one run, folder under runs/
+  animat run configs/fish_swim_ppo.yaml --set seed=3 --set budget.env_steps=20000 --out runs/try
+  animat run --resume runs/try                             # continue a killed or failed run
+  animat sweep configs/fish_swim_cmaes.yaml --seeds 0-4 --jobs 2 --out runs/cmaes
+  animat compare runs/cmaes runs/ppo --metric eval/speed_bl_per_s -o docs/report.md
+  animat eval runs/try --episodes 4 --video videos/        # re-score and film a finished run
+  animat list                                              # envs, learners, shipped configs
+"""
+
+
+def _version() -> str:
+    from importlib import metadata
+
+    try:
+        return metadata.version("artificial-animals")
+    except metadata.PackageNotFoundError:
+        return "unknown (not installed)"
+
+
+def _add_overrides(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--set", dest="overrides", action="append", default=[],
+                        metavar="KEY.PATH=VALUE",
+                        help="override a config field (value read as YAML); repeatable, e.g. "
+                             "--set seed=3 --set learner.params.chains=32")
+
+
 def _parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="animat", description="artificial-animals launcher")
-    sub = parser.add_subparsers(dest="command", required=True)
-    run = sub.add_parser("run", help="run one experiment (or --resume one)")
-    run.add_argument("config", nargs="?", help="YAML config")
-    run.add_argument("--set", dest="overrides", action="append", default=[],
-                     metavar="KEY.PATH=VALUE")
-    run.add_argument("--out", type=Path, help="the run folder, exactly")
-    run.add_argument("--resume", type=Path, metavar="DIR", help="continue an unfinished run")
+    parser = argparse.ArgumentParser(
+        prog="animat", description="artificial-animals: run, sweep, compare and re-score "
+        "experiments on the artificial fish", epilog=EXAMPLES,
+        formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--version", action="version",
+                        version=f"animat (artificial-animals) {_version()}")
+    sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    run = sub.add_parser("run", help="run one experiment (or --resume one)",
+                         description="Run one experiment from a YAML config into a new run "
+                         "folder, or continue an unfinished one.")
+    run.add_argument("config", nargs="?", help="YAML config (not with --resume)")
+    _add_overrides(run)
+    run.add_argument("--out", type=Path, help="the run folder, exactly (default: "
+                     "runs/<env>/<learner>/seed<k>-<time>/); never overwritten")
+    run.add_argument("--resume", type=Path, metavar="DIR",
+                     help="continue the unfinished run in DIR with its own config.yaml")
+    run.add_argument("--threads", type=int, metavar="N",
+                     help="Numba threads for the run (default: every CPU this process may use)")
     run.add_argument("--quiet", action="store_true", help="no progress bar")
-    sweep = sub.add_parser("sweep", help="one run per seed")
-    sweep.add_argument("config")
+    sweep = sub.add_parser("sweep", help="one run per seed",
+                           description="One run folder per seed, run here (one after another "
+                           "or --jobs at once) or as Ray tasks; ends with a table.")
+    sweep.add_argument("config", help="YAML config")
     sweep.add_argument("--seeds", required=True, help="e.g. 0-4 or 1,3,5")
-    sweep.add_argument("--set", dest="overrides", action="append", default=[],
-                       metavar="KEY.PATH=VALUE")
-    sweep.add_argument("--executor", choices=("local", "ray"), default="local")
-    sweep.add_argument("--jobs", type=int, default=1, help="local: runs at once")
-    sweep.add_argument("--address", help="ray: an existing cluster's address")
-    sweep.add_argument("--out", type=Path, help="parent folder of the run folders")
-    compare = sub.add_parser("compare", help="compare runs (TensorBoard events)")
-    compare.add_argument("paths", nargs="+")
-    compare.add_argument("--metric", default="eval/return")
+    _add_overrides(sweep)
+    sweep.add_argument("--executor", choices=("local", "ray"), default="local",
+                       help="local processes (default) or Ray tasks of one CPU each")
+    sweep.add_argument("--jobs", type=int, default=1,
+                       help="local: runs at once, sharing the CPUs out (default 1)")
+    sweep.add_argument("--address", help="ray: an existing cluster's address (default: start "
+                       "a local one)")
+    sweep.add_argument("--out", type=Path, help="parent folder of the run folders "
+                       "(default: runs/)")
+    compare = sub.add_parser("compare", help="compare runs (TensorBoard events)",
+                             description="A table of final and best values per learner "
+                             "(label), and a plot of the curves against env steps.")
+    compare.add_argument("paths", nargs="+", help="run folders, or parents of run folders")
+    compare.add_argument("--metric", default="eval/return", help="the tag compared "
+                         "(default eval/return)")
     compare.add_argument("--threshold", type=float, help="report env steps to reach it")
     compare.add_argument("-o", "--output", type=Path, help="Markdown report (+ .png plot)")
-    evaluation = sub.add_parser("eval", help="play a finished run's agent over start states")
+    evaluation = sub.add_parser("eval", help="play a finished run's agent over start states",
+                                description="Load a finished run's agent, play it on seeded "
+                                "start states, print its metric and write eval.json.")
     evaluation.add_argument("run_dir", type=Path, help="a finished run folder")
     evaluation.add_argument("--episodes", type=int, default=4,
-                            help="start states (seeds: the run's seed onward)")
+                            help="start states (seeds: the run's seed onward; default 4)")
     evaluation.add_argument("--seeds", help="these seeds instead, e.g. 0-4 or 1,3,5")
     evaluation.add_argument("--video", type=Path, metavar="DIR",
                             help="film every episode into DIR (mp4, Gymnasium's RecordVideo)")
     bench = sub.add_parser("bench", help="simulator benchmark against Swimmer-v5")
-    bench.add_argument("--seconds", type=float, default=6.0)
-    bench.add_argument("--num-envs", type=int, default=256)
+    bench.add_argument("--seconds", type=float, default=6.0, help="wall seconds measured")
+    bench.add_argument("--num-envs", type=int, default=256, help="the batch's size")
     bench.add_argument("--breakdown", action="store_true",
                        help="where an integration step's time goes, per force term")
     figures = sub.add_parser("figures", help="the paper's Figs. 5, 7, 8 from a pursuit")
     figures.add_argument("--out", type=Path, required=True, help="folder for the PNG files")
-    figures.add_argument("--seed", type=int, default=0)
-    figures.add_argument("--frames", type=int, default=400)
+    figures.add_argument("--seed", type=int, default=0, help="the pursuit's seed")
+    figures.add_argument("--frames", type=int, default=400, help="frames of the pursuit")
     sub.add_parser("list", help="registered envs, learners and shipped configs")
     return parser
 
@@ -80,19 +128,26 @@ def _progress(args, config):
 
 
 def cmd_run(args) -> int:
+    if args.threads is not None and args.threads < 1:
+        raise RunError(f"--threads must be at least 1, got {args.threads}")
     if args.resume:
         folder = args.resume
+        ignored = ([f"CONFIG {args.config}"] if args.config else []) + (
+            [f"--set {o}" for o in args.overrides] + ([f"--out {args.out}"] if args.out else []))
+        if ignored:
+            raise RunError(f"--resume continues {folder} with its own config.yaml; drop "
+                           f"{', '.join(ignored)} (they would be ignored)")
         if not (folder / "config.yaml").exists():
             raise RunError(f"{folder}: no config.yaml: not a run folder")
         config = load_config(folder / "config.yaml")
-        result = resume(folder, _progress(args, config))
+        result = resume(folder, _progress(args, config), args.threads)
     else:
         if not args.config:
             raise RunError("give a CONFIG to run, or --resume DIR")
         config = load_config(args.config, args.overrides)
         folder = create_run(config, args.out, ["animat", *args.argv])
         print(f"run folder: {folder}")
-        result = execute(folder, _progress(args, config))
+        result = execute(folder, _progress(args, config), args.threads)
     print(json.dumps({k: result[k] for k in ("status", "env_steps", "wall_seconds", "metrics")}))
     return 0
 

@@ -16,6 +16,7 @@ import json
 import os
 import shlex
 import socket
+import subprocess
 import sys
 import time
 import traceback
@@ -50,8 +51,41 @@ def default_run_dir(config: ExperimentConfig, root: Path = Path("runs")) -> Path
     return candidate
 
 
+def available_cpus() -> int:
+    """CPUs this process may run on."""
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:  # not Linux
+        return os.cpu_count() or 1
+
+
+def set_threads(threads: int | None) -> int:
+    """Numba's threads for this run: ``threads`` (the CPUs it was given), else every CPU this
+    process may use; never more than Numba started with. Returns the count set."""
+    import numba
+
+    count = max(1, min(int(threads or available_cpus()), numba.config.NUMBA_NUM_THREADS))
+    numba.set_num_threads(count)
+    return count
+
+
+def source_revision() -> dict[str, object]:
+    """The git commit of the code that runs, and whether it has uncommitted changes
+    (``{}`` outside a git checkout)."""
+    root = Path(__file__).resolve().parents[1]
+    try:
+        commit = subprocess.run(["git", "-C", str(root), "rev-parse", "HEAD"], check=True,
+                                capture_output=True, text=True, timeout=10).stdout.strip()
+        changes = subprocess.run(["git", "-C", str(root), "status", "--porcelain",
+                                  "--untracked-files=no"], check=True, capture_output=True,
+                                 text=True, timeout=10).stdout.strip()
+    except (OSError, subprocess.SubprocessError):
+        return {}
+    return {"git_commit": commit, "git_dirty": bool(changes)}
+
+
 def versions() -> dict[str, str]:
-    found = {"python": sys.version.split()[0]}
+    found = {"python": sys.version.split()[0], **source_revision()}
     for name in PACKAGES:
         try:
             found[name] = metadata.version(name)
@@ -98,11 +132,13 @@ def read_status(folder: Path) -> dict:
     return data
 
 
-def execute(folder: Path, progress=None) -> dict:
-    """Run (or continue) the experiment of a run folder; returns the final result.json."""
+def execute(folder: Path, progress=None, threads: int | None = None) -> dict:
+    """Run (or continue) the experiment of a run folder with ``threads`` Numba threads (the
+    CPUs it was given; default all this process may use); returns the final result.json."""
     folder = Path(folder)
     config = load_config(folder / "config.yaml")
-    write_json(folder / "result.json", _status("running", folder))
+    threads = set_threads(threads)
+    write_json(folder / "result.json", _status("running", folder, threads=threads))
     sinks = []
     if config.logging.tensorboard:
         sinks.append(TensorBoardSink(folder / "tb"))
@@ -118,22 +154,22 @@ def execute(folder: Path, progress=None) -> dict:
     except BaseException as error:
         write_json(folder / "result.json", _status(
             "failed", folder, error=f"{type(error).__name__}: {error}",
-            traceback=traceback.format_exc()))
+            traceback=traceback.format_exc(), threads=threads))
         raise
     finally:
         logger.close()
     artefacts = {k: v for k, v in result.artefacts.items()}
     write_json(folder / "artefacts.json", artefacts)
-    final = _status("done", folder, result)
+    final = _status("done", folder, result, threads=threads)
     write_json(folder / "result.json", final)
     return final
 
 
-def resume(folder: Path, progress=None) -> dict:
+def resume(folder: Path, progress=None, threads: int | None = None) -> dict:
     """Continue an unfinished run from its last checkpoint."""
     status = read_status(folder)
     if status["status"] == "done":
         raise RunError(f"{folder}: the run is done; nothing to resume")
     if status["status"] == "running":
         raise RunError(f"{folder}: the run is still running (pid {status.get('pid')})")
-    return execute(folder, progress)
+    return execute(folder, progress, threads)

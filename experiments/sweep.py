@@ -10,7 +10,7 @@ from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 from experiments.config import ExperimentConfig
-from experiments.runs import create_run, default_run_dir, execute, read_status
+from experiments.runs import available_cpus, create_run, default_run_dir, execute, read_status
 
 
 def parse_seeds(text: str) -> list[int]:
@@ -44,14 +44,17 @@ def prepare(config: ExperimentConfig, seeds: list[int], parent: Path | None,
 
 
 def run_local(folders: list[Path], jobs: int = 1, progress=None) -> list[dict]:
-    """Execute the folders here: in this process (jobs = 1; ``progress(folder)`` may give each
-    run a progress sink) or as ``jobs`` subprocesses."""
+    """Execute the folders here: in this process (jobs = 1, with every CPU;
+    ``progress(folder)`` may give each run a progress sink) or as ``jobs`` subprocesses
+    sharing the CPUs out (each run's Numba threads: CPUs // jobs, at least 1)."""
     if jobs <= 1:
         return [_execute_one(folder, progress) for folder in folders]
+    threads = max(1, available_cpus() // jobs)
 
     def one(folder: Path) -> dict:
         subprocess.run([sys.executable, "-m", "experiments", "run", "--resume", str(folder),
-                        "--quiet"], check=False, stdout=subprocess.DEVNULL)
+                        "--quiet", "--threads", str(threads)], check=False,
+                       stdout=subprocess.DEVNULL)
         return read_status(folder)
 
     with ThreadPoolExecutor(max_workers=jobs) as pool:
@@ -114,7 +117,7 @@ def run_ray(folders: list[Path], address: str | None = None, num_cpus: int | Non
         from experiments.runs import execute as run_folder
 
         try:
-            return run_folder(Path(folder))
+            return run_folder(Path(folder), threads=1)  # the one CPU the task holds
         except Exception:  # the failure is recorded in the folder's result.json
             return read_status(Path(folder))
 

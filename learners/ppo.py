@@ -1,8 +1,8 @@
 """PPO (stable-baselines3) on the native batch, the modern baseline.
 
-Hyperparameters take rl-baselines3-zoo's names (``n_envs``, ``n_steps``, ``batch_size``,
-``n_epochs``, ``gamma``, ``gae_lambda``, ``learning_rate``, ``clip_range``, ``ent_coef``,
-``vf_coef``, ``max_grad_norm``, ``policy``, ``policy_kwargs``, ``normalize``). The policy is
+Hyperparameters take rl-baselines3-zoo's names and value forms (:mod:`learners.zoo`:
+``lin_3e-4`` schedules, ``policy_kwargs`` strings with ``nn.Tanh``, a ``normalize`` mapping).
+The policy is
 evaluated every ``eval_every`` env steps, deterministically, from the same seeded start state
 the black-box learners are scored on (``eval/return`` and the task's ``eval/<metric>``); the
 evaluation's own env steps are not charged to the budget.
@@ -10,68 +10,36 @@ evaluation's own env steps are not charged to the budget.
 
 from __future__ import annotations
 
-import ast
 import json
 import time
-from dataclasses import asdict, dataclass, fields
 from pathlib import Path
 
 import gymnasium as gym
 import numpy as np
+from pydantic import ValidationError
 
 from envs.tasks import EpisodeSummary
 from learners.agents import PolicyAgent
-from learners.base import BudgetError, Learner, LearnResult, typed_params
+from learners.base import BudgetError, Learner, LearnResult
 from learners.rollout import START_STATES, score_episode, spread
-
-
-@dataclass(frozen=True)
-class PPOParams:
-    """rl-baselines3-zoo's hyperparameter names and defaults of this project, plus
-    ``eval_every`` (env steps between evaluations), ``torch_threads`` and
-    ``checkpoint_every`` (env steps). ``policy_kwargs`` is a mapping or the zoo's
-    ``dict(...)`` string."""
-
-    n_envs: int = 64
-    n_steps: int = 64
-    batch_size: int = 1024
-    n_epochs: int = 10
-    gamma: float = 0.99
-    gae_lambda: float = 0.95
-    learning_rate: float = 3e-4
-    clip_range: float = 0.2
-    ent_coef: float = 0.0
-    vf_coef: float = 0.5
-    max_grad_norm: float = 0.5
-    policy: str = "MlpPolicy"
-    policy_kwargs: str | dict = "dict(net_arch=[128, 128], log_std_init=-1.0)"
-    normalize: bool = True
-    eval_every: int = 50_000
-    torch_threads: int = 1
-    checkpoint_every: int = 200_000
-
-    def __post_init__(self) -> None:
-        counts = ("n_envs", "n_steps", "batch_size", "n_epochs", "eval_every", "torch_threads",
-                  "checkpoint_every")
-        for name in counts:
-            if getattr(self, name) < 1:
-                raise ValueError(f"{name} must be a positive integer, got {getattr(self, name)!r}")
-        parse_policy_kwargs(self.policy_kwargs)
-
+from learners.zoo import PPOParams, normalize_kwargs, policy_kwargs, schedule
 
 OWN_KEYS = {"eval_every", "torch_threads", "checkpoint_every"}
-ZOO_KEYS = {f.name for f in fields(PPOParams)} - OWN_KEYS  # what SB3's PPO is given
+ZOO_KEYS = set(PPOParams.model_fields) - OWN_KEYS  # what SB3's PPO is given
 
 
-def parse_policy_kwargs(value) -> dict:
-    """rl-baselines3-zoo writes policy_kwargs as a string such as ``dict(net_arch=[64, 64])``."""
-    if isinstance(value, dict):
-        return value
-    tree = ast.parse(str(value), mode="eval").body
-    if not (isinstance(tree, ast.Call) and getattr(tree.func, "id", None) == "dict"
-            and not tree.args):
-        raise ValueError(f"policy_kwargs must look like dict(key=value, ...), got {value!r}")
-    return {kw.arg: ast.literal_eval(kw.value) for kw in tree.keywords}
+def ppo_params(params: dict, owner: str) -> PPOParams:
+    """The typed params, or ValueError naming the first bad one in one line."""
+    if "n_timesteps" in params:
+        raise ValueError(f"{owner}: n_timesteps is the run's budget here: set budget.env_steps")
+    try:
+        return PPOParams.model_validate(params)
+    except ValidationError as error:
+        first = error.errors()[0]
+        where = ".".join(str(p) for p in first["loc"])
+        message = ("unknown parameter" if first["type"] == "extra_forbidden"
+                   else first["msg"].removeprefix("Value error, "))
+        raise ValueError(f"{owner}: {where}: {message}") from None
 
 
 class PPOLearner(Learner):
@@ -79,7 +47,7 @@ class PPOLearner(Learner):
 
     def __init__(self, *args, **kwargs) -> None:
         super().__init__(*args, **kwargs)
-        self.hp = asdict(typed_params(PPOParams, self.params, f"learner {self.name!r}"))
+        self.hp = ppo_params(self.params, f"learner {self.name!r}").model_dump()
 
     def agent(self, artefacts: dict, folder: Path) -> PolicyAgent:
         """The saved network, deterministic, with the run's observation normalisation."""
@@ -112,9 +80,12 @@ class PPOLearner(Learner):
         torch.set_num_threads(int(self.hp["torch_threads"]))
         if checkpoint is not None:
             return PPO.load(checkpoint / "model.zip", env=venv, device="cpu")
-        keys = ZOO_KEYS - {"n_envs", "policy", "policy_kwargs", "normalize"}
+        keys = ZOO_KEYS - {"n_envs", "policy", "policy_kwargs", "normalize", "learning_rate",
+                           "clip_range"}
         return PPO(self.hp["policy"], venv, seed=self.seed, device="cpu", verbose=0,
-                   policy_kwargs=parse_policy_kwargs(self.hp["policy_kwargs"]),
+                   policy_kwargs=policy_kwargs(self.hp["policy_kwargs"]),
+                   learning_rate=schedule(self.hp["learning_rate"]),
+                   clip_range=schedule(self.hp["clip_range"]),
                    **{k: self.hp[k] for k in keys})
 
     def _native(self) -> bool:
@@ -133,7 +104,8 @@ class PPOLearner(Learner):
         else:
             venv = DummyVecEnv([lambda: gym.make(self.env_id, **self.env_kwargs)] * n_envs)
             venv.seed(self.seed)
-        if not self.hp["normalize"]:
+        normalize = normalize_kwargs(self.hp["normalize"])
+        if normalize is None:
             return venv
         if checkpoint is not None:
             return VecNormalize.load(str(checkpoint / "vecnormalize.pkl"), venv)
@@ -141,7 +113,8 @@ class PPOLearner(Learner):
         keys = None  # a Dict observation: normalise its non-image entries only
         if isinstance(space, gym.spaces.Dict):
             keys = [k for k, sub in space.spaces.items() if sub.dtype != np.uint8]
-        return VecNormalize(venv, gamma=float(self.hp["gamma"]), norm_obs_keys=keys)
+        return VecNormalize(venv, gamma=float(self.hp["gamma"]), norm_obs_keys=keys,
+                            **normalize)
 
     def evaluate(self, model, venv) -> dict[str, float]:
         """Deterministic episodes from the black-box learners' start states (seeds ``seed`` ..

@@ -226,3 +226,30 @@ def test_a_sweep_goes_on_past_a_failed_run_and_says_why(tmp_path, monkeypatch):
     statuses = [json.loads(p.read_text())["status"]
                 for p in sorted((tmp_path / "sweep").rglob("result.json"))]
     assert sorted(statuses) == ["done", "done", "failed"]  # seed 2 still ran
+
+
+def test_version_help_examples_and_every_argument_helped(capsys):
+    with pytest.raises(SystemExit) as done:
+        cli.main(["--version"])
+    assert done.value.code == 0 and "animat (artificial-animals) " in capsys.readouterr().out
+    with pytest.raises(SystemExit):
+        cli.main(["--help"])
+    text = capsys.readouterr().out
+    assert "examples:" in text and "animat eval runs/try" in text
+    parser = cli._parser()
+    for name, sub in parser._subparsers._group_actions[0].choices.items():
+        for action in sub._actions:
+            assert action.help, f"animat {name} {action.dest}: no help text"
+
+
+def test_resume_refuses_what_it_would_ignore_and_runs_record_threads_and_commit(tmp_path):
+    config = write_config(tmp_path / "tiny.yaml", TINY)
+    folder = tmp_path / "run"
+    animat("run", config, "--out", folder, "--threads", "1")
+    result = json.loads((folder / "result.json").read_text())
+    assert result["status"] == "done" and result["threads"] == 1
+    found = json.loads((folder / "versions.json").read_text())
+    assert len(found["git_commit"]) == 40 and isinstance(found["git_dirty"], bool)
+    for extra in ([str(config)], ["--set", "seed=4"], ["--out", str(tmp_path / "x")]):
+        refused = animat("run", "--resume", folder, *extra, check=False)
+        assert refused.returncode == 2 and "they would be ignored" in refused.stderr, extra

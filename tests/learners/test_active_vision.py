@@ -15,6 +15,7 @@ from learners.active_vision import (
     ActiveVisionPolicy,
     prey_model_histogram,
 )
+from learners.base import BudgetError
 from learners.registry import make_learner
 from learners.rollout import score_episode
 
@@ -48,7 +49,9 @@ def test_the_policy_acts_from_a_copy_of_the_observation_alone():
 def test_the_learner_refuses_a_budget_below_its_episodes():
     learner = make_learner("active_vision", "Animat/FishPursuit-v0", {"duration": 1.0},
                            {"episodes": 2})
-    with pytest.raises(ValueError, match="budget too small"):
+    with pytest.raises(BudgetError, match=r"10 is less than the 40 env steps scoring takes"):
+        learner.check_budget(10)
+    with pytest.raises(BudgetError):
         learner.learn(10)
 
 

@@ -216,8 +216,8 @@ def test_candidates_are_scored_over_several_start_states():
     ("annealing", {"period": "1s"}, "learner 'annealing': period must be a number or null"),
     ("cmaes", {"sigma0": -1.0}, "learner 'cmaes': CMAESParams: need popsize >= 2, sigma0 > 0"),
     ("handmc", {"speed": 2.0}, "learner 'handmc': speed must be in [0, 1]"),
-    ("ppo", {"n_steps": 0}, "learner 'ppo': n_steps must be a positive integer"),
-    ("ppo", {"normalize": "yes"}, "learner 'ppo': normalize must be true or false"),
+    ("ppo", {"n_steps": 0}, "learner 'ppo': n_steps: Input should be greater than or equal to 1"),
+    ("ppo", {"normalize": "yes"}, "learner 'ppo': normalize: use true, false or a mapping"),
     ("macro", {}, "learner 'macro': needs params.repertoire"),
     ("basic_training", {"annealing": 3}, "learner 'basic_training': annealing must be a mapping"),
 ])

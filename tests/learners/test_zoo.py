@@ -1,0 +1,53 @@
+"""PPO's hyperparameters take rl-baselines3-zoo's own values as its YAML files write them."""
+
+import pytest
+import torch.nn as nn
+
+from learners.registry import make_learner
+from learners.zoo import normalize_kwargs, policy_kwargs, schedule
+
+ZOO = {  # rl-baselines3-zoo's hyperparams/ppo.yml style, as written there
+    "n_envs": 2, "n_steps": 16, "batch_size": 32, "n_epochs": 1, "gamma": 0.999,
+    "learning_rate": "lin_3e-4", "clip_range": "lin_0.2",
+    "normalize": "{'norm_obs': True, 'norm_reward': False}",
+    "policy_kwargs": "dict(log_std_init=-2, ortho_init=False, activation_fn=nn.Tanh, "
+                     "net_arch=dict(pi=[32, 32], vf=[32, 32]))",
+}
+
+
+def test_the_zoo_value_forms_parse_to_what_sb3_takes():
+    kwargs = policy_kwargs(ZOO["policy_kwargs"])
+    assert kwargs["activation_fn"] is nn.Tanh and kwargs["net_arch"] == {"pi": [32, 32],
+                                                                          "vf": [32, 32]}
+    assert kwargs["log_std_init"] == -2 and kwargs["ortho_init"] is False
+    rate = schedule("lin_3e-4")
+    assert rate(1.0) == pytest.approx(3e-4) and rate(0.5) == pytest.approx(1.5e-4)
+    assert schedule(1e-3) == 1e-3
+    assert normalize_kwargs(ZOO["normalize"]) == {"norm_obs": True, "norm_reward": False}
+    assert normalize_kwargs(True) == {} and normalize_kwargs(False) is None
+
+
+def test_ppo_learns_with_zoo_values_and_uses_them(tmp_path):
+    learner = make_learner("ppo", "Animat/FishSwim-v0", {"duration": 0.5}, ZOO)
+    result = learner.learn(64, tmp_path)
+    assert result.env_steps == 64
+    from stable_baselines3 import PPO
+
+    model = PPO.load(tmp_path / "model.zip", device="cpu")
+    assert isinstance(model.policy.mlp_extractor.policy_net[1], nn.Tanh)
+    assert model.lr_schedule(0.5) == pytest.approx(1.5e-4)
+    assert model.gamma == 0.999
+
+
+@pytest.mark.parametrize("params, message", [
+    ({"learning_rate": "fast"}, "learning_rate: use a number or lin_<x>"),
+    ({"policy_kwargs": "dict(activation_fn=os.system)"}, "is not allowed here"),
+    ({"policy_kwargs": "__import__('os')"}, "is not allowed here"),
+    ({"normalize": {"norm_everything": True}}, "unknown VecNormalize keys"),
+    ({"n_timesteps": 1e6}, "n_timesteps is the run's budget here"),
+    ({"n_epoch": 3}, "n_epoch: unknown parameter"),
+    ({"n_envs": 0}, "n_envs: Input should be greater than or equal to 1"),
+])
+def test_bad_ppo_values_are_named(params, message):
+    with pytest.raises(ValueError, match=message):
+        make_learner("ppo", "Animat/FishSwim-v0", {"duration": 0.5}, params)
