@@ -3,7 +3,7 @@
 Importing ``envs`` registers the Gymnasium environments under the ``Animat`` namespace:
 ``Animat/FishSwim-v0``, ``Animat/FishTurn-v0`` and ``Animat/FishReach-v0``, each with a native
 batched vector env (``gym.make_vec(id, num_envs=256)``), and ``Animat/FishPursuit-v0``
-(vision-guided pursuit; :mod:`envs.pursuit`).
+(vision-guided pursuit; :mod:`animat.envs.pursuit`).
 """
 
 from __future__ import annotations
@@ -17,10 +17,10 @@ def _register() -> None:
     for env_id, task in zip(ENV_IDS, ("swim", "turn", "reach")):
         if env_id in gym.registry:
             continue
-        gym.register(id=env_id, entry_point="envs.fish_env:FishEnv",
-                     vector_entry_point="envs.fish_env:FishVectorEnv", kwargs={"task": task})
+        gym.register(id=env_id, entry_point="animat.envs.fish_env:FishEnv",
+                     vector_entry_point="animat.envs.fish_env:FishVectorEnv", kwargs={"task": task})
     if "Animat/FishPursuit-v0" not in gym.registry:
-        gym.register(id="Animat/FishPursuit-v0", entry_point="envs.pursuit:FishPursuitEnv")
+        gym.register(id="Animat/FishPursuit-v0", entry_point="animat.envs.pursuit:FishPursuitEnv")
 
 
 _register()

@@ -1,6 +1,6 @@
 """Simulator benchmark: simulated seconds per wall second, ours against MuJoCo's Swimmer-v5.
 
-Run ``python -m envs.bench`` or ``animat bench``. It measures, in the
+Run ``python -m animat.envs.bench`` or ``animat bench``. It measures, in the
 same process and in interleaved rounds (median of each), ``Animat/FishSwim-v0`` as one env and
 as the native batch of 256, and, when ``mujoco`` is installed (the ``bench`` extra),
 Gymnasium's ``Swimmer-v5`` as one env and as a sync vector of 256, all with uniformly random
@@ -19,9 +19,9 @@ import time
 import gymnasium as gym
 import numpy as np
 
-import envs  # noqa: F401  (registers Animat/*)
-from envs.physics import forces
-from envs.physics.integrator import CHUNK, kick_drift, ramp_rest_lengths, step_chunk
+import animat  # noqa: F401  (registers Animat/*)
+from animat.envs.physics import forces
+from animat.envs.physics.integrator import CHUNK, kick_drift, ramp_rest_lengths, step_chunk
 
 
 def sim_seconds_per_second(env, dt: float, num_envs: int, seconds: float, seed: int = 0) -> float:

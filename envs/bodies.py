@@ -1,15 +1,15 @@
 """The bodies an env can be given by name: ``body="fish"`` or any :class:`~envs.body.BodySpec`.
 
-A new animal is its own module that builds a ``BodySpec`` (like :mod:`envs.fish`) and one line
-in :data:`BODIES`; a body made in a script or a test is passed as the spec itself.
+A new animal is its own module that builds a ``BodySpec`` (like :mod:`animat.envs.fish`) and one
+line in :data:`BODIES`; a body made in a script or a test is passed as the spec itself.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable
 
-from envs.body import BodySpec
-from envs.fish import fish_body
+from animat.envs.body import BodySpec
+from animat.envs.fish import fish_body
 
 BODIES: dict[str, Callable[[], BodySpec]] = {"fish": fish_body}
 

@@ -1,12 +1,12 @@
 """Swim demo: the hand-designed motor controllers drive the fish; prints what they achieve.
 
-``python -m envs.demo [--seconds 10] [--video DIR]``: swims at full speed with the swim-MC and
-prints the biology figures of its cruise (tail-beat frequency f, peak-to-peak tail amplitude A,
-speed U along the start heading, Strouhal number fA/U, stride U/f), turns left and right with
-the turn-MCs, and rises and dives with the fin-MC (fin angles through the action space);
-with ``--video`` it records the swim to DIR. ``--model-sweep`` prints how the Strouhal number
-and stride respond to the force model and the swim-MC's gains (the measurements behind the
-README's note that a resistive model alone cannot reach fish-like St).
+``python -m animat.envs.demo [--seconds 10] [--video DIR]``: swims at full speed with the
+swim-MC and prints the biology figures of its cruise (tail-beat frequency f, peak-to-peak tail
+amplitude A, speed U along the start heading, Strouhal number fA/U, stride U/f), turns left and
+right with the turn-MCs, and rises and dives with the fin-MC (fin angles through the action
+space); with ``--video`` it records the swim to DIR. ``--model-sweep`` prints how the Strouhal
+number and stride respond to the force model and the swim-MC's gains (the measurements behind
+the README's note that a resistive model alone cannot reach fish-like St).
 """
 
 from __future__ import annotations
@@ -16,9 +16,9 @@ import argparse
 import gymnasium as gym
 import numpy as np
 
-import envs  # noqa: F401
-from envs.fish_env import FishEnv
-from envs.motor import SwimParams, fin_mc, swim_mc, to_action, turn_duration, turn_mc
+import animat  # noqa: F401
+from animat.envs.fish_env import FishEnv
+from animat.envs.motor import SwimParams, fin_mc, swim_mc, to_action, turn_duration, turn_mc
 
 TAIL_TIPS = [21, 22]
 

@@ -8,7 +8,7 @@ each node displaces its own mass of water, so the fish is neutrally buoyant (wit
 righting lift on the upper nodes). Stiffnesses keep the data sheet's order (cross > ordinary >
 muscle), with the ring edges (hoops) stiffest, so that every passive element stays within
 0.78-1.23 of its rest length under random actions (``tests/envs/test_tissue.py``). The
-stiffest mode sets the integrator's step bound (:func:`envs.physics.system.stable_step`,
+stiffest mode sets the integrator's step bound (:func:`animat.envs.physics.system.stable_step`,
 1.69 ms).
 """
 
@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from envs.body import CROSS, MUSCLE, ORDINARY, BodySpec
+from animat.envs.body import CROSS, MUSCLE, ORDINARY, BodySpec
 
 MODEL_LENGTH_UNITS = 26.0
 WATER_DENSITY = 1000.0  # kg/m^3

@@ -1,9 +1,10 @@
 """The batched core of every fish environment: state, step, observation, reward.
 
 :class:`FishBatch` holds B fish (B = 1 for a single env) and advances them together with
-:func:`envs.physics.integrator.step_batch`. The single env (:class:`envs.fish_env.FishEnv`) and
-the native vector env (:class:`envs.fish_env.FishVectorEnv`) are thin shells around it, so the
-physics, the observation and the reward exist once.
+:func:`animat.envs.physics.integrator.step_batch`. The single env
+(:class:`animat.envs.fish_env.FishEnv`) and the native vector env
+(:class:`animat.envs.fish_env.FishVectorEnv`) are thin shells around it, so the physics, the
+observation and the reward exist once.
 
 Reward (the paper's Eq. 1, per env step of ``dt`` seconds):
 ``r = -(mu1 E_u + mu2 E_v) dt``, ``E_u = (nu1 |du/dt|^2 + nu2 |d^2u/dt^2|^2) / 2`` over the six
@@ -18,13 +19,13 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from envs.body import BodySpec
-from envs.fish import fish_body
-from envs.motor import FinParams
-from envs.physics.integrator import step_batch
-from envs.physics.observe import body_state, momenta, proprioception
-from envs.physics.system import DEFAULT_DT, System, Water
-from envs.tasks import Task
+from animat.envs.body import BodySpec
+from animat.envs.fish import fish_body
+from animat.envs.motor import FinParams
+from animat.envs.physics.integrator import step_batch
+from animat.envs.physics.observe import body_state, momenta, proprioception
+from animat.envs.physics.system import DEFAULT_DT, System, Water
+from animat.envs.tasks import Task
 
 OBS_LIMIT = 1e4  # observation entries are clipped to +-OBS_LIMIT
 DEFAULT_FRAME_SKIP = 40  # integration steps per env step: 40 x 1.25 ms = 0.05 s
@@ -92,7 +93,7 @@ class FishState:
         fins: (B, P) fin angles held over the current env step, rad.
         steps: (B,) env steps since each episode began.
         origin: (B, 3) centre of mass at each episode's start, m.
-        targets: (B, T) each episode's task parameters (:meth:`envs.tasks.Task.sample`).
+        targets: (B, T) each episode's task parameters (:meth:`animat.envs.tasks.Task.sample`).
     """
 
     x: np.ndarray
@@ -130,7 +131,7 @@ class FishBatch:
     Args:
         num_envs: B.
         task: the :class:`~envs.tasks.Task`.
-        body: the body description (default: :func:`envs.fish.fish_body`).
+        body: the body description (default: :func:`animat.envs.fish.fish_body`).
         water: the medium, a :class:`~envs.physics.system.Water` or a dict of its fields
             (default: still fresh water, no surface).
         physics_dt: integration step, s.

@@ -1,11 +1,11 @@
 """Gymnasium environments of the artificial fish: a single env and a native batched vector env,
-both thin shells over :class:`envs.fish_core.FishBatch` (the same step code).
+both thin shells over :class:`animat.envs.fish_core.FishBatch` (the same step code).
 
 ## Description
 A 0.30 m, 0.52 kg mass-spring fish (23 nodes, 91 Voigt elements, 12 muscles in 6 actuators;
-:mod:`envs.fish`) in still water. It moves only by pushing water with its body faces (the
+:mod:`animat.envs.fish`) in still water. It moves only by pushing water with its body faces (the
 reaction force on faces moving into the water, in its cross-flow form by default, plus skin
-friction; :mod:`envs.physics.forces`). Tasks: ``swim`` (forward, optionally at a target
+friction; :mod:`animat.envs.physics.forces`). Tasks: ``swim`` (forward, optionally at a target
 speed), ``turn`` (by an angle, left or right), ``reach`` (a goal point). World frame: right
 handed, z up, gravity -z; the fish starts at the origin heading +x, its left is +y.
 
@@ -18,7 +18,7 @@ linear in time). Out-of-range values are clipped; a wrong shape, NaN or infinity
 the left and right pectoral fin angles, ``30 deg`` times the entry (held over the env step).
 
 ## Observation Space
-With the default sensor (:class:`envs.sensors.Proprioception`):
+With the default sensor (:class:`animat.envs.sensors.Proprioception`):
 ``Box(-1e4, 1e4, (150 + task entries,), float32)`` (clipped): the 23 node positions and velocities
 relative to the centre of mass, in the body frame (BL and BL/s, 69 + 69), the centre-of-mass
 velocity in the body frame (BL/s, 3), the world's up direction in the body frame (3), the six
@@ -48,14 +48,14 @@ No termination; truncation after ``duration`` simulated seconds.
 ## Arguments
 | argument | type | default | meaning |
 |---|---|---|---|
-| ``task`` | str | by id | ``"swim"``, ``"turn"``, ``"reach"`` (:data:`envs.tasks.TASKS`) |
-| ``body`` | str, BodySpec | ``"fish"`` | a name in :data:`envs.bodies.BODIES`, or a spec |
+| ``task`` | str | by id | ``"swim"``, ``"turn"``, ``"reach"`` (:data:`animat.envs.tasks.TASKS`) |
+| ``body`` | str, BodySpec | ``"fish"`` | a name in :data:`animat.envs.bodies.BODIES`, or a spec |
 | ``duration`` | float, s | the task's | truncation time (swim 10, turn 5, reach 20) |
 | ``physics_dt`` | float, s | 1/800 | step; refused above 75% of the body's bound |
 | ``frame_skip`` | int | 40 | steps per env step (``dt = physics_dt * frame_skip``) |
 | ``water`` | dict | fresh water | :class:`~envs.physics.system.Water` fields |
 | ``fins`` | bool | False | the pectoral fin angles in the action space |
-| ``sensors`` | list | proprioception | :mod:`envs.sensors`; several give a Dict space |
+| ``sensors`` | list | proprioception | :mod:`animat.envs.sensors`; several give a Dict space |
 | ``reset_noise_scale`` | float, BL | 0.005 | uniform noise on each start node coordinate |
 | ``reward_weights`` | dict | see text | ``mu1`` 1e-4, ``mu2`` 1, ``nu1`` 1, ``nu2`` 0.01 |
 | ``render_mode`` | str, None | None | ``"rgb_array"`` |
@@ -81,18 +81,18 @@ from gymnasium.utils import seeding
 from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
-from envs.bodies import make_body
-from envs.body import BodySpec
-from envs.fish_core import (
+from animat.envs.bodies import make_body
+from animat.envs.body import BodySpec
+from animat.envs.fish_core import (
     DEFAULT_FRAME_SKIP,
     FishBatch,
     RewardWeights,
     validate_actions,
 )
-from envs.physics.system import DEFAULT_DT
-from envs.render import BodyRenderer
-from envs.sensors import Observer
-from envs.tasks import SingleEpisodeSummary, Task, make_task
+from animat.envs.physics.system import DEFAULT_DT
+from animat.envs.render import BodyRenderer
+from animat.envs.sensors import Observer
+from animat.envs.tasks import SingleEpisodeSummary, Task, make_task
 
 RENDER_FPS = 20
 

@@ -1,11 +1,11 @@
 """``Animat/FishPursuit-v0``: an observer fish with eyes pursues a reddish prey fish.
 
 ## Description
-Three fish of :mod:`envs.fish` share the water (one batched simulation): the observer (orange),
-whose two eyes (:mod:`envs.retina`) are the only way it sees; a reddish prey that swims about
-and turns away when the observer comes within ``flee_distance_bl``; and a yellow fish of the
-same size that swims straight across, passing behind the prey a few seconds in. Every fish
-moves only through its motor controllers (:mod:`envs.navigation`).
+Three fish of :mod:`animat.envs.fish` share the water (one batched simulation): the observer
+(orange), whose two eyes (:mod:`animat.envs.retina`) are the only way it sees; a reddish prey
+that swims about and turns away when the observer comes within ``flee_distance_bl``; and a
+yellow fish of the same size that swims straight across, passing behind the prey a few seconds
+in. Every fish moves only through its motor controllers (:mod:`animat.envs.navigation`).
 
 ## Action Space
 ``Box(-1, 1, (7,), float32)``: swim speed (mapped to [0, 1]), turn (positive: left; above
@@ -31,9 +31,9 @@ entries). It takes stable-baselines3's ``MultiInputPolicy`` as it is.
 
 ## Scene
 A sand-tiled seabed 0.5 m below, water with depth haze, and a seeded scenery per episode
-(:mod:`envs.scenery`): 5 rocks and 12 plants on the seabed (below the swimming layer) and 15
+(:mod:`animat.envs.scenery`): 5 rocks and 12 plants on the seabed (below the swimming layer) and 15
 food particles floating, over 6 m x 6 m ahead of the start. The fish wear textured skins
-(:func:`envs.render.fish_skin`): countershading, bands and a checker.
+(:func:`animat.envs.render.fish_skin`): countershading, bands and a checker.
 
 ## Starting State
 The observer at the origin heading +x; the prey ``start_distance_bl`` ahead at a bearing
@@ -56,13 +56,13 @@ from __future__ import annotations
 import gymnasium as gym
 import numpy as np
 
-from envs.fish_core import OBS_LIMIT, FishBatch
-from envs.navigation import Navigator
-from envs.perception import triangulate
-from envs.render import Camera, Scene, fish_skin, look_at, yaw_matrix
-from envs.retina import RetinaParams, composite, eye_positions, gaze_rotation, render_eyes
-from envs.scenery import SceneryParams, furnish, scatter
-from envs.tasks import SwimTask
+from animat.envs.fish_core import OBS_LIMIT, FishBatch
+from animat.envs.navigation import Navigator
+from animat.envs.perception import triangulate
+from animat.envs.render import Camera, Scene, fish_skin, look_at, yaw_matrix
+from animat.envs.retina import RetinaParams, composite, eye_positions, gaze_rotation, render_eyes
+from animat.envs.scenery import SceneryParams, furnish, scatter
+from animat.envs.tasks import SwimTask
 
 OBSERVER, PREY, PASSER = 0, 1, 2
 COLOURS = ((250, 140, 60), (220, 50, 40), (230, 210, 40))
@@ -74,7 +74,7 @@ SCENERY = SceneryParams(rocks=5, plants=12, food=15, low=(-1.5, -3.0), high=(4.5
 
 class PursuitSummary:
     """Episode metrics of a pursuit from each step's info (the same interface as
-    :class:`envs.tasks.EpisodeSummary`, one episode): ``fovea_fraction`` (share of the frames
+    :class:`animat.envs.tasks.EpisodeSummary`, one episode): ``fovea_fraction`` (share of the frames
     after the first foveation with the prey in both foveas), ``fovea_fraction_150`` (the same
     over the ``WINDOW`` = 150 frames after it, or as many as the episode has),
     ``distance_closed_bl``,

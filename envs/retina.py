@@ -19,7 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from envs.render import Camera, Frame, Scene
+from animat.envs.render import Camera, Frame, Scene
 
 
 @dataclass(frozen=True)

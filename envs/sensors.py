@@ -15,7 +15,7 @@ from typing import Protocol
 import gymnasium as gym
 import numpy as np
 
-from envs.fish_core import OBS_LIMIT, FishBatch, Kinematics
+from animat.envs.fish_core import OBS_LIMIT, FishBatch, Kinematics
 
 
 class Sensor(Protocol):
@@ -31,9 +31,10 @@ class Sensor(Protocol):
 
 
 class Proprioception:
-    """The body's own state and the task's entries (:meth:`envs.fish_core.FishBatch.observe`):
-    node positions and velocities in the body frame, centre-of-mass velocity, up direction,
-    activations, then the task's observation; float32, clipped to +-``OBS_LIMIT``."""
+    """The body's own state and the task's entries
+    (:meth:`animat.envs.fish_core.FishBatch.observe`): node positions and velocities in the body
+    frame, centre-of-mass velocity, up direction, activations, then the task's observation;
+    float32, clipped to +-``OBS_LIMIT``."""
 
     name = "proprioception"
 

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from envs.motor import swim_mc, turn_mc
+from animat.envs.motor import swim_mc, turn_mc
 
 
 def heading_yaw(frames: np.ndarray) -> np.ndarray:
@@ -91,7 +91,7 @@ class EpisodeSummary:
 
 class SingleEpisodeSummary(EpisodeSummary):
     """:class:`EpisodeSummary` of one episode in a single env (``info`` of scalars): the
-    summary as floats (the interface of :class:`envs.pursuit.PursuitSummary`)."""
+    summary as floats (the interface of :class:`animat.envs.pursuit.PursuitSummary`)."""
 
     def __init__(self, task: Task) -> None:
         super().__init__(task, 1)

@@ -1,2 +1,2 @@
-"""The experiment launcher ``animat`` (:mod:`experiments.cli`): configs, run folders, sweeps,
+"""The experiment launcher ``animat`` (:mod:`animat.experiments.cli`): configs, run folders, sweeps,
 comparisons and the benchmark."""

@@ -1,4 +1,4 @@
-"""The ``animat`` command (also ``python -m experiments``).
+"""The ``animat`` command (also ``python -m animat.experiments``).
 
     animat run CONFIG [--set key.path=value ...] [--out DIR] [--threads N]
     animat run --resume DIR [--threads N]
@@ -22,8 +22,8 @@ import json
 import sys
 from pathlib import Path
 
-from experiments.config import ConfigError, load_config
-from experiments.runs import RunError, create_run, execute, resume
+from animat.experiments.config import ConfigError, load_config
+from animat.experiments.runs import RunError, create_run, execute, resume
 
 CONFIG_DIR = Path(__file__).resolve().parent.parent / "configs"
 
@@ -120,7 +120,7 @@ def _parser() -> argparse.ArgumentParser:
 
 
 def _progress(args, config):
-    from experiments.progress import ProgressSink
+    from animat.experiments.progress import ProgressSink
 
     if getattr(args, "quiet", False) or not config.logging.progress:
         return None
@@ -153,7 +153,7 @@ def cmd_run(args) -> int:
 
 
 def cmd_sweep(args) -> int:
-    from experiments.sweep import parse_seeds, prepare, run_local, run_ray, summary_table
+    from animat.experiments.sweep import parse_seeds, prepare, run_local, run_ray, summary_table
 
     try:
         seeds = parse_seeds(args.seeds)
@@ -170,8 +170,8 @@ def cmd_sweep(args) -> int:
 
 
 def cmd_eval(args) -> int:
-    from experiments.evaluate import evaluate, report
-    from experiments.sweep import parse_seeds
+    from animat.experiments.evaluate import evaluate, report
+    from animat.experiments.sweep import parse_seeds
 
     if args.episodes < 1:
         raise RunError(f"--episodes must be at least 1, got {args.episodes}")
@@ -187,7 +187,7 @@ def cmd_eval(args) -> int:
 
 
 def cmd_compare(args) -> int:
-    from experiments.compare import compare
+    from animat.experiments.compare import compare
 
     text, image = compare(args.paths, args.metric, args.threshold, args.output)
     print(text)
@@ -199,18 +199,18 @@ def cmd_compare(args) -> int:
 def cmd_list(args) -> int:
     import gymnasium as gym
 
-    import envs
-    from learners.registry import LEARNERS
+    import animat
+    from animat.learners.registry import LEARNERS
 
-    print("envs:     " + ", ".join(envs.ENV_IDS))
+    print("envs:     " + ", ".join(animat.envs.ENV_IDS))
     print("learners: " + ", ".join(sorted(LEARNERS)))
     configs = sorted(p.name for p in CONFIG_DIR.glob("*.yaml")) if CONFIG_DIR.exists() else []
     print("configs:  " + (", ".join(configs) if configs else "(none)"))
-    return 0 if all(e in gym.registry for e in envs.ENV_IDS) else 1
+    return 0 if all(e in gym.registry for e in animat.envs.ENV_IDS) else 1
 
 
 def cmd_figures(args) -> int:
-    from experiments.figures import make_figures
+    from animat.experiments.figures import make_figures
 
     if args.frames < 8:
         raise RunError(f"--frames must be at least 8, got {args.frames}")
@@ -220,7 +220,7 @@ def cmd_figures(args) -> int:
 
 
 def cmd_bench(args) -> int:
-    from envs.bench import report, report_breakdown, run
+    from animat.envs.bench import report, report_breakdown, run
 
     if args.breakdown:
         print(report_breakdown())

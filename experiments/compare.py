@@ -2,7 +2,7 @@
 keeping every scalar), group runs by learner (its ``label`` where the config gives one),
 aggregate over seeds and write a Markdown table and a PNG plot (mean curve with a shaded +-std
 band per learner, x = env steps), then the runs' abstractions
-(:mod:`experiments.abstraction_table`)."""
+(:mod:`animat.experiments.abstraction_table`)."""
 
 from __future__ import annotations
 
@@ -13,8 +13,8 @@ from pathlib import Path
 import numpy as np
 import yaml
 
-from experiments.abstraction_table import abstraction_markdown, abstraction_rows
-from experiments.runs import read_status
+from animat.experiments.abstraction_table import abstraction_markdown, abstraction_rows
+from animat.experiments.runs import read_status
 
 
 @dataclass

@@ -38,7 +38,7 @@ class EnvConfig(_Strict):
     def _registered(cls, value: str) -> str:
         import gymnasium as gym
 
-        import envs  # noqa: F401  (registers Animat/*)
+        import animat  # noqa: F401  (registers Animat/*)
 
         if value not in gym.registry:
             known = sorted(k for k in gym.registry if k.startswith("Animat/"))
@@ -62,7 +62,7 @@ class LearnerConfig(_Strict):
     @field_validator("name")
     @classmethod
     def _registered(cls, value: str) -> str:
-        from learners.registry import LEARNERS
+        from animat.learners.registry import LEARNERS
 
         if value not in LEARNERS:
             raise ValueError(f"unknown learner {value!r}; choose one of {sorted(LEARNERS)}")
@@ -142,8 +142,8 @@ def check_buildable(config: ExperimentConfig, source: str) -> None:
     work, as ConfigError on ``env.kwargs``, ``learner.params`` or ``budget.env_steps``."""
     import gymnasium as gym
 
-    from learners.base import BudgetError
-    from learners.registry import make_learner
+    from animat.learners.base import BudgetError
+    from animat.learners.registry import make_learner
 
     try:
         gym.make(config.env.id, **config.env.kwargs).close()

@@ -1,14 +1,14 @@
 """A finished run folder back into something that acts (:func:`load`), and ``animat eval``.
 
 ``load(run_dir)`` builds the run's learner from its resolved ``config.yaml`` and asks it for an
-agent of its ``artefacts.json`` (see :mod:`learners.agents`): the learned tent controller or its
-refined abstraction, a macro sequence, a hand-designed MC, PPO's network with its observation
-normalisation, the active-vision controller, or a repertoire's skills. The agent has SB3's
-``predict(obs)``, ``reset()``, ``env_id`` and ``env_kwargs``::
+agent of its ``artefacts.json`` (see :mod:`animat.learners.agents`): the learned tent controller
+or its refined abstraction, a macro sequence, a hand-designed MC, PPO's network with its
+observation normalisation, the active-vision controller, or a repertoire's skills. The agent has
+SB3's ``predict(obs)``, ``reset()``, ``env_id`` and ``env_kwargs``::
 
     import gymnasium as gym
-    import envs  # registers Animat/...
-    from experiments.evaluate import load
+    import animat  # registers Animat/...
+    from animat.experiments.evaluate import load
 
     agent = load("runs/try")
     env = gym.make(agent.env_id, **agent.env_kwargs)
@@ -26,12 +26,12 @@ from pathlib import Path
 import gymnasium as gym
 import numpy as np
 
-import envs  # noqa: F401
-from experiments.config import load_config
-from experiments.runs import RunError, read_status, write_json
-from learners.agents import SkillSet
-from learners.registry import make_learner
-from learners.rollout import START_STATES, score_episode, spread
+import animat  # noqa: F401
+from animat.experiments.config import load_config
+from animat.experiments.runs import RunError, read_status, write_json
+from animat.learners.agents import SkillSet
+from animat.learners.registry import make_learner
+from animat.learners.rollout import START_STATES, score_episode, spread
 
 
 def load(run_dir: str | Path):

@@ -1,7 +1,7 @@
 """The paper's vision figures, re-made from a pursuit with the active-vision policy.
 
 ``animat figures --out DIR [--seed S] [--frames N]`` plays ``Animat/FishPursuit-v0`` with
-:class:`learners.active_vision.ActiveVisionPolicy` for N frames (default 150) and writes:
+:class:`animat.learners.active_vision.ActiveVisionPolicy` for N frames (default 150) and writes:
 
 * ``fig5_retinas.png``: the 4 component images and the composite of each eye (Fig. 5) at the
   frame where the prey is nearest the middle of the pursuit;
@@ -20,9 +20,9 @@ import cv2
 import gymnasium as gym
 import numpy as np
 
-import envs  # noqa: F401
-from envs.retina import composite
-from learners.active_vision import ActiveVisionPolicy
+import animat  # noqa: F401
+from animat.envs.retina import composite
+from animat.learners.active_vision import ActiveVisionPolicy
 
 
 def play_pursuit(seed: int, frames: int) -> tuple[list[dict], list[np.ndarray]]:

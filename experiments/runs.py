@@ -23,10 +23,10 @@ import traceback
 from importlib import metadata
 from pathlib import Path
 
-from experiments.config import ExperimentConfig, load_config, to_yaml
-from learners.base import LearnResult, atomic_write
-from learners.logger import CsvSink, Logger, TensorBoardSink
-from learners.registry import make_learner
+from animat.experiments.config import ExperimentConfig, load_config, to_yaml
+from animat.learners.base import LearnResult, atomic_write
+from animat.learners.logger import CsvSink, Logger, TensorBoardSink
+from animat.learners.registry import make_learner
 
 PACKAGES = ("artificial-animals", "numpy", "numba", "gymnasium", "stable-baselines3", "torch",
             "cma", "tensorboard", "pydantic", "pyyaml", "ray")

@@ -9,8 +9,14 @@ import sys
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
-from experiments.config import ExperimentConfig
-from experiments.runs import available_cpus, create_run, default_run_dir, execute, read_status
+from animat.experiments.config import ExperimentConfig
+from animat.experiments.runs import (
+    available_cpus,
+    create_run,
+    default_run_dir,
+    execute,
+    read_status,
+)
 
 
 def parse_seeds(text: str) -> list[int]:
@@ -52,7 +58,7 @@ def run_local(folders: list[Path], jobs: int = 1, progress=None) -> list[dict]:
     threads = max(1, available_cpus() // jobs)
 
     def one(folder: Path) -> dict:
-        subprocess.run([sys.executable, "-m", "experiments", "run", "--resume", str(folder),
+        subprocess.run([sys.executable, "-m", "animat.experiments", "run", "--resume", str(folder),
                         "--quiet", "--threads", str(threads)], check=False,
                        stdout=subprocess.DEVNULL)
         return read_status(folder)
@@ -114,7 +120,7 @@ def run_ray(folders: list[Path], address: str | None = None, num_cpus: int | Non
 
     @ray.remote(num_cpus=1)
     def run_one(folder: str) -> dict:
-        from experiments.runs import execute as run_folder
+        from animat.experiments.runs import execute as run_folder
 
         try:
             return run_folder(Path(folder), threads=1)  # the one CPU the task holds

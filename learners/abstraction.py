@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from learners.controller import TentController, play
+from animat.learners.controller import TentController, play
 
 
 @dataclass(frozen=True)

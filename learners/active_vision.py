@@ -3,7 +3,7 @@ nothing (like ``handmc``) so that it stands in comparisons on ``Animat/FishPursu
 
 :class:`ActiveVisionPolicy` sees only the observation (the two eyes' levels, the gaze, the
 proprioception), never ``info`` or the simulator. Each frame, each eye detects the target by
-its model histogram (:func:`envs.active_vision.detect`, the finest level that sees all of it)
+its model histogram (:func:`animat.envs.active_vision.detect`, the finest level that sees all of it)
 and saccades onto it; an eye that has lost the target sweeps its gaze back toward straight
 ahead. Between frames the head yaws with every tail beat, so the eyes counter-rotate by the
 head's yaw over the next frame, read off proprioception (a vestibulo-ocular reflex; the
@@ -30,22 +30,22 @@ from pathlib import Path
 import gymnasium as gym
 import numpy as np
 
-import envs  # noqa: F401
-from envs.active_vision import VisionParams, detect, model_histogram, saccade
-from envs.fish import fish_body
-from envs.perception import translational_flow
-from envs.pursuit import COLOURS, PHI_RANGE, PREY, SEABED_Z, THETA_RANGE
-from envs.render import Scene, fish_skin, posed
-from envs.retina import RetinaParams, gaze_rotation, render_eye
-from learners.agents import PolicyAgent
-from learners.base import (
+import animat  # noqa: F401
+from animat.envs.active_vision import VisionParams, detect, model_histogram, saccade
+from animat.envs.fish import fish_body
+from animat.envs.perception import translational_flow
+from animat.envs.pursuit import COLOURS, PHI_RANGE, PREY, SEABED_Z, THETA_RANGE
+from animat.envs.render import Scene, fish_skin, posed
+from animat.envs.retina import RetinaParams, gaze_rotation, render_eye
+from animat.learners.agents import PolicyAgent
+from animat.learners.base import (
     Learner,
     LearnResult,
     check_scoring_budget,
     episode_steps,
     typed_params,
 )
-from learners.rollout import score_episode, spread
+from animat.learners.rollout import score_episode, spread
 
 MODEL_VIEWS = tuple((distance, np.radians(yaw)) for distance in (0.7, 1.2)
                     for yaw in range(0, 360, 45))  # (m, rad): the prey's poses in memory

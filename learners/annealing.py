@@ -10,7 +10,7 @@ caller's budget runs out). The state holds the generator's state, so a run is re
 for bit and can be checkpointed and resumed anywhere.
 
 Besides ``init``/``ask``/``tell``/``finished``, the module answers what the shared loop
-(:mod:`learners.blackbox`) asks of every optimiser: ``population`` (candidates per round),
+(:mod:`animat.learners.blackbox`) asks of every optimiser: ``population`` (candidates per round),
 ``metrics`` (its ``train/*`` scalars), ``fit_encoding`` (options for an encoding of blocks of
 ``block`` parameters) and ``refine_options`` (options for searching frequency parameters).
 The caller keeps the best candidate (with its metrics); the optimiser does not.

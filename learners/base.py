@@ -2,7 +2,7 @@
 kwargs), a budget in env steps, a seed and a logger, and can be checkpointed and resumed.
 
 Tags every learner logs, with the global step = env steps consumed: ``eval/return`` and the
-task's summary metrics as ``eval/<name>`` (:class:`envs.tasks.EpisodeSummary`); anything
+task's summary metrics as ``eval/<name>`` (:class:`animat.envs.tasks.EpisodeSummary`); anything
 else under ``train/``. Hyperparameters go in as text (``hparams``).
 """
 
@@ -19,7 +19,7 @@ from dataclasses import dataclass, field, fields
 from pathlib import Path
 from typing import Any, ClassVar
 
-from learners.logger import Logger
+from animat.learners.logger import Logger
 
 
 @dataclass
@@ -96,7 +96,7 @@ class Learner(ABC):
 
     def agent(self, artefacts: dict, folder: Path):
         """What the finished run in ``folder`` (its ``artefacts.json`` given) acts with: an
-        agent of :mod:`learners.agents`, built from this learner's config."""
+        agent of :mod:`animat.learners.agents`, built from this learner's config."""
         raise NotImplementedError(f"learner {self.name!r} cannot make an agent of its runs")
 
     def log_hparams(self) -> None:

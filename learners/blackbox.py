@@ -25,10 +25,10 @@ from typing import Any
 
 import numpy as np
 
-from learners import annealing, cmaes
-from learners.abstraction import AbstractController, abstract, most_compact
-from learners.agents import OpenLoopAgent
-from learners.base import (
+from animat.learners import annealing, cmaes
+from animat.learners.abstraction import AbstractController, abstract, most_compact
+from animat.learners.agents import OpenLoopAgent
+from animat.learners.base import (
     BudgetError,
     Learner,
     LearnResult,
@@ -39,8 +39,8 @@ from learners.base import (
     typed_params,
     unknown_params,
 )
-from learners.controller import TentController, play
-from learners.rollout import START_STATES, BatchEvaluator
+from animat.learners.controller import TentController, play
+from animat.learners.rollout import START_STATES, BatchEvaluator
 
 REFINE_KEYS = {"share", "threshold"}
 
@@ -138,7 +138,7 @@ class Run:
 class BlackBoxLearner(Learner):
     """Optimises a parameter vector with an ask/tell ``optimizer`` module (``init``, ``ask``,
     ``tell``, ``finished``, ``population``, ``metrics``, ``fit_encoding``,
-    ``refine_options``; see :mod:`learners.annealing`) configured by ``params_class``. What
+    ``refine_options``; see :mod:`animat.learners.annealing`) configured by ``params_class``. What
     the vector means is the subclass's: ``own_keys`` (its parameters), :meth:`_configure`,
     :meth:`_x0`, :meth:`controller` (vector -> something with ``actions(dt, steps)``),
     :meth:`_artefacts`. This base reads the tent-controller encoding; nothing here is

@@ -7,10 +7,16 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
-from learners.agents import OpenLoopAgent
-from learners.base import Learner, LearnResult, check_scoring_budget, episode_steps, typed_params
-from learners.controller import play
-from learners.rollout import START_STATES, BatchEvaluator
+from animat.learners.agents import OpenLoopAgent
+from animat.learners.base import (
+    Learner,
+    LearnResult,
+    check_scoring_budget,
+    episode_steps,
+    typed_params,
+)
+from animat.learners.controller import play
+from animat.learners.rollout import START_STATES, BatchEvaluator
 
 
 @dataclass(frozen=True)
@@ -26,7 +32,7 @@ class HandMCParams:
 
 
 class HandMCLearner(Learner):
-    """Plays the task's hand-designed MC (:meth:`envs.tasks.Task.hand_controller`): swim ->
+    """Plays the task's hand-designed MC (:meth:`animat.envs.tasks.Task.hand_controller`): swim ->
     swim-MC at ``speed`` (default 1), ease-in included (scored from t = 0 like every learned
     controller); turn -> the turn-MC for the env's angle and direction. Uses one episode from
     each start state."""

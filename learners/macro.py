@@ -2,10 +2,10 @@
 selection, ordering and durations of repertoire skills, evaluated by simulation.
 
 A candidate is ``slots`` (skill, duration) pairs, encoded in [0, 1]^(2 slots) so that the
-unchanged annealing optimiser of :mod:`learners.annealing` can search it: gene ``2k`` picks
+unchanged annealing optimiser of :mod:`animat.learners.annealing` can search it: gene ``2k`` picks
 slot k's skill (or none: the slot is empty), gene ``2k + 1`` its duration in
 [``min_duration``, ``max_duration``] s. The filled slots, in order, are concatenated with 5%
-blends (:mod:`learners.concatenation`); after the sequence the muscles relax.
+blends (:mod:`animat.learners.concatenation`); after the sequence the muscles relax.
 """
 
 from __future__ import annotations
@@ -14,12 +14,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from learners import annealing
-from learners.blackbox import BlackBoxLearner
-from learners.concatenation import concatenate
-from learners.controller import play
-from learners.repertoire import Repertoire
-from learners.rollout import START_STATES
+from animat.learners import annealing
+from animat.learners.blackbox import BlackBoxLearner
+from animat.learners.concatenation import concatenate
+from animat.learners.controller import play
+from animat.learners.repertoire import Repertoire
+from animat.learners.rollout import START_STATES
 
 
 @dataclass(frozen=True)

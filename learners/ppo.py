@@ -1,6 +1,6 @@
 """PPO (stable-baselines3) on the native batch, the modern baseline.
 
-Hyperparameters take rl-baselines3-zoo's names and value forms (:mod:`learners.zoo`:
+Hyperparameters take rl-baselines3-zoo's names and value forms (:mod:`animat.learners.zoo`:
 ``lin_3e-4`` schedules, ``policy_kwargs`` strings with ``nn.Tanh``, a ``normalize`` mapping).
 The policy is
 evaluated every ``eval_every`` env steps, deterministically, from the same seeded start state
@@ -18,11 +18,11 @@ import gymnasium as gym
 import numpy as np
 from pydantic import ValidationError
 
-from envs.tasks import EpisodeSummary
-from learners.agents import PolicyAgent
-from learners.base import BudgetError, Learner, LearnResult
-from learners.rollout import START_STATES, score_episode, spread
-from learners.zoo import PPOParams, normalize_kwargs, policy_kwargs, schedule
+from animat.envs.tasks import EpisodeSummary
+from animat.learners.agents import PolicyAgent
+from animat.learners.base import BudgetError, Learner, LearnResult
+from animat.learners.rollout import START_STATES, score_episode, spread
+from animat.learners.zoo import PPOParams, normalize_kwargs, policy_kwargs, schedule
 
 OWN_KEYS = {"eval_every", "torch_threads", "checkpoint_every"}
 ZOO_KEYS = set(PPOParams.model_fields) - OWN_KEYS  # what SB3's PPO is given
@@ -96,7 +96,7 @@ class PPOLearner(Learner):
     def _venv(self, checkpoint: Path | None):
         from stable_baselines3.common.vec_env import DummyVecEnv, VecNormalize
 
-        from learners.sb3_adapter import NativeVecEnv
+        from animat.learners.sb3_adapter import NativeVecEnv
 
         n_envs = int(self.hp["n_envs"])
         if self._native():
@@ -140,7 +140,7 @@ class PPOLearner(Learner):
 
     def _evaluate_singly(self, model, venv) -> dict[str, float]:
         """The same protocol, one episode at a time, scored by the env's own
-        ``episode_summary()`` (:func:`learners.rollout.score_episode`)."""
+        ``episode_summary()`` (:func:`animat.learners.rollout.score_episode`)."""
         if getattr(self, "_eval_env", None) is None:
             self._eval_env = gym.make(self.env_id, **self.env_kwargs)
 

@@ -2,14 +2,14 @@
 
 from __future__ import annotations
 
-from learners.active_vision import ActiveVisionLearner
-from learners.base import Learner
-from learners.blackbox import AnnealingLearner, CMAESLearner
-from learners.handmc import HandMCLearner
-from learners.logger import Logger
-from learners.macro import MacroLearner
-from learners.ppo import PPOLearner
-from learners.repertoire import BasicTrainingLearner
+from animat.learners.active_vision import ActiveVisionLearner
+from animat.learners.base import Learner
+from animat.learners.blackbox import AnnealingLearner, CMAESLearner
+from animat.learners.handmc import HandMCLearner
+from animat.learners.logger import Logger
+from animat.learners.macro import MacroLearner
+from animat.learners.ppo import PPOLearner
+from animat.learners.repertoire import BasicTrainingLearner
 
 LEARNERS: dict[str, type[Learner]] = {
     cls.name: cls for cls in (AnnealingLearner, CMAESLearner, PPOLearner, HandMCLearner,

@@ -14,8 +14,8 @@ from __future__ import annotations
 import gymnasium as gym
 import numpy as np
 
-import envs  # noqa: F401  (registers Animat/*)
-from envs.tasks import EpisodeSummary
+import animat  # noqa: F401  (registers Animat/*)
+from animat.envs.tasks import EpisodeSummary
 
 START_STATES = 4  # start states every candidate and every final result is scored over
 

@@ -9,11 +9,11 @@ import gymnasium as gym
 import numpy as np
 from stable_baselines3.common.vec_env.base_vec_env import VecEnv
 
-import envs  # noqa: F401
+import animat  # noqa: F401
 
 
 class NativeVecEnv(VecEnv):
-    """``num_envs`` fish of ``env_id`` in one :class:`envs.fish_env.FishVectorEnv`."""
+    """``num_envs`` fish of ``env_id`` in one :class:`animat.envs.fish_env.FishVectorEnv`."""
 
     def __init__(self, env_id: str, num_envs: int, env_kwargs: dict | None = None,
                  seed: int = 0) -> None:

@@ -3,8 +3,8 @@
 Arrays are in lane layout, bodies innermost, so every loop runs over the bodies in SIMD and a
 body's arithmetic is the same whatever the batch width L: ``x``, ``v`` (N, 3, L) node positions
 (m) and velocities (m/s) in the world frame; ``f`` (N, 3, L) a force accumulator (N) that each
-``add_*`` function adds into. The integrator (:mod:`envs.physics.integrator`) calls them once a
-step.
+``add_*`` function adds into. The integrator (:mod:`animat.envs.physics.integrator`) calls them
+once a step.
 
 Internal forces (:func:`add_element_forces`) are the Voigt elements' ``(c e + gamma de/dt) r/|r|``:
 each acts along its element, equally and oppositely on its two nodes, so they can change neither
@@ -121,10 +121,10 @@ def add_face_forces(x, v, faces, weights, face_mass, water, dt, f, g) -> None:
 
     A face's area vector is half the cross product of its diagonals (exact for a planar quad
     and for a triangle given as a quad with a repeated corner); its velocity and height are the
-    weighted means of its corners'. ``water`` is :attr:`envs.physics.system.System.water_args`.
-    The forces go into ``g`` (F, 3, L) work space in SIMD passes over the bodies
-    (:func:`_face_forces_into`), then are shared out among each face's corners by
-    ``weights``."""
+    weighted means of its corners'. ``water`` is
+    :attr:`animat.envs.physics.system.System.water_args`. The forces go into ``g`` (F, 3, L)
+    work space in SIMD passes over the bodies (:func:`_face_forces_into`), then are shared out
+    among each face's corners by ``weights``."""
     _face_forces_into(x, v, faces, weights, face_mass, water, dt, g)
     for k in range(faces.shape[0]):
         a, b, c, d = faces[k, 0], faces[k, 1], faces[k, 2], faces[k, 3]

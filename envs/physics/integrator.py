@@ -11,7 +11,7 @@ linear and angular momentum exactly, whatever the step and the actuation —
 by ``-h^2 sum v' x f(x')`` every step; it is symplectic, so with the dampers off the energy of
 the elastic body oscillates but does not drift; and it is explicit, so a step is a few thousand
 flops with no solve. It is stable for ``h`` below ``2 / omega_max`` (the body's stiffest mode,
-:func:`envs.physics.system.stable_step`); the default step sits well inside that bound, where
+:func:`animat.envs.physics.system.stable_step`); the default step sits well inside that bound, where
 the figures a researcher reads are converged (``tests/envs/test_convergence.py``).
 
 ``step_batch`` runs every body of a batch (B = 1 is a batch of one) through ``substeps`` steps,
@@ -25,7 +25,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, prange
 
-from envs.physics.forces import (
+from animat.envs.physics.forces import (
     FAST,
     add_element_forces,
     add_face_forces,
@@ -62,7 +62,7 @@ def kick_drift(x, v, f, masses, dt) -> None:
 def step_chunk(x, v, u_start, u_end, fin_angles, substeps, c):
     """Advance a chunk of L bodies, x, v (L, N, 3), in place by ``substeps`` steps, with
     activations ramped from u_start to u_end (L, A) and fin angles (L, P) held; ``c`` is
-    :attr:`envs.physics.system.System.kernel_args`."""
+    :attr:`animat.envs.physics.system.System.kernel_args`."""
     lanes, n = x.shape[0], x.shape[1]
     xl, vl, fl = np.empty((n, 3, lanes)), np.empty((n, 3, lanes)), np.empty((n, 3, lanes))
     for b in range(lanes):
@@ -123,7 +123,7 @@ def step_batch(x: np.ndarray, v: np.ndarray, u_start: np.ndarray, u_end: np.ndar
                fin_angles: np.ndarray, substeps: int, kernel_args) -> None:
     """Advance a batch in place: x, v (B, N, 3); u_start, u_end (B, A); fin_angles (B, P) rad.
 
-    ``kernel_args`` is :attr:`envs.physics.system.System.kernel_args`. Bodies are independent
+    ``kernel_args`` is :attr:`animat.envs.physics.system.System.kernel_args`. Bodies are independent
     and go through the integrator in chunks of ``CHUNK`` (SIMD across bodies), chunks split over
     threads when B >= ``PARALLEL_MIN_BATCH``. Every body's arithmetic is the same whatever B is:
     a batch of one gives bit for bit the numbers of its row in a batch.

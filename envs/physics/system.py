@@ -4,7 +4,7 @@ Following Brax's split, everything that does not change during a rollout (the bo
 water, the integration step, the constants derived from them) lives in a frozen
 :class:`System`; the moving parts (node positions and velocities) are the batched arrays the
 env core keeps. ``System.kernel_args`` hands the constants to the compiled step kernel
-(:mod:`envs.physics.integrator`) as one named tuple.
+(:mod:`animat.envs.physics.integrator`) as one named tuple.
 """
 
 from __future__ import annotations
@@ -15,7 +15,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from envs.body import BodySpec, frozen_array
+from animat.envs.body import BodySpec, frozen_array
 
 REACTION_LAWS = ("crossflow", "paper")
 
@@ -32,7 +32,7 @@ class Water:
             (``0.5 rho C_f``; C_f = 0.006, turbulent flat plate at Re ~ 1e5, gives 3).
         air_friction_coefficient: the same above the surface.
         reaction: ``"crossflow"`` (normal force ``kappa A (n.w)^2``) or ``"paper"`` (the data
-            sheet's ``kappa A (n.w) |w|``); see :mod:`envs.physics.forces`.
+            sheet's ``kappa A (n.w) |w|``); see :mod:`animat.envs.physics.forces`.
         density: water density for buoyancy, kg/m^3.
         gravity: m/s^2, acting along -z.
         surface_z: height of the water surface, m (``inf``: no surface, everything submerged).
@@ -166,7 +166,7 @@ class System:
 
     @cached_property
     def kernel_args(self) -> KernelArgs:
-        """Constants for :func:`envs.physics.integrator.step_batch`."""
+        """Constants for :func:`animat.envs.physics.integrator.step_batch`."""
         b = self.body
         return KernelArgs(
             b.masses, b.volumes, b.elements, b.stiffness, b.damping, b.rest_lengths, b.actuator,

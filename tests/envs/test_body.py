@@ -3,10 +3,10 @@
 import numpy as np
 import pytest
 
-from envs.body import CROSS, MUSCLE, ORDINARY, BodySpec
-from envs.fish import fish_body
-from envs.physics.forces import add_face_forces
-from envs.physics.system import System, Water
+from animat.envs.body import CROSS, MUSCLE, ORDINARY, BodySpec
+from animat.envs.fish import fish_body
+from animat.envs.physics.forces import add_face_forces
+from animat.envs.physics.system import System, Water
 
 
 def test_counts_match_the_paper():

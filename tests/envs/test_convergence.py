@@ -8,10 +8,10 @@ and at a step 4x smaller, agree within 5%.
 import numpy as np
 import pytest
 
-from envs.fish_core import DEFAULT_FRAME_SKIP, FishBatch
-from envs.motor import FinParams, fin_mc, swim_mc, to_action, turn_duration, turn_mc
-from envs.physics.system import DEFAULT_DT
-from envs.tasks import SwimTask
+from animat.envs.fish_core import DEFAULT_FRAME_SKIP, FishBatch
+from animat.envs.motor import FinParams, fin_mc, swim_mc, to_action, turn_duration, turn_mc
+from animat.envs.physics.system import DEFAULT_DT
+from animat.envs.tasks import SwimTask
 
 
 def _figures(refine: int) -> dict[str, float]:

@@ -8,10 +8,10 @@ length and V the largest node speed seen during the run (the body's own momentum
 import numpy as np
 import pytest
 
-from envs.fish import fish_body
-from envs.physics.integrator import step_batch
-from envs.physics.observe import body_state, momenta
-from envs.physics.system import STABILITY_MARGIN, System, Water, stable_step, vacuum
+from animat.envs.fish import fish_body
+from animat.envs.physics.integrator import step_batch
+from animat.envs.physics.observe import body_state, momenta
+from animat.envs.physics.system import STABILITY_MARGIN, System, Water, stable_step, vacuum
 
 
 def _batch(body, count=1):

@@ -8,10 +8,10 @@ import pytest
 from gymnasium.utils.env_checker import check_env
 from stable_baselines3.common.env_checker import check_env as sb3_check_env
 
-import envs
-from envs.motor import swim_mc, to_action
+import animat
+from animat.envs.motor import swim_mc, to_action
 
-ENV_IDS = envs.ENV_IDS
+ENV_IDS = animat.envs.ENV_IDS
 
 
 @pytest.mark.parametrize("env_id", ENV_IDS)

@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-from envs.fish_env import FishEnv
-from envs.motor import FinParams, fin_mc, swim_mc, to_action, turn_duration, turn_mc
+from animat.envs.fish_env import FishEnv
+from animat.envs.motor import FinParams, fin_mc, swim_mc, to_action, turn_duration, turn_mc
 
 
 def _run(env, actuation, seconds, fins=None):

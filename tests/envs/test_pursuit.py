@@ -7,10 +7,10 @@ import numpy as np
 import pytest
 from gymnasium.utils.env_checker import check_env
 
-import envs  # noqa: F401
-from envs.fish_env import FishEnv
-from envs.navigation import Navigator
-from envs.pursuit import PursuitSummary
+import animat  # noqa: F401
+from animat.envs.fish_env import FishEnv
+from animat.envs.navigation import Navigator
+from animat.envs.pursuit import PursuitSummary
 
 
 def test_pursuit_passes_both_checkers_without_warnings():

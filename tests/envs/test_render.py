@@ -2,8 +2,8 @@
 
 import numpy as np
 
-from envs.fish import fish_body
-from envs.render import Camera, Scene, look_at
+from animat.envs.fish import fish_body
+from animat.envs.render import Camera, Scene, look_at
 
 
 def _camera(eye, target, size=200):

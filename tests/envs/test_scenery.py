@@ -4,11 +4,11 @@ texture that optical flow locks onto."""
 import numpy as np
 import pytest
 
-from envs.fish import fish_body
-from envs.perception import translational_flow
-from envs.render import WATER_BOTTOM, WATER_TOP, Scene, fish_skin, posed
-from envs.retina import RetinaParams, gaze_rotation, render_eye
-from envs.scenery import SceneryParams, furnish, scatter
+from animat.envs.fish import fish_body
+from animat.envs.perception import translational_flow
+from animat.envs.render import WATER_BOTTOM, WATER_TOP, Scene, fish_skin, posed
+from animat.envs.retina import RetinaParams, gaze_rotation, render_eye
+from animat.envs.scenery import SceneryParams, furnish, scatter
 
 HEAD, EYE = np.eye(3), np.zeros(3)
 

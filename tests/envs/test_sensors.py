@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 from gymnasium.utils.env_checker import check_env
 
-import envs  # noqa: F401
-from envs.sensors import Proprioception
+import animat  # noqa: F401
+from animat.envs.sensors import Proprioception
 
 
 class DepthGauge:

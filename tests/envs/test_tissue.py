@@ -5,9 +5,9 @@ from pathlib import Path
 
 import numpy as np
 
-from envs.fish_core import FishBatch
-from envs.motor import swim_mc, to_action, turn_mc
-from envs.tasks import SwimTask
+from animat.envs.fish_core import FishBatch
+from animat.envs.motor import swim_mc, to_action, turn_mc
+from animat.envs.tasks import SwimTask
 
 REPERTOIRE = Path(__file__).resolve().parents[2] / "repertoires" / "fish.json"
 
@@ -47,8 +47,8 @@ def test_hand_motor_controllers_keep_passive_elements_within_tissue_limits():
 
 
 def test_repertoire_skills_keep_passive_elements_within_tissue_limits():
-    from learners.controller import play
-    from learners.repertoire import Repertoire
+    from animat.learners.controller import play
+    from animat.learners.repertoire import Repertoire
 
     skills = Repertoire.load(REPERTOIRE).skills.values()
     actions = np.full((160, len(skills), 6), -1.0)  # relaxed after each skill ends

@@ -1,7 +1,7 @@
 """The launcher end to end: run, resume after SIGKILL, sweep, compare, bad configs.
 
-Commands run in-process through :func:`experiments.cli.main` (the ``animat`` entry point);
-the resume test kills a real ``python -m experiments`` process."""
+Commands run in-process through :func:`animat.experiments.cli.main` (the ``animat`` entry point);
+the resume test kills a real ``python -m animat.experiments`` process."""
 
 import io
 import json
@@ -17,8 +17,8 @@ from types import SimpleNamespace
 import pytest
 import yaml
 
-from experiments import cli
-from experiments.config import ConfigError, load_config
+from animat.experiments import cli
+from animat.experiments.config import ConfigError, load_config
 
 ROOT = Path(__file__).resolve().parents[2]
 TINY = {
@@ -160,7 +160,7 @@ def test_sigkilled_run_resumes_to_the_uninterrupted_result(tmp_path):
     config = write_config(tmp_path / "long.yaml", data)
     animat("run", config, "--out", tmp_path / "whole")
     folder = tmp_path / "killed"
-    process = subprocess.Popen([sys.executable, "-m", "experiments", "run", str(config),
+    process = subprocess.Popen([sys.executable, "-m", "animat.experiments", "run", str(config),
                                 "--out", str(folder)], cwd=ROOT, stdout=subprocess.DEVNULL,
                                stderr=subprocess.DEVNULL)
     checkpoint = folder / "checkpoints" / "checkpoint.pkl"
@@ -204,7 +204,7 @@ def test_local_sweep_one_folder_per_seed(tmp_path):
 
 
 def test_a_sweep_goes_on_past_a_failed_run_and_says_why(tmp_path, monkeypatch):
-    from learners.blackbox import AnnealingLearner
+    from animat.learners.blackbox import AnnealingLearner
 
     learn = AnnealingLearner.learn
 

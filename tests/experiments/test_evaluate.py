@@ -6,9 +6,9 @@ import json
 import numpy as np
 import pytest
 
-from experiments.evaluate import evaluate, load
-from experiments.runs import RunError
-from learners.agents import OpenLoopAgent, PolicyAgent, SkillSet
+from animat.experiments.evaluate import evaluate, load
+from animat.experiments.runs import RunError
+from animat.learners.agents import OpenLoopAgent, PolicyAgent, SkillSet
 from tests.experiments.test_cli import ROOT, TINY, animat, write_config
 
 SWIM = {"id": "Animat/FishSwim-v0", "kwargs": {"duration": 0.5}}

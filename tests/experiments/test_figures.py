@@ -2,7 +2,7 @@
 
 import cv2
 
-from experiments import cli
+from animat.experiments import cli
 
 
 def test_figures_are_written(tmp_path, capsys):

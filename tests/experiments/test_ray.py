@@ -4,8 +4,8 @@ from pathlib import Path
 
 import pytest
 
-from experiments.config import validate
-from experiments.sweep import prepare, run_ray
+from animat.experiments.config import validate
+from animat.experiments.sweep import prepare, run_ray
 
 ray = pytest.importorskip("ray")
 

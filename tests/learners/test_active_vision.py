@@ -7,17 +7,17 @@ import gymnasium as gym
 import numpy as np
 import pytest
 
-import envs  # noqa: F401
-from envs.active_vision import VisionParams, detect
-from learners.active_vision import (
+import animat  # noqa: F401
+from animat.envs.active_vision import VisionParams, detect
+from animat.learners.active_vision import (
     MODEL_VIEWS,
     ActiveVisionParams,
     ActiveVisionPolicy,
     prey_model_histogram,
 )
-from learners.base import BudgetError
-from learners.registry import make_learner
-from learners.rollout import score_episode
+from animat.learners.base import BudgetError
+from animat.learners.registry import make_learner
+from animat.learners.rollout import score_episode
 
 
 @pytest.mark.parametrize("seed", [0, 3])

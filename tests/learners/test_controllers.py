@@ -5,9 +5,9 @@ import json
 import numpy as np
 import pytest
 
-from learners.abstraction import AbstractController, abstract
-from learners.concatenation import concatenate, schedule
-from learners.controller import TentController
+from animat.learners.abstraction import AbstractController, abstract
+from animat.learners.concatenation import concatenate, schedule
+from animat.learners.controller import TentController
 
 A = 6  # channels of the test controllers (any number; controllers are body-agnostic)
 

@@ -4,12 +4,12 @@ import gymnasium as gym
 import numpy as np
 import pytest
 
-from learners import annealing
-from learners.abstraction import AbstractController
-from learners.blackbox import PeriodicPlayer
-from learners.logger import Logger, MemorySink
-from learners.registry import LEARNERS, make_learner
-from learners.rollout import BatchEvaluator
+from animat.learners import annealing
+from animat.learners.abstraction import AbstractController
+from animat.learners.blackbox import PeriodicPlayer
+from animat.learners.logger import Logger, MemorySink
+from animat.learners.registry import LEARNERS, make_learner
+from animat.learners.rollout import BatchEvaluator
 
 ENV = "Animat/FishSwim-v0"
 TINY_ENV = {"duration": 0.5}  # 10 env steps per episode, 40 per candidate (4 start states)

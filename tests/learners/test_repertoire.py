@@ -3,10 +3,10 @@
 import numpy as np
 import pytest
 
-from learners.abstraction import abstract
-from learners.controller import TentController
-from learners.macro import MacroLearner, MacroSequence
-from learners.repertoire import Repertoire, Skill
+from animat.learners.abstraction import abstract
+from animat.learners.controller import TentController
+from animat.learners.macro import MacroLearner, MacroSequence
+from animat.learners.repertoire import Repertoire, Skill
 
 CHANNELS = 6  # actuations of the test skills (any number)
 
@@ -47,9 +47,9 @@ def _skill_score(skill, refine: int) -> float:
     """A shipped skill's score from the 4 seeded start states, at the default step refined
     ``refine`` times (same env step, so the same actions): swims their mean speed (BL/s),
     turns the degrees of the 90 they achieve (90 - |final heading error|)."""
-    from envs.fish_core import DEFAULT_FRAME_SKIP
-    from envs.physics.system import DEFAULT_DT
-    from learners.rollout import BatchEvaluator
+    from animat.envs.fish_core import DEFAULT_FRAME_SKIP
+    from animat.envs.physics.system import DEFAULT_DT
+    from animat.learners.rollout import BatchEvaluator
 
     kwargs = {**skill.metadata["env_kwargs"], "physics_dt": DEFAULT_DT / refine,
               "frame_skip": DEFAULT_FRAME_SKIP * refine}

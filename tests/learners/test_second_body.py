@@ -6,10 +6,10 @@ import gymnasium as gym
 import numpy as np
 from gymnasium.utils.env_checker import check_env
 
-import envs  # noqa: F401
-from envs.body import CROSS, MUSCLE, ORDINARY, BodySpec
-from envs.physics.system import DEFAULT_DT, STABILITY_MARGIN, stable_step
-from learners.registry import make_learner
+import animat  # noqa: F401
+from animat.envs.body import CROSS, MUSCLE, ORDINARY, BodySpec
+from animat.envs.physics.system import DEFAULT_DT, STABILITY_MARGIN, stable_step
+from animat.learners.registry import make_learner
 
 SIGNS = [(1, 1), (-1, 1), (-1, -1), (1, -1)]  # ring corners (y, z): ul, ur, lr, ll
 

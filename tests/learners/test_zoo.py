@@ -3,8 +3,8 @@
 import pytest
 import torch.nn as nn
 
-from learners.registry import make_learner
-from learners.zoo import normalize_kwargs, policy_kwargs, schedule
+from animat.learners.registry import make_learner
+from animat.learners.zoo import normalize_kwargs, policy_kwargs, schedule
 
 ZOO = {  # rl-baselines3-zoo's hyperparams/ppo.yml style, as written there
     "n_envs": 2, "n_steps": 16, "batch_size": 32, "n_epochs": 1, "gamma": 0.999,
