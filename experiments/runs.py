@@ -132,6 +132,24 @@ def read_status(folder: Path) -> dict:
     return data
 
 
+def flat_hparams(config: ExperimentConfig) -> dict[str, object]:
+    """The config as TensorBoard hyperparameters: dotted names -> number, string or bool."""
+    out: dict[str, object] = {}
+
+    def walk(prefix: str, value) -> None:
+        if isinstance(value, dict):
+            for key, item in value.items():
+                walk(f"{prefix}.{key}" if prefix else str(key), item)
+        elif isinstance(value, bool | int | float | str):
+            out[prefix] = value
+        else:
+            out[prefix] = str(value)
+
+    data = config.model_dump(mode="json")
+    walk("", {k: data[k] for k in ("env", "learner", "budget", "seed")})
+    return out
+
+
 def execute(folder: Path, progress=None, threads: int | None = None) -> dict:
     """Run (or continue) the experiment of a run folder with ``threads`` Numba threads (the
     CPUs it was given; default all this process may use); returns the final result.json."""
@@ -151,6 +169,7 @@ def execute(folder: Path, progress=None, threads: int | None = None) -> dict:
         learner = make_learner(config.learner.name, config.env.id, config.env.kwargs,
                                config.learner.params, config.seed, logger)
         result = learner.learn(config.budget.env_steps, folder / "checkpoints")
+        logger.hparams(flat_hparams(config), {k: float(v) for k, v in result.metrics.items()})
     except BaseException as error:
         write_json(folder / "result.json", _status(
             "failed", folder, error=f"{type(error).__name__}: {error}",

@@ -340,7 +340,7 @@ class BlackBoxLearner(Learner):
             run.env_steps += len(candidates) * evaluator.episode_cost
             run.rounds += 1
             self._track_best(phase, candidates, returns, metrics)
-            self._log(run, phase)
+            self._log(run, phase, returns, metrics)
             run.wall = time.perf_counter() - start
             if path and run.rounds % self.checkpoint_every == 0:
                 save_checkpoint(path, run)
@@ -358,13 +358,18 @@ class BlackBoxLearner(Learner):
         bests = [p.best for p in run.phases if p.best is not None]
         return max(bests, key=lambda b: b["return"]) if bests else None
 
-    def _log(self, run: Run, phase: Phase) -> None:
-        """The best controller so far (of either phase) as ``eval/*``, and the optimiser's
-        own ``train/*`` scalars."""
-        best, step = self._overall_best(run), run.env_steps
-        self.logger.scalar("eval/return", best["return"], step)
+    def _log(self, run: Run, phase: Phase, returns: np.ndarray, metrics: dict) -> None:
+        """Like every learner, ``eval/*``: the current incumbent (the best candidate of this
+        round, scored over the evaluation start states), as PPO logs its current policy;
+        ``best/*``: the best so far (of either phase), which is what the run returns; and the
+        optimiser's own ``train/*`` scalars."""
+        k, best, step = int(np.argmax(returns)), self._overall_best(run), run.env_steps
+        self.logger.scalar("eval/return", float(returns[k]), step)
+        for name, values in metrics.items():
+            self.logger.scalar(f"eval/{name}", float(values[k]), step)
+        self.logger.scalar("best/return", best["return"], step)
         for name, value in best["metrics"].items():
-            self.logger.scalar(f"eval/{name}", value, step)
+            self.logger.scalar(f"best/{name}", value, step)
         for name, value in self.optimizer.metrics(phase.params, phase.state).items():
             self.logger.scalar(f"train/{name}", value, step)
 

@@ -40,6 +40,13 @@ class Logger:
         for sink in self.sinks:
             sink.text(tag, text, int(step))
 
+    def hparams(self, params: dict[str, object], metrics: dict[str, float]) -> None:
+        """A run's hyperparameters (flat: name -> number, string or bool) beside its final
+        ``metrics``, for the sinks that keep them (TensorBoard's HParams view)."""
+        for sink in self.sinks:
+            if hasattr(sink, "hparams"):
+                sink.hparams(params, metrics)
+
     def close(self) -> None:
         for sink in self.sinks:
             sink.close()
@@ -101,6 +108,12 @@ class TensorBoardSink:
 
     def text(self, tag: str, text: str, step: int) -> None:
         self._writer.add_text(tag, text, step)
+
+    def hparams(self, params: dict[str, object], metrics: dict[str, float]) -> None:
+        """Into the same log folder (TensorBoard's HParams tab); the metrics are written under
+        ``hparams/`` so that they do not mix with the run's curves."""
+        self._writer.add_hparams(params, {f"hparams/{k}": v for k, v in metrics.items()},
+                                 run_name=".")
 
     def close(self) -> None:
         self._writer.flush()

@@ -42,6 +42,24 @@ def ppo_params(params: dict, owner: str) -> PPOParams:
         raise ValueError(f"{owner}: {where}: {message}") from None
 
 
+def sb3_logger(logger):
+    """An SB3 logger whose records (``train/*``, ``rollout/*``, ``time/*`` at the env step
+    they were dumped) go into this run's logger, beside ``eval/*``."""
+    from stable_baselines3.common.logger import KVWriter
+    from stable_baselines3.common.logger import Logger as SB3Logger
+
+    class Forward(KVWriter):
+        def write(self, key_values: dict, key_excluded: dict, step: int = 0) -> None:
+            for key, value in key_values.items():
+                if isinstance(value, int | float | np.number) and np.isfinite(value):
+                    logger.scalar(key, float(value), step)
+
+        def close(self) -> None:
+            pass
+
+    return SB3Logger(folder=None, output_formats=[Forward()])
+
+
 class PPOLearner(Learner):
     name = "ppo"
 
@@ -79,14 +97,18 @@ class PPOLearner(Learner):
 
         torch.set_num_threads(int(self.hp["torch_threads"]))
         if checkpoint is not None:
-            return PPO.load(checkpoint / "model.zip", env=venv, device="cpu")
+            model = PPO.load(checkpoint / "model.zip", env=venv, device="cpu")
+            model.set_logger(sb3_logger(self.logger))
+            return model
         keys = ZOO_KEYS - {"n_envs", "policy", "policy_kwargs", "normalize", "learning_rate",
                            "clip_range"}
-        return PPO(self.hp["policy"], venv, seed=self.seed, device="cpu", verbose=0,
-                   policy_kwargs=policy_kwargs(self.hp["policy_kwargs"]),
-                   learning_rate=schedule(self.hp["learning_rate"]),
-                   clip_range=schedule(self.hp["clip_range"]),
-                   **{k: self.hp[k] for k in keys})
+        model = PPO(self.hp["policy"], venv, seed=self.seed, device="cpu", verbose=0,
+                    policy_kwargs=policy_kwargs(self.hp["policy_kwargs"]),
+                    learning_rate=schedule(self.hp["learning_rate"]),
+                    clip_range=schedule(self.hp["clip_range"]),
+                    **{k: self.hp[k] for k in keys})
+        model.set_logger(sb3_logger(self.logger))
+        return model
 
     def _native(self) -> bool:
         """Whether the env has a native batched vector env (the fish envs) or is stepped as

@@ -6,6 +6,7 @@ the resume test kills a real ``python -m animat.experiments`` process."""
 import io
 import json
 import os
+import re
 import signal
 import subprocess
 import sys
@@ -14,6 +15,7 @@ from contextlib import redirect_stderr, redirect_stdout
 from pathlib import Path
 from types import SimpleNamespace
 
+import numpy as np
 import pytest
 import yaml
 
@@ -253,3 +255,47 @@ def test_resume_refuses_what_it_would_ignore_and_runs_record_threads_and_commit(
     for extra in ([str(config)], ["--set", "seed=4"], ["--out", str(tmp_path / "x")]):
         refused = animat("run", "--resume", folder, *extra, check=False)
         assert refused.returncode == 2 and "they would be ignored" in refused.stderr, extra
+
+
+def _tensor_plugins(folder):
+    """The TensorBoard plugins the run's event files write for."""
+    from tensorboard.backend.event_processing.event_file_loader import EventFileLoader
+
+    plugins = set()
+    for events in (folder / "tb").glob("events.out.tfevents.*"):
+        for event in EventFileLoader(str(events)).Load():
+            for value in event.summary.value:
+                plugins.add(value.metadata.plugin_data.plugin_name)
+    return plugins
+
+
+def test_curves_mean_the_same_for_every_learner_and_runs_keep_their_hparams(tmp_path):
+    from animat.experiments.compare import read_scalars
+
+    config = write_config(tmp_path / "tiny.yaml", TINY)
+    animat("run", config, "--out", tmp_path / "anneal")
+    curves = read_scalars(tmp_path / "anneal")
+    (_, current), (_, best) = curves["eval/return"], curves["best/return"]
+    assert np.all(np.diff(best) >= 0) and np.all(current <= best + 1e-12)  # incumbent vs best
+    assert not np.all(current == best)  # the incumbent is not the best so far every round
+    assert "hparams" in _tensor_plugins(tmp_path / "anneal")  # TensorBoard's HParams view
+    animat("run", config, "--out", tmp_path / "ppo", "--set", "learner.name=ppo",
+           "--set", "learner.params={n_envs: 2, n_steps: 16, batch_size: 32, n_epochs: 1, "
+                    "eval_every: 32}", "--set", "budget.env_steps=64")
+    tags = set(read_scalars(tmp_path / "ppo"))
+    assert {"eval/return", "train/value_loss", "train/approx_kl", "time/fps"} <= tags
+
+
+def test_compare_reads_scalars_csv_without_events_and_shows_intervals(tmp_path):
+    data = json.loads(json.dumps(TINY))
+    data["logging"] = {"tensorboard": False, "csv": True, "progress": False}
+    config = write_config(tmp_path / "csv.yaml", data)
+    for seed in (0, 1, 2):
+        animat("run", config, "--set", f"seed={seed}", "--out", tmp_path / "runs" / f"s{seed}")
+    assert not (tmp_path / "runs" / "s0" / "tb").exists()
+    text = animat("compare", tmp_path / "runs", "--metric", "eval/speed_bl_per_s").stdout
+    row = next(line for line in text.splitlines() if line.startswith("| annealing |"))
+    found = re.search(r"(-?\d+\.\d+) ± (\d+\.\d+) \[(-?\d+\.\d+), (-?\d+\.\d+)\]",
+                      row.split("|")[3])
+    mean, std, low, high = (float(v) for v in found.groups())
+    assert low <= mean <= high and std > 0 and low < high and "95% bootstrap interval" in text
