@@ -6,6 +6,7 @@
                  [--address ADDR] [--out PARENT]
     animat compare RUN_DIR_OR_PARENT ... [--metric eval/return] [--threshold X] [-o REPORT]
     animat eval RUN_DIR [--episodes N] [--seeds 0-3] [--video DIR]
+    animat tune CONFIG --trials N [--set ...] [--out DIR]
     animat bench [--seconds S] [--breakdown]
     animat figures --out DIR [--seed S] [--frames N]
     animat list
@@ -35,6 +36,7 @@ EXAMPLES = """examples:
   animat sweep configs/fish_swim_cmaes.yaml --seeds 0-4 --jobs 2 --out runs/cmaes
   animat compare runs/cmaes runs/ppo --metric eval/speed_bl_per_s -o docs/report.md
   animat eval runs/try --episodes 4 --video videos/        # re-score and film a finished run
+  animat tune configs/tune/fish_swim_annealing.yaml --trials 12 --out runs/tune/annealing
   animat list                                              # envs, learners, shipped configs
 """
 
@@ -97,6 +99,14 @@ def _parser() -> argparse.ArgumentParser:
                          "(default eval/return)")
     compare.add_argument("--threshold", type=float, help="report env steps to reach it")
     compare.add_argument("-o", "--output", type=Path, help="Markdown report (+ .png plot)")
+    tune = sub.add_parser("tune", help="hyperparameter search (Optuna) over tune.space",
+                          description="Optuna over the config's tune.space: every trial a run "
+                          "folder under OUT, the study in OUT/study.db (run again with the "
+                          "same --out to continue), the best config in OUT/best.yaml.")
+    tune.add_argument("config", help="YAML config with a tune.space")
+    tune.add_argument("--trials", type=int, required=True, help="finished trials wanted")
+    _add_overrides(tune)
+    tune.add_argument("--out", type=Path, help="the study's folder (default: runs/tune/...)")
     evaluation = sub.add_parser("eval", help="play a finished run's agent over start states",
                                 description="Load a finished run's agent, play it on seeded "
                                 "start states, print its metric and write eval.json.")
@@ -169,6 +179,16 @@ def cmd_sweep(args) -> int:
     return 0 if all(r["status"] == "done" for r in results) else 1
 
 
+def cmd_tune(args) -> int:
+    from animat.experiments.tune import table, tune
+
+    if args.trials < 1:
+        raise RunError(f"--trials must be at least 1, got {args.trials}")
+    summary = tune(args.config, args.trials, args.out, args.overrides)
+    print(table(summary))
+    return 0 if summary["best"] is not None else 1
+
+
 def cmd_eval(args) -> int:
     from animat.experiments.evaluate import evaluate, report
     from animat.experiments.sweep import parse_seeds
@@ -234,7 +254,7 @@ def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
     args.argv = argv  # recorded in each run folder's command.txt
     handlers = {"run": cmd_run, "sweep": cmd_sweep, "compare": cmd_compare, "list": cmd_list,
-                "bench": cmd_bench, "figures": cmd_figures, "eval": cmd_eval}
+                "bench": cmd_bench, "figures": cmd_figures, "eval": cmd_eval, "tune": cmd_tune}
     try:
         return handlers[args.command](args)
     except (ConfigError, RunError, FileNotFoundError) as error:

@@ -1,7 +1,8 @@
 """Experiment configs: YAML validated against typed schemas (pydantic, unknown keys forbidden).
 
 Top-level keys: ``env`` (``id``, ``kwargs``), ``learner`` (``name``, ``params``), ``budget``
-(``env_steps``), ``seed``, ``eval``, ``logging``. ``--set key.path=value`` overrides any field
+(``env_steps``), ``seed``, ``eval``, ``logging``, and ``tune`` (the search space of
+``animat tune``). ``--set key.path=value`` overrides any field
 (the value is read as YAML: ``3``, ``0.5``, ``true``, ``[1, 2]``, ``{a: 1}``). A bad config or
 override raises :class:`ConfigError`, whose one-line message names the file, the field path and
 what is wrong.
@@ -87,6 +88,35 @@ class LoggingConfig(_Strict):
     progress: bool = True
 
 
+class SearchDimension(_Strict):
+    """One hyperparameter's range for ``animat tune``: ``low``/``high`` (numbers; integers
+    for an integer parameter), ``log`` (sample on a log scale), ``step`` (a grid), or
+    ``choices`` (a list)."""
+
+    low: int | float | None = None
+    high: int | float | None = None
+    log: bool = False
+    step: int | float | None = None
+    choices: list[Any] | None = None
+
+    def model_post_init(self, __context) -> None:
+        ranged = self.low is not None and self.high is not None
+        if ranged == (self.choices is not None):
+            raise ValueError("give either low and high, or choices")
+        if ranged and not self.low < self.high:
+            raise ValueError(f"need low < high, got {self.low} and {self.high}")
+        if self.log and ranged and self.low <= 0:
+            raise ValueError("a log range needs low > 0")
+
+
+class TuneConfig(_Strict):
+    """``space``: {config field path (e.g. ``learner.params.cooling``): its range};
+    ``direction``: whether ``eval.metric`` is to be maximised or minimised."""
+
+    space: dict[str, SearchDimension]
+    direction: str = Field(default="maximize", pattern=r"^(maximize|minimize)$")
+
+
 class ExperimentConfig(_Strict):
     env: EnvConfig
     learner: LearnerConfig
@@ -94,6 +124,7 @@ class ExperimentConfig(_Strict):
     seed: int = Field(default=0, ge=0)
     eval: EvalConfig = Field(default_factory=EvalConfig)
     logging: LoggingConfig = Field(default_factory=LoggingConfig)
+    tune: TuneConfig | None = None
 
 
 def apply_override(data: dict, override: str, source: str) -> None:

@@ -1,0 +1,154 @@
+"""``animat tune CONFIG --trials N``: hyperparameter search with Optuna over a config's
+``tune.space``, every trial an ordinary run folder.
+
+The study (TPE sampler seeded by the config's seed, median pruner) lives in
+``OUT/study.db`` (SQLite), so a killed tune continues where it stopped when run again with the
+same ``--out``. Each trial samples the space (config field paths such as
+``learner.params.cooling``), validates the config with those values like ``animat run`` does
+(a sample that cannot work is told to the study as failed), and runs it into
+``OUT/trial<k>/``; the learner's ``eval.metric`` evaluations are reported to the study as they
+are logged, and a trial whose curve falls below the median of earlier trials at the same env
+step is pruned (its folder says ``pruned``). The trial's value is the run's result for
+``eval.metric``. At the end: a table of the trials, and ``OUT/best.yaml``, the resolved config
+of the best trial (the tuned config).
+"""
+
+from __future__ import annotations
+
+import json
+import shutil
+import time
+from pathlib import Path
+
+from animat.experiments.config import ConfigError, ExperimentConfig, load_config
+from animat.experiments.runs import RunError, create_run, execute, read_status, write_json
+
+
+def _optuna():
+    try:
+        import optuna
+    except ImportError:
+        raise RunError("animat tune needs Optuna: pip install optuna") from None
+    optuna.logging.set_verbosity(optuna.logging.WARNING)
+    return optuna
+
+
+def sample(trial, config: ExperimentConfig) -> list[str]:
+    """``key.path=value`` overrides of one trial's sample of ``config.tune.space``."""
+    overrides = []
+    for path, dim in config.tune.space.items():
+        if dim.choices is not None:
+            value = trial.suggest_categorical(path, dim.choices)
+        elif all(isinstance(v, int) for v in (dim.low, dim.high)) and (
+                dim.step is None or isinstance(dim.step, int)):
+            value = trial.suggest_int(path, dim.low, dim.high, log=dim.log, step=dim.step or 1)
+        else:
+            value = trial.suggest_float(path, float(dim.low), float(dim.high), log=dim.log,
+                                        step=dim.step)
+        overrides.append(f"{path}={json.dumps(value)}")
+    return overrides
+
+
+class PruningSink:
+    """Reports the metric's evaluations to the trial and stops the run when the pruner says
+    so (a logger sink: ``scalar``, ``text``, ``close``)."""
+
+    def __init__(self, trial, metric: str, pruned: type[Exception]) -> None:
+        self.trial, self.metric, self.pruned, self.last = trial, metric, pruned, -1
+
+    def scalar(self, tag: str, value: float, step: int) -> None:
+        if tag != self.metric or step <= self.last:
+            return
+        self.last = step
+        self.trial.report(value, step)
+        if self.trial.should_prune():
+            raise self.pruned(f"pruned at {step} env steps ({self.metric} {value:.4g})")
+
+    def text(self, tag: str, text: str, step: int) -> None:
+        pass
+
+    def close(self) -> None:
+        pass
+
+
+def run_trial(optuna, trial, path: Path, overrides: list[str], out: Path,
+              config: ExperimentConfig) -> tuple[str, float | None]:
+    """One trial: its state name and value."""
+    try:
+        trial_config = load_config(path, overrides + sample(trial, config))
+    except ConfigError as error:
+        trial.set_user_attr("error", str(error))
+        return "FAIL", None
+    folder = out / f"trial{trial.number:03d}"
+    if folder.exists():  # left by a killed tune: this trial starts again
+        shutil.rmtree(folder)
+    create_run(trial_config, folder, ["animat", "tune", str(path), f"(trial {trial.number})"])
+    sink = PruningSink(trial, config.eval.metric, optuna.TrialPruned)
+    try:
+        result = execute(folder, sink)
+    except optuna.TrialPruned as reason:
+        write_json(folder / "result.json", {**read_status(folder), "status": "pruned",
+                                            "error": str(reason)})
+        return "PRUNED", None
+    except Exception as error:
+        trial.set_user_attr("error", f"{type(error).__name__}: {error}")
+        return "FAIL", None
+    value = result["metrics"].get(config.eval.metric)
+    return ("COMPLETE", float(value)) if value is not None else ("FAIL", None)
+
+
+def tune(path: str | Path, trials: int, out: str | Path | None = None,
+         overrides: list[str] | None = None) -> dict:
+    """Run the study to ``trials`` finished trials; returns its summary (also printed by the
+    CLI) and writes ``best.yaml``."""
+    optuna = _optuna()
+    path, overrides = Path(path), list(overrides or [])
+    config = load_config(path, overrides)
+    if config.tune is None or not config.tune.space:
+        raise RunError(f"{path}: no tune.space: say which fields to search, e.g. "
+                       "tune: {space: {learner.params.cooling: {low: 0.8, high: 0.99}}}")
+    stamp = time.strftime("%Y%m%d-%H%M%S")
+    out = Path(out) if out else Path("runs") / "tune" / f"{path.stem}-{stamp}"
+    out.mkdir(parents=True, exist_ok=True)
+    study = optuna.create_study(
+        storage=f"sqlite:///{out / 'study.db'}", study_name="tune", load_if_exists=True,
+        direction=config.tune.direction, sampler=optuna.samplers.TPESampler(seed=config.seed),
+        pruner=optuna.pruners.MedianPruner(n_startup_trials=3,
+                                           n_warmup_steps=config.budget.env_steps // 4))
+    while sum(t.state.is_finished() for t in study.trials) < trials:
+        trial = study.ask()
+        state, value = run_trial(optuna, trial, path, overrides, out, config)
+        study.tell(trial, value, state=getattr(optuna.trial.TrialState, state))
+    return summarise(study, out, config)
+
+
+def summarise(study, out: Path, config: ExperimentConfig) -> dict:
+    """The trials and the best one; its resolved config copied to ``best.yaml``."""
+    rows = [{"trial": t.number, "state": t.state.name, "value": t.value, "params": t.params,
+             "error": t.user_attrs.get("error")} for t in study.trials]
+    complete = [t for t in study.trials if t.state.name == "COMPLETE"]
+    best = study.best_trial if complete else None
+    if best is not None:
+        shutil.copyfile(out / f"trial{best.number:03d}" / "config.yaml", out / "best.yaml")
+    summary = {"metric": config.eval.metric, "direction": config.tune.direction,
+               "trials": rows, "best": None if best is None else {
+                   "trial": best.number, "value": best.value, "params": best.params,
+                   "config": str(out / "best.yaml")}}
+    write_json(out / "tune.json", summary)
+    return summary
+
+
+def table(summary: dict) -> str:
+    """The trials as aligned text lines, then the best."""
+    lines = [f"{'trial':>5}  {'state':8}  {summary['metric']:>14}  params"]
+    for row in summary["trials"]:
+        value = "—" if row["value"] is None else f"{row['value']:.4g}"
+        params = ", ".join(f"{k.split('.')[-1]}={v:.4g}" if isinstance(v, float) else
+                           f"{k.split('.')[-1]}={v}" for k, v in row["params"].items())
+        note = f"  ({row['error']})" if row.get("error") else ""
+        lines.append(f"{row['trial']:>5}  {row['state']:8}  {value:>14}  {params}{note}")
+    best = summary["best"]
+    lines.append("best: none complete" if best is None else
+                 f"best: trial {best['trial']}, {summary['metric']} {best['value']:.4g}; "
+                 f"config {best['config']}")
+    return "\n".join(lines)
