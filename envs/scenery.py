@@ -32,7 +32,7 @@ def rock(base, size, rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
 def plant(base, height: float, rng: np.random.Generator, segments: int = 4,
           width: float = 0.04) -> tuple[np.ndarray, np.ndarray]:
     """A frond of seaweed rising from ``base`` (3,) m: two crossed ribbons of ``segments``
-    quads each, ``width`` m wide, leaning a little at random; (2 segments, 4, 3) corners and a
+    quads each, ``width`` m wide, leaning a little at random; (2 * segments, 4, 3) corners and a
     green of varying shade per quad."""
     base = np.asarray(base, float)
     lean = rng.normal(0.0, 0.08, 2) * height

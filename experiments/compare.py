@@ -95,10 +95,12 @@ def summarise(runs: list[RunCurves], metric: str, threshold: float | None) -> li
         finals = np.array([c[1][-1] for c in curves if c is not None])
         bests = np.array([c[1].max() for c in curves if c is not None])
         reached = [s for s in (_steps_to(c, threshold) for c in curves) if s is not None]
+        results = np.array([r.status["metrics"][metric] for r in group
+                            if metric in r.status.get("metrics", {})])
         rows.append({
             "learner": learner, "runs": len(group),
             "done": sum(r.status.get("status") == "done" for r in group),
-            "final": _mean_std(finals), "best": _mean_std(bests),
+            "result": _mean_std(results), "final": _mean_std(finals), "best": _mean_std(bests),
             "steps_to_threshold": (float(np.mean(reached)) if reached else None, len(reached)),
             "wall_seconds": float(np.mean([r.status.get("wall_seconds", 0.0) for r in group])),
             "env_steps": float(np.mean([r.status.get("env_steps", 0) for r in group])),
@@ -129,10 +131,10 @@ def markdown(rows: list[dict], metric: str, threshold: float | None) -> str:
             return "n/a"
         return f"{value[0]:.3f} ± {value[1]:.3f} [{value[2]:.3f}, {value[3]:.3f}]"
 
-    head = (f"| learner | runs (done) | final {metric} | best {metric} | env steps to "
-            f"{threshold if threshold is not None else '—'} (runs reaching) | env steps | "
-            "wall s |")
-    lines = [head, "|---|---|---|---|---|---|---|"]
+    head = (f"| learner | runs (done) | result {metric} | final {metric} | best {metric} | "
+            f"env steps to {threshold if threshold is not None else '—'} (runs reaching) | "
+            "env steps | wall s |")
+    lines = [head, "|---|---|---|---|---|---|---|---|"]
     for row in rows:
         steps, count = row["steps_to_threshold"]
         if threshold is None:
@@ -141,12 +143,13 @@ def markdown(rows: list[dict], metric: str, threshold: float | None) -> str:
             reach = f"never (0/{row['runs']})"
         else:
             reach = f"{steps:,.0f} ({count}/{row['runs']})"
-        lines.append(f"| {row['learner']} | {row['runs']} ({row['done']}) | {pm(row['final'])} | "
-                     f"{pm(row['best'])} | {reach} | {row['env_steps']:,.0f} | "
-                     f"{row['wall_seconds']:.0f} |")
+        lines.append(f"| {row['learner']} | {row['runs']} ({row['done']}) | {pm(row['result'])} | "
+                     f"{pm(row['final'])} | {pm(row['best'])} | {reach} | "
+                     f"{row['env_steps']:,.0f} | {row['wall_seconds']:.0f} |")
     return "\n".join(lines) + "\n\n" + (
         "Values: mean ± std over runs [95% bootstrap interval of the mean, 10,000 resamples "
-        "of the runs].\n")
+        "of the runs]. result: what the run returned (result.json); final and best: the last "
+        "and the highest point of the logged curve (eval/*: the current incumbent).\n")
 
 
 def plot(runs: list[RunCurves], metric: str, path: Path) -> list[str]:
