@@ -12,7 +12,7 @@ from animat.experiments.config import ConfigError, load_config
 from tests.experiments.test_cli import animat
 
 ROOT = Path(__file__).resolve().parents[2]
-CONFIGS = sorted((ROOT / "configs").glob("*.yaml"))
+CONFIGS = sorted((ROOT / "configs").rglob("*.yaml"))  # tune/ and tuned/ included
 # cheap enough to run at 20 k env steps in CI (the pursuit's PPO at 20 k takes minutes of
 # rendering; it is validated at both budgets below)
 CHEAP = ["quickstart.yaml", "fish_swim_annealing.yaml", "fish_swim_cmaes.yaml",
