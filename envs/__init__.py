@@ -1,6 +1,6 @@
 """artificial-animals environments: bodies, physics, motor controllers and Gymnasium tasks.
 
-Importing ``envs`` registers the Gymnasium environments under the ``Animat`` namespace:
+Importing ``animat`` (or ``animat.envs``) registers the Gymnasium environments under ``Animat``:
 ``Animat/FishSwim-v0``, ``Animat/FishTurn-v0`` and ``Animat/FishReach-v0``, each with a native
 batched vector env (``gym.make_vec(id, num_envs=256)``), and ``Animat/FishPursuit-v0``
 (vision-guided pursuit; :mod:`animat.envs.pursuit`).

@@ -126,7 +126,7 @@ HAZE_STEPS = 64  # table entries per unit of distance / visibility
 HAZE_TABLE = np.exp(-np.arange(16 * HAZE_STEPS + 2) / HAZE_STEPS)  # exp(-u), u in [0, 16]
 
 
-@njit(cache=True, fastmath=True)
+@njit(cache=True)
 def water_into(image, zbuffer, rotation, focal, top, bottom, visibility) -> None:
     """The water: a pixel that shows nothing takes the water's colour along its ray (``top``
     (3,) RGB looking straight up, ``bottom`` straight down, blended by the ray's elevation);

@@ -26,7 +26,7 @@ from pathlib import Path
 from animat.experiments.config import ConfigError, load_config
 from animat.experiments.runs import RunError, create_run, execute, resume
 
-CONFIG_DIR = Path(__file__).resolve().parent.parent / "configs"
+CONFIG_DIR = Path(__file__).resolve().parent.parent / "configs"  # in a source checkout
 
 
 EXAMPLES = """examples:
@@ -111,8 +111,9 @@ def _parser() -> argparse.ArgumentParser:
                                 description="Load a finished run's agent, play it on seeded "
                                 "start states, print its metric and write eval.json.")
     evaluation.add_argument("run_dir", type=Path, help="a finished run folder")
-    evaluation.add_argument("--episodes", type=int, default=4,
-                            help="start states (seeds: the run's seed onward; default 4)")
+    evaluation.add_argument("--episodes", type=int,
+                            help="start states, seeds from the run's seed on (default: as "
+                                 "many as the run's own scores are over)")
     evaluation.add_argument("--seeds", help="these seeds instead, e.g. 0-4 or 1,3,5")
     evaluation.add_argument("--video", type=Path, metavar="DIR",
                             help="film every episode into DIR (mp4, Gymnasium's RecordVideo)")
@@ -193,7 +194,7 @@ def cmd_eval(args) -> int:
     from animat.experiments.evaluate import evaluate, report
     from animat.experiments.sweep import parse_seeds
 
-    if args.episodes < 1:
+    if args.episodes is not None and args.episodes < 1:
         raise RunError(f"--episodes must be at least 1, got {args.episodes}")
     try:
         seeds = parse_seeds(args.seeds) if args.seeds else None
@@ -224,7 +225,8 @@ def cmd_list(args) -> int:
 
     print("envs:     " + ", ".join(animat.envs.ENV_IDS))
     print("learners: " + ", ".join(sorted(LEARNERS)))
-    configs = sorted(p.name for p in CONFIG_DIR.glob("*.yaml")) if CONFIG_DIR.exists() else []
+    folder = CONFIG_DIR if CONFIG_DIR.exists() else Path("configs")  # else: here
+    configs = sorted(p.name for p in folder.glob("*.yaml")) if folder.exists() else []
     print("configs:  " + (", ".join(configs) if configs else "(none)"))
     return 0 if all(e in gym.registry for e in animat.envs.ENV_IDS) else 1
 

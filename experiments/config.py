@@ -107,6 +107,8 @@ class SearchDimension(_Strict):
             raise ValueError(f"need low < high, got {self.low} and {self.high}")
         if self.log and ranged and self.low <= 0:
             raise ValueError("a log range needs low > 0")
+        if self.log and self.step is not None:
+            raise ValueError("give log or step, not both")
 
 
 class TuneConfig(_Strict):
@@ -200,8 +202,10 @@ def migrate(data: dict) -> None:
         refine["share"] = refine.pop("env_steps") / budget
 
 
-def load_config(path: str | Path, overrides: list[str] | None = None) -> ExperimentConfig:
-    """Read, override and validate a YAML config file."""
+def load_config(path: str | Path, overrides: list[str] | None = None, build: bool = True
+                ) -> ExperimentConfig:
+    """Read, override and validate a YAML config file; with ``build``, also build its env and
+    learner once (:func:`check_buildable`)."""
     source = str(path)
     try:
         text = Path(path).read_text()
@@ -219,7 +223,8 @@ def load_config(path: str | Path, overrides: list[str] | None = None) -> Experim
             break
         apply_override(data, override, source)
     config = validate(data, source)
-    check_buildable(config, source)
+    if build:
+        check_buildable(config, source)
     return config
 
 

@@ -31,7 +31,7 @@ from animat.experiments.config import load_config
 from animat.experiments.runs import RunError, read_status, write_json
 from animat.learners.agents import SkillSet
 from animat.learners.registry import make_learner
-from animat.learners.rollout import START_STATES, score_episode, spread
+from animat.learners.rollout import score_episode, spread
 
 
 def load(run_dir: str | Path):
@@ -41,11 +41,21 @@ def load(run_dir: str | Path):
     if status["status"] != "done":
         raise RunError(f"{folder}: the run is {status['status']}; only a finished run can be "
                        "loaded")
-    config = load_config(folder / "config.yaml")
+    config = load_config(folder / "config.yaml", build=False)  # built below, from its copies
     artefacts = json.loads((folder / "artefacts.json").read_text())
-    learner = make_learner(config.learner.name, config.env.id, config.env.kwargs,
-                           config.learner.params, config.seed)
-    return learner.agent(artefacts, folder)
+    return _learner(folder, config).agent(artefacts, folder)
+
+
+def _learner(folder: Path, config):
+    """The run's learner, built from its config; a repertoire it composed from is the run
+    folder's own copy (``checkpoints/repertoire.json``) where it kept one, so that neither the
+    current directory nor a later rewrite of the repertoire file changes what is loaded."""
+    params = dict(config.learner.params)
+    copy = folder / "checkpoints" / "repertoire.json"
+    if "repertoire" in params and copy.exists():
+        params["repertoire"] = str(copy)
+    return make_learner(config.learner.name, config.env.id, config.env.kwargs, params,
+                        config.seed)
 
 
 def _episodes(agent, seeds: list[int], video: Path | None, prefix: str) -> list[dict]:
@@ -63,14 +73,17 @@ def _episodes(agent, seeds: list[int], video: Path | None, prefix: str) -> list[
         env.close()
 
 
-def evaluate(run_dir: str | Path, seeds: list[int] | None = None, episodes: int = START_STATES,
+def evaluate(run_dir: str | Path, seeds: list[int] | None = None, episodes: int | None = None,
              video: str | Path | None = None) -> dict:
-    """Play the run's agent on ``seeds`` (default: the run's ``episodes`` evaluation start
-    states); returns and writes ``eval.json``: the seeds, every episode's figures, and
-    ``metrics`` (``eval/<figure>`` means with ``_std``) - per skill for a repertoire."""
+    """Play the run's agent on ``seeds`` (default: ``episodes`` start states from the run's
+    seed on, by default as many as the run's own scores are over); returns and writes
+    ``eval.json``: the seeds, every episode's figures, and ``metrics`` (``eval/<figure>``
+    means with ``_std``) - per skill for a repertoire."""
     folder = Path(run_dir)
-    config = load_config(folder / "config.yaml")
-    seeds = list(seeds) if seeds else [config.seed + k for k in range(episodes)]
+    config = load_config(folder / "config.yaml", build=False)
+    if not seeds:
+        count = episodes or _learner(folder, config).scored_episodes()
+        seeds = [config.seed + k for k in range(count)]
     agent = load(folder)
     video = Path(video) if video else None
     if isinstance(agent, SkillSet):

@@ -169,18 +169,22 @@ def execute(folder: Path, progress=None, threads: int | None = None) -> dict:
         learner = make_learner(config.learner.name, config.env.id, config.env.kwargs,
                                config.learner.params, config.seed, logger)
         result = learner.learn(config.budget.env_steps, folder / "checkpoints")
-        logger.hparams(flat_hparams(config), {k: float(v) for k, v in result.metrics.items()})
     except BaseException as error:
+        logger.close()
         write_json(folder / "result.json", _status(
             "failed", folder, error=f"{type(error).__name__}: {error}",
             traceback=traceback.format_exc(), threads=threads))
         raise
-    finally:
-        logger.close()
-    artefacts = {k: v for k, v in result.artefacts.items()}
-    write_json(folder / "artefacts.json", artefacts)
+    write_json(folder / "artefacts.json", dict(result.artefacts))
     final = _status("done", folder, result, threads=threads)
     write_json(folder / "result.json", final)
+    try:  # extras after the result is safe: a failure here loses nothing
+        logger.hparams(flat_hparams(config), {k: float(v) for k, v in result.metrics.items()})
+    except Exception as error:
+        print(f"animat: warning: {folder}: hyperparameters not written to TensorBoard: {error}",
+              file=sys.stderr)
+    finally:
+        logger.close()
     return final
 
 

@@ -1,16 +1,16 @@
 """``animat tune CONFIG --trials N``: hyperparameter search with Optuna over a config's
 ``tune.space``, every trial an ordinary run folder.
 
-The study (TPE sampler seeded by the config's seed, median pruner) lives in
-``OUT/study.db`` (SQLite), so a killed tune continues where it stopped when run again with the
-same ``--out``. Each trial samples the space (config field paths such as
-``learner.params.cooling``), validates the config with those values like ``animat run`` does
-(a sample that cannot work is told to the study as failed), and runs it into
-``OUT/trial<k>/``; the learner's ``eval.metric`` evaluations are reported to the study as they
-are logged, and a trial whose curve falls below the median of earlier trials at the same env
-step is pruned (its folder says ``pruned``). The trial's value is the run's result for
-``eval.metric``. At the end: a table of the trials, and ``OUT/best.yaml``, the resolved config
-of the best trial (the tuned config).
+The study (TPE sampler seeded by the config's seed, median pruner) lives in ``OUT/study.db``
+(SQLite), so a killed tune continues where it stopped when run again with the same ``--out``
+(the trial it was running counts as failed; its folder says ``killed``). Each trial samples the
+space (config field paths such as ``learner.params.cooling``), validates the config with those
+values like ``animat run`` does (a sample that cannot work is told to the study as failed), and
+runs it into ``OUT/trial<k>/``; the learner's ``eval.metric`` evaluations are reported to the
+study as they are logged, and a trial whose curve falls below the median of earlier trials at
+the same env step is pruned (its folder says ``pruned``). The trial's value is the run's result
+for ``eval.metric``. At the end: a table of the trials, and ``OUT/best.yaml``, the resolved
+config of the best trial (the tuned config).
 """
 
 from __future__ import annotations
@@ -80,8 +80,6 @@ def run_trial(optuna, trial, path: Path, overrides: list[str], out: Path,
         trial.set_user_attr("error", str(error))
         return "FAIL", None
     folder = out / f"trial{trial.number:03d}"
-    if folder.exists():  # left by a killed tune: this trial starts again
-        shutil.rmtree(folder)
     create_run(trial_config, folder, ["animat", "tune", str(path), f"(trial {trial.number})"])
     sink = PruningSink(trial, config.eval.metric, optuna.TrialPruned)
     try:
@@ -115,6 +113,8 @@ def tune(path: str | Path, trials: int, out: str | Path | None = None,
         direction=config.tune.direction, sampler=optuna.samplers.TPESampler(seed=config.seed),
         pruner=optuna.pruners.MedianPruner(n_startup_trials=3,
                                            n_warmup_steps=config.budget.env_steps // 4))
+    for stale in study.get_trials(states=(optuna.trial.TrialState.RUNNING,)):
+        study.tell(stale.number, state=optuna.trial.TrialState.FAIL)  # a killed tune's
     while sum(t.state.is_finished() for t in study.trials) < trials:
         trial = study.ask()
         state, value = run_trial(optuna, trial, path, overrides, out, config)

@@ -194,6 +194,9 @@ class ActiveVisionLearner(Learner):
     def agent(self, artefacts: dict, folder) -> PolicyAgent:
         return PolicyAgent(ActiveVisionPolicy(self.policy_params), self.env_id, self.env_kwargs)
 
+    def scored_episodes(self) -> int:
+        return int(self.own.episodes)
+
     def check_budget(self, budget_env_steps: int) -> None:
         check_scoring_budget(budget_env_steps, self.own.episodes,
                              episode_steps(self.env_id, self.env_kwargs))

@@ -94,6 +94,13 @@ class Learner(ABC):
         before any work or file; the default takes any)."""
         return None
 
+    def scored_episodes(self) -> int:
+        """How many seeded start states (seeds ``seed`` onward) the run's own scores are
+        over."""
+        from animat.learners.rollout import START_STATES
+
+        return START_STATES
+
     def agent(self, artefacts: dict, folder: Path):
         """What the finished run in ``folder`` (its ``artefacts.json`` given) acts with: an
         agent of :mod:`animat.learners.agents`, built from this learner's config."""
@@ -131,7 +138,17 @@ def load_checkpoint(path: str | Path) -> Any | None:
     if not path.exists():
         return None
     with path.open("rb") as file:
-        return pickle.load(file)
+        return _Unpickler(file).load()
+
+
+class _Unpickler(pickle.Unpickler):
+    """Reads checkpoints written before the code moved under ``animat.``: their
+    ``learners.*`` and ``envs.*`` classes are this package's."""
+
+    def find_class(self, module: str, name: str):
+        if module.split(".")[0] in ("envs", "learners", "experiments"):
+            module = f"animat.{module}"
+        return super().find_class(module, name)
 
 
 def unknown_params(params: dict, allowed: set[str], learner: str) -> None:

@@ -11,7 +11,7 @@ With ``refine`` set, the learner goes on as the paper's abstraction suggests: th
 controller's FFT abstraction at ``refine.threshold`` (a handful of harmonics) becomes the
 starting point of a second search over its frequency parameters (the kept harmonics' means
 and complex coefficients; :meth:`AbstractController.frequency_parameters`), with
-``refine.env_steps`` of the budget. The result is a compact controller (tens of parameters,
+``refine.share`` of the budget. The result is a compact controller (tens of parameters,
 not actuators x nodes) that the repertoire keeps; what plain truncation kept is reported beside it.
 """
 
@@ -227,6 +227,9 @@ class BlackBoxLearner(Learner):
         return {"episode_cost": cost, "learn_env_steps": learn, "refine_env_steps": refine,
                 "population": min(self.population, learn // cost),
                 "configured_population": self.population}
+
+    def scored_episodes(self) -> int:
+        return int(self.own.start_states)
 
     def check_budget(self, budget_env_steps: int) -> None:
         self.plan(budget_env_steps)

@@ -53,6 +53,9 @@ class HandMCLearner(Learner):
         return OpenLoopAgent(task.hand_controller(speed=float(artefacts.get("speed", self.speed))),
                              dt, steps, self.env_id, self.env_kwargs)
 
+    def scored_episodes(self) -> int:
+        return int(self.own.start_states)
+
     def check_budget(self, budget_env_steps: int) -> None:
         check_scoring_budget(budget_env_steps, self.own.start_states,
                              episode_steps(self.env_id, self.env_kwargs))

@@ -11,6 +11,7 @@ blends (:mod:`animat.learners.concatenation`); after the sequence the muscles re
 from __future__ import annotations
 
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 
@@ -112,6 +113,14 @@ class MacroLearner(BlackBoxLearner):
         return {"sequence": [{"skill": name, "duration": float(d)}
                              for name, d in self.decode(x)],
                 "parameters": int(x.size)}
+
+    def learn(self, budget_env_steps: int, checkpoint_dir=None):
+        """As every black-box learner, keeping a copy of the repertoire it composes from in
+        the run folder (``checkpoint_dir``), so that the run can be played back whatever
+        happens to the repertoire file later."""
+        if checkpoint_dir:
+            self.repertoire.save(Path(checkpoint_dir) / "repertoire.json")
+        return super().learn(budget_env_steps, checkpoint_dir)
 
     def _player(self, artefacts: dict) -> MacroSequence:
         steps = [(step["skill"], float(step["duration"])) for step in artefacts["sequence"]]

@@ -201,14 +201,18 @@ class PPOLearner(Learner):
                     state["metrics"] = learner.evaluate(model, venv)
                     learner.logger.scalars(state["metrics"], self.num_timesteps)
                     self.next_eval += learner.hp["eval_every"]
+                return True
+
+            def _on_rollout_start(self) -> None:
+                # between rollouts (the last one trained on): a checkpoint at a whole number
+                # of rollouts, so that a resumed run collects exactly what the whole one would
                 if folder and self.num_timesteps >= self.next_save:
                     learner._save(folder, model, venv, state, start)
                     self.next_save += learner.hp["checkpoint_every"]
-                return True
 
         rollout = int(self.hp["n_envs"]) * int(self.hp["n_steps"])
         # SB3 collects whole rollouts: as many as fit, so the budget is never overrun
-        remaining = budget_env_steps // rollout * rollout - model.num_timesteps
+        remaining = (budget_env_steps - model.num_timesteps) // rollout * rollout
         if remaining > 0:
             model.learn(remaining, callback=Progress(), reset_num_timesteps=saved is None)
         state["metrics"] = self.evaluate(model, venv)

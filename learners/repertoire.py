@@ -169,11 +169,15 @@ class BasicTrainingLearner(Learner):
                                                  self.seed) for spec in self.regimen]
 
     def agent(self, artefacts: dict, folder: Path) -> SkillSet:
-        """Each skill of the repertoire the run wrote, played open loop in its own env."""
-        if not artefacts.get("repertoire"):
-            raise FileNotFoundError(f"{folder}: the run wrote no repertoire file")
+        """Each skill of the repertoire the run wrote (its run folder's copy, which a later
+        run cannot overwrite), played open loop in its own env."""
+        path = Path(folder) / "checkpoints" / "repertoire.json"
+        if not path.exists():
+            if not artefacts.get("repertoire"):
+                raise FileNotFoundError(f"{folder}: the run wrote no repertoire file")
+            path = Path(artefacts["repertoire"])
         agents = {}
-        for name, skill in Repertoire.load(artefacts["repertoire"]).skills.items():
+        for name, skill in Repertoire.load(path).skills.items():
             env_id, kwargs = skill.metadata["env_id"], skill.metadata.get("env_kwargs", {})
             dt, steps = episode_timing(env_id, kwargs)
             agents[name] = OpenLoopAgent(skill.controller, dt, steps, env_id, kwargs)
@@ -202,6 +206,8 @@ class BasicTrainingLearner(Learner):
         output = self.output or (folder / "repertoire.json" if folder else None)
         if output:
             repertoire.save(output)
+        if folder and Path(output) != folder / "repertoire.json":
+            repertoire.save(folder / "repertoire.json")  # the run folder keeps its own copy
         metrics = {"eval/return": float(np.mean([-s.metadata["abstracted_E"]
                                                  for s in repertoire.skills.values()]))}
         return LearnResult(env_steps=used, wall_seconds=time.perf_counter() - start,

@@ -2,6 +2,7 @@
 and scores what the run reported."""
 
 import json
+import shutil
 
 import numpy as np
 import pytest
@@ -54,9 +55,12 @@ def test_a_loaded_run_scores_what_the_run_reported(tmp_path, label):
 
 def test_macro_and_active_vision_runs_load_and_act(tmp_path):
     reach = {"id": "Animat/FishReach-v0", "kwargs": {"duration": 1.0}}
+    repertoire = tmp_path / "fish.json"
+    shutil.copyfile(ROOT / "repertoires" / "fish.json", repertoire)
     macro = _run(tmp_path, "macro", env=reach, params={
-        "repertoire": str(ROOT / "repertoires" / "fish.json"), "slots": 2, "chains": 4,
-        "max_duration": 1.0}, budget=800)
+        "repertoire": str(repertoire), "slots": 2, "chains": 4, "max_duration": 1.0},
+        budget=800)
+    repertoire.write_text("overwritten by a later basic training")  # the run kept its copy
     reported = json.loads((macro / "result.json").read_text())["metrics"]
     assert evaluate(macro)["metrics"]["eval/return"] == pytest.approx(reported["eval/return"])
     pursuit = {"id": "Animat/FishPursuit-v0", "kwargs": {"duration": 1.0}}
@@ -64,7 +68,8 @@ def test_macro_and_active_vision_runs_load_and_act(tmp_path):
                   params={"episodes": 2}, budget=40, metric="eval/fovea_fraction")
     assert isinstance(load(vision), PolicyAgent)
     reported = json.loads((vision / "result.json").read_text())["metrics"]
-    result = evaluate(vision, episodes=2)
+    result = evaluate(vision)  # as many start states as the run scored: its 2 episodes
+    assert result["seeds"] == [0, 1]
     assert result["metrics"]["eval/fovea_fraction"] == pytest.approx(
         reported["eval/fovea_fraction"])
 
@@ -87,6 +92,7 @@ def test_a_repertoire_run_loads_as_one_agent_per_skill(tmp_path):
     folder = _run(tmp_path, "basic", learner="basic_training", params={
         "regimen": regimen, "annealing": {"chains": 4}, "output": str(tmp_path / "rep.json")},
         budget=640)
+    (tmp_path / "rep.json").unlink()  # the run folder keeps its own copy
     skills = load(folder)
     assert isinstance(skills, SkillSet) and sorted(skills.agents) == ["swim_slow", "turn_left"]
     assert skills.agents["turn_left"].env_id == "Animat/FishTurn-v0"

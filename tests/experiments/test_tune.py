@@ -53,3 +53,8 @@ def test_tune_without_a_space_says_so_in_one_line(tmp_path):
                     check=False)
     assert result.returncode == 2 and "tune.space.learner.params.cooling" in result.stderr
     assert "need low < high" in result.stderr
+    bad["tune"]["space"]["learner.params.cooling"] = {"low": 0.5, "high": 0.9, "log": True,
+                                                      "step": 0.1}
+    result = animat("tune", write_config(tmp_path / "bad2.yaml", bad), "--trials", "1",
+                    check=False)
+    assert result.returncode == 2 and "give log or step, not both" in result.stderr

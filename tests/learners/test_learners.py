@@ -226,3 +226,18 @@ def test_every_learner_checks_its_typed_params_in_one_line(name, params, message
         make_learner(name, ENV, TINY_ENV, params)
     assert str(error.value).startswith(message), str(error.value)
     assert "\n" not in str(error.value)
+
+
+def test_a_checkpoint_written_before_the_animat_namespace_still_loads(tmp_path):
+    """Run folders from before the move under ``animat.`` pickled ``learners.*`` classes."""
+    import pickle
+
+    from animat.learners.base import load_checkpoint
+    from animat.learners.blackbox import Run
+
+    old = pickle.dumps(Run(env_steps=640, rounds=2), protocol=0).replace(  # text opcodes
+        b"animat.learners.", b"learners.")
+    assert b"animat." not in old
+    (tmp_path / "checkpoint.pkl").write_bytes(old)
+    run = load_checkpoint(tmp_path / "checkpoint.pkl")
+    assert isinstance(run, Run) and run.env_steps == 640 and run.rounds == 2

@@ -51,3 +51,31 @@ def test_ppo_learns_with_zoo_values_and_uses_them(tmp_path):
 def test_bad_ppo_values_are_named(params, message):
     with pytest.raises(ValueError, match=message):
         make_learner("ppo", "Animat/FishSwim-v0", {"duration": 0.5}, params)
+
+
+def test_a_resumed_ppo_run_collects_exactly_its_budget(tmp_path, monkeypatch):
+    """Checkpoints fall between rollouts, so the resumed run neither overruns its budget nor
+    differs in length from the uninterrupted one."""
+    from animat.learners import ppo
+
+    params = {"n_envs": 4, "n_steps": 16, "batch_size": 32, "n_epochs": 1, "eval_every": 1000,
+              "checkpoint_every": 100}
+    save = ppo.PPOLearner._save
+
+    class Killed(Exception):
+        pass
+
+    def save_then_die(folder, model, venv, state, start):
+        save(folder, model, venv, state, start)
+        raise Killed
+
+    monkeypatch.setattr(ppo.PPOLearner, "_save", staticmethod(save_then_die))
+    with pytest.raises(Killed):
+        make_learner("ppo", "Animat/FishSwim-v0", {"duration": 0.5}, params).learn(320, tmp_path)
+    monkeypatch.setattr(ppo.PPOLearner, "_save", staticmethod(save))
+    from stable_baselines3 import PPO
+
+    assert PPO.load(tmp_path / "model.zip").num_timesteps % 64 == 0  # a whole rollout
+    resumed = make_learner("ppo", "Animat/FishSwim-v0", {"duration": 0.5}, params).learn(
+        320, tmp_path)
+    assert resumed.env_steps == 320
