@@ -36,8 +36,24 @@ FAST = {"cache": True, "fastmath": {"contract"}, "error_model": "numpy"}
 
 @njit(cache=True, inline="always")
 def submerged(z: float, surface_z: float) -> float:
-    """1 below the water surface, 0 above it (the hook a surface-crossing body uses)."""
+    """1 below the water surface, 0 above it (for a point: a fin)."""
     return 1.0 if z < surface_z else 0.0
+
+
+@njit(cache=True, inline="always")
+def wet_fraction(low: float, high: float, surface_z: float) -> float:
+    """The share of a face spanning heights [low, high] m that is under the surface: from 0
+    (all above) to 1 (all below), linear in between (a flat face's wetted area, nearly)."""
+    return min(max((surface_z - low) / max(high - low, 1e-9), 0.0), 1.0)
+
+
+@njit(cache=True, inline="always")
+def sphere_submerged(z: float, radius: float, surface_z: float) -> float:
+    """The submerged share of a sphere of ``radius`` m centred at height ``z``: the cap's
+    volume, s^2 (3 - 2 s) with s = (surface_z - z + radius) / (2 radius) clipped to [0, 1]
+    (smooth, so a floating body settles instead of chattering at the surface)."""
+    s = min(max((surface_z - z + radius) / (2.0 * radius), 0.0), 1.0)
+    return s * s * (3.0 - 2.0 * s)
 
 
 @njit(cache=True, inline="always")
@@ -99,8 +115,9 @@ def _one_face_into(x, v, a, b, c, d, s0, s1, s2, s3, mass, kappa_water, kappa_ai
         w0 = s0 * v[a, 0, lane] + s1 * v[b, 0, lane] + s2 * v[c, 0, lane] + s3 * v[d, 0, lane] - c0
         w1 = s0 * v[a, 1, lane] + s1 * v[b, 1, lane] + s2 * v[c, 1, lane] + s3 * v[d, 1, lane] - c1
         w2 = s0 * v[a, 2, lane] + s1 * v[b, 2, lane] + s2 * v[c, 2, lane] + s3 * v[d, 2, lane] - c2
-        height = s0 * x[a, 2, lane] + s1 * x[b, 2, lane] + s2 * x[c, 2, lane] + s3 * x[d, 2, lane]
-        wet = submerged(height, surface_z)
+        za, zb, zc, zd = x[a, 2, lane], x[b, 2, lane], x[c, 2, lane], x[d, 2, lane]
+        wet = wet_fraction(min(min(za, zb), min(zc, zd)), max(max(za, zb), max(zc, zd)),
+                           surface_z)
         normal_speed = n0 * w0 + n1 * w1 + n2 * w2
         t0, t1, t2 = w0 - normal_speed * n0, w1 - normal_speed * n1, w2 - normal_speed * n2
         tangential = np.sqrt(t0 * t0 + t1 * t1 + t2 * t2)
@@ -225,8 +242,11 @@ def add_fin_forces(x, v, frame_nodes, fin_nodes, fin_areas, fin_mass, sin_cos, w
 
 @njit(**FAST)
 def add_gravity_buoyancy(x, masses, volumes, density, gravity, surface_z, f) -> None:
-    """Weight ``-m g`` on every node and buoyancy ``rho g V`` on every submerged node, along z."""
+    """Weight ``-m g`` on every node and buoyancy ``rho g V`` on the submerged share of every
+    node's volume (a sphere of that volume about the node: :func:`sphere_submerged`), along
+    z."""
     for i in range(x.shape[0]):
         weight, lift = gravity * masses[i], gravity * density * volumes[i]
+        radius = max((0.75 * volumes[i] / np.pi) ** (1.0 / 3.0), 1e-6)
         for b in range(x.shape[2]):
-            f[i, 2, b] += lift * submerged(x[i, 2, b], surface_z) - weight
+            f[i, 2, b] += lift * sphere_submerged(x[i, 2, b], radius, surface_z) - weight
