@@ -247,6 +247,10 @@ def add_gravity_buoyancy(x, masses, volumes, density, gravity, surface_z, f) -> 
     z."""
     for i in range(x.shape[0]):
         weight, lift = gravity * masses[i], gravity * density * volumes[i]
+        if surface_z == np.inf:  # no surface: all under (no cube root per step; as it always was)
+            for b in range(x.shape[2]):
+                f[i, 2, b] += lift * submerged(x[i, 2, b], surface_z) - weight
+            continue
         radius = max((0.75 * volumes[i] / np.pi) ** (1.0 / 3.0), 1e-6)
         for b in range(x.shape[2]):
             f[i, 2, b] += lift * sphere_submerged(x[i, 2, b], radius, surface_z) - weight
