@@ -116,10 +116,14 @@ class MacroLearner(BlackBoxLearner):
 
     def learn(self, budget_env_steps: int, checkpoint_dir=None):
         """As every black-box learner, keeping a copy of the repertoire it composes from in
-        the run folder (``checkpoint_dir``), so that the run can be played back whatever
-        happens to the repertoire file later."""
+        the run folder (``checkpoint_dir``), so that a resumed run and a play-back use it
+        whatever happens to the repertoire file later."""
         if checkpoint_dir:
-            self.repertoire.save(Path(checkpoint_dir) / "repertoire.json")
+            copy = Path(checkpoint_dir) / "repertoire.json"
+            if copy.exists():  # resuming: compose from what the run began with
+                self.repertoire = Repertoire.load(copy)
+            else:
+                self.repertoire.save(copy)
         return super().learn(budget_env_steps, checkpoint_dir)
 
     def _player(self, artefacts: dict) -> MacroSequence:
