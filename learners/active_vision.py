@@ -38,13 +38,7 @@ from animat.envs.pursuit import COLOURS, PHI_RANGE, PREY, SEABED_Z, THETA_RANGE
 from animat.envs.render import Scene, fish_skin, posed
 from animat.envs.retina import RetinaParams, gaze_rotation, render_eye
 from animat.learners.agents import PolicyAgent
-from animat.learners.base import (
-    Learner,
-    LearnResult,
-    check_scoring_budget,
-    episode_steps,
-    typed_params,
-)
+from animat.learners.base import LearnResult, Scorer, typed_params
 from animat.learners.rollout import score_episode, spread
 
 MODEL_VIEWS = tuple((distance, np.radians(yaw)) for distance in (0.7, 1.2)
@@ -178,7 +172,7 @@ class PursuitEvalParams:
     policy: dict | None = None
 
 
-class ActiveVisionLearner(Learner):
+class ActiveVisionLearner(Scorer):
     """Scores :class:`ActiveVisionPolicy` on the pursuit env over ``episodes`` seeds (learns
     nothing); logs ``eval/return``, ``eval/fovea_fraction``, ``eval/distance_closed_bl``
     (means, with ``_std`` over the episodes) and ``eval/passer_fraction``."""
@@ -196,10 +190,6 @@ class ActiveVisionLearner(Learner):
 
     def scored_episodes(self) -> int:
         return int(self.own.episodes)
-
-    def check_budget(self, budget_env_steps: int) -> None:
-        check_scoring_budget(budget_env_steps, self.own.episodes,
-                             episode_steps(self.env_id, self.env_kwargs))
 
     def learn(self, budget_env_steps: int, checkpoint_dir: str | Path | None = None
               ) -> LearnResult:

@@ -209,3 +209,12 @@ def typed_params(cls: type, values: dict, owner: str):
         return cls(**converted)
     except ValueError as error:
         raise ValueError(f"{owner}: {error}") from None
+
+
+class Scorer(Learner):
+    """A learner that only scores a fixed controller over seeded episodes (learns nothing):
+    its budget must hold those episodes, :meth:`scored_episodes` of the env's length."""
+
+    def check_budget(self, budget_env_steps: int) -> None:
+        check_scoring_budget(budget_env_steps, self.scored_episodes(),
+                             episode_steps(self.env_id, self.env_kwargs))

@@ -8,13 +8,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from animat.learners.agents import OpenLoopAgent
-from animat.learners.base import (
-    Learner,
-    LearnResult,
-    check_scoring_budget,
-    episode_steps,
-    typed_params,
-)
+from animat.learners.base import LearnResult, Scorer, typed_params
 from animat.learners.controller import play
 from animat.learners.rollout import START_STATES, BatchEvaluator
 
@@ -31,7 +25,7 @@ class HandMCParams:
             raise ValueError("speed must be in [0, 1] and start_states >= 1")
 
 
-class HandMCLearner(Learner):
+class HandMCLearner(Scorer):
     """Plays the task's hand-designed MC (:meth:`animat.envs.tasks.Task.hand_controller`): swim ->
     swim-MC at ``speed`` (default 1), ease-in included (scored from t = 0 like every learned
     controller); turn -> the turn-MC for the env's angle and direction. Uses one episode from
@@ -55,10 +49,6 @@ class HandMCLearner(Learner):
 
     def scored_episodes(self) -> int:
         return int(self.own.start_states)
-
-    def check_budget(self, budget_env_steps: int) -> None:
-        check_scoring_budget(budget_env_steps, self.own.start_states,
-                             episode_steps(self.env_id, self.env_kwargs))
 
     def learn(self, budget_env_steps: int, checkpoint_dir: str | Path | None = None
               ) -> LearnResult:
