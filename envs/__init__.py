@@ -3,14 +3,33 @@
 Importing ``animat`` (or ``animat.envs``) registers the Gymnasium environments under ``Animat``:
 ``Animat/FishSwim-v0``, ``Animat/FishTurn-v0`` and ``Animat/FishReach-v0``, each with a native
 batched vector env (``gym.make_vec(id, num_envs=256)``), and ``Animat/FishPursuit-v0``
-(vision-guided pursuit; :mod:`animat.envs.pursuit`).
+(vision-guided pursuit; :mod:`animat.envs.pursuit`); and the dolphin's tasks
+(:mod:`animat.envs.stunts`): ``Animat/DolphinForward-v0``, ``Animat/DolphinTurn-v0`` (up, down,
+left, right), ``Animat/DolphinLeap-v0``, ``Animat/DolphinNoseBall-v0``,
+``Animat/DolphinTailBall-v0``, ``Animat/DolphinSomersault-v0``, ``Animat/DolphinBellyFlop-v0``,
+each with a native vector env.
 """
 
 from __future__ import annotations
 
 import gymnasium as gym
 
+from animat.envs import stunts  # noqa: F401  (adds the dolphin's tasks to envs.tasks.TASKS)
+
 ENV_IDS = ("Animat/FishSwim-v0", "Animat/FishTurn-v0", "Animat/FishReach-v0")
+# The dolphin's world: a water surface at z = 0, skin friction for its Reynolds number (C_f
+# 0.0028 at Re 1e7: 0.5 rho C_f = 1.4 kg/m^3), and a step within its stability bound.
+DOLPHIN_KWARGS = {"body": "dolphin", "water": {"surface_z": 0.0, "friction_coefficient": 1.4},
+                  "physics_dt": 0.05 / 80, "frame_skip": 80}
+DOLPHIN_ENVS = {
+    "Animat/DolphinForward-v0": {"task": "dolphin_forward"},
+    "Animat/DolphinTurn-v0": {"task": "dolphin_turn"},
+    "Animat/DolphinLeap-v0": {"task": "leap"},
+    "Animat/DolphinNoseBall-v0": {"task": "ball", "part": "nose"},
+    "Animat/DolphinTailBall-v0": {"task": "ball", "part": "tail"},
+    "Animat/DolphinSomersault-v0": {"task": "somersault"},
+    "Animat/DolphinBellyFlop-v0": {"task": "belly_flop"},
+}
 
 
 def _register() -> None:
@@ -19,6 +38,11 @@ def _register() -> None:
             continue
         gym.register(id=env_id, entry_point="animat.envs.fish_env:FishEnv",
                      vector_entry_point="animat.envs.fish_env:FishVectorEnv", kwargs={"task": task})
+    for env_id, kwargs in DOLPHIN_ENVS.items():
+        if env_id not in gym.registry:
+            gym.register(id=env_id, entry_point="animat.envs.fish_env:FishEnv",
+                         vector_entry_point="animat.envs.fish_env:FishVectorEnv",
+                         kwargs={**DOLPHIN_KWARGS, **kwargs})
     if "Animat/FishPursuit-v0" not in gym.registry:
         gym.register(id="Animat/FishPursuit-v0", entry_point="animat.envs.pursuit:FishPursuitEnv")
 

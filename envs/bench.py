@@ -104,7 +104,8 @@ def breakdown(lanes: int, reps: int = 2000) -> dict[str, float]:
     u = np.full((lanes, 6), 0.5)
     sin_cos = np.zeros((2, 2, lanes))
     sin_cos[:, 1] = 1.0
-    face_scratch, fin_scratch = np.empty((len(c.faces), 3, lanes)), np.empty((16, lanes))
+    face_scratch, fin_scratch = np.empty((len(c.faces), 4, lanes)), np.empty((16, lanes))
+    splash = np.zeros(lanes)
     frames = (c.frame_front, c.frame_back, c.frame_up, c.frame_down)
     xb, vb = np.repeat(x0[None], lanes, axis=0), np.zeros((lanes,) + x0.shape)
     parts = {
@@ -113,12 +114,13 @@ def breakdown(lanes: int, reps: int = 2000) -> dict[str, float]:
         "elements": lambda: forces.add_element_forces(x, v, c.elements, c.stiffness,
                                                       c.damping, rest, f),
         "faces": lambda: forces.add_face_forces(x, v, c.faces, c.face_weights, c.face_mass,
-                                                c.water, c.dt, f, face_scratch),
+                                                c.water, c.dt, f, face_scratch, splash),
         "fins": lambda: forces.add_fin_forces(x, v, frames, c.fin_nodes, c.fin_areas,
                                               c.fin_mass, sin_cos, c.water, c.dt, f,
                                               fin_scratch),
         "gravity, buoyancy": lambda: forces.add_gravity_buoyancy(x, c.masses, c.volumes,
-                                                                 1000.0, 0.0, 0.0, f),
+                                                                 c.lungs, 1000.0, 0.0, 0.0,
+                                                                 101325.0, f),
         "kick-drift": lambda: kick_drift(x, v, f, c.masses, 0.0),
     }
     out = {name: 1e9 * _timed(fn, reps) / lanes for name, fn in parts.items()}

@@ -9,9 +9,10 @@ from __future__ import annotations
 from collections.abc import Callable
 
 from animat.envs.body import BodySpec
+from animat.envs.dolphin import dolphin_body
 from animat.envs.fish import fish_body
 
-BODIES: dict[str, Callable[[], BodySpec]] = {"fish": fish_body}
+BODIES: dict[str, Callable[[], BodySpec]] = {"fish": fish_body, "dolphin": dolphin_body}
 
 
 def make_body(body: str | BodySpec | None) -> BodySpec:

@@ -54,6 +54,10 @@ class BodySpec:
         frame_front, frame_back: node lists whose centroids define the heading (back -> front).
         frame_up, frame_down: node lists whose centroids define the up direction (down -> up).
         length: body length (nose to tail tip), m.
+        lung_volumes: (N,) air held at each node, m^3 at surface pressure (buoyancy that
+            shrinks with depth, Boyle's law; default none).
+        face_parts: (F,) the part of the body each face belongs to, for contacts: 0 body,
+            1 nose, 2 tail (:data:`animat.envs.physics.ball.PART_NAMES`; default all body).
     """
 
     name: str
@@ -77,14 +81,20 @@ class BodySpec:
     frame_up: np.ndarray
     frame_down: np.ndarray
     length: float = field(default=0.0)
+    lung_volumes: np.ndarray | None = None
+    face_parts: np.ndarray | None = None
 
     def __post_init__(self) -> None:
+        if self.lung_volumes is None:
+            object.__setattr__(self, "lung_volumes", np.zeros(len(self.masses)))
+        if self.face_parts is None:
+            object.__setattr__(self, "face_parts", np.zeros(len(self.faces)))
         conversions = {
             "rest_positions": float, "masses": float, "volumes": float, "elements": np.int64,
             "kinds": np.int64, "stiffness": float, "damping": float, "actuator": np.int64,
             "faces": np.int64, "face_weights": float, "fin_nodes": np.int64, "fin_areas": float,
             "frame_front": np.int64, "frame_back": np.int64, "frame_up": np.int64,
-            "frame_down": np.int64,
+            "frame_down": np.int64, "lung_volumes": float, "face_parts": np.int64,
         }
         for name, dtype in conversions.items():
             object.__setattr__(self, name, frozen_array(getattr(self, name), dtype))
@@ -127,6 +137,8 @@ def validate_body(body: BodySpec) -> None:
         (body.rest_positions.shape == (n, 3), "rest_positions must have shape (N, 3)"),
         (body.masses.shape == (n,) and np.all(body.masses > 0), "masses must be (N,) and > 0"),
         (body.volumes.shape == (n,) and np.all(body.volumes >= 0), "volumes must be (N,) >= 0"),
+        (body.lung_volumes.shape == (n,) and np.all(body.lung_volumes >= 0),
+         "lung_volumes must be (N,) >= 0"),
         (body.elements.shape == (e, 2), "elements must have shape (E, 2)"),
         (body.elements.min() >= 0 and body.elements.max() < n, "elements index a missing node"),
         (np.all(body.elements[:, 0] != body.elements[:, 1]), "an element joins a node to itself"),
@@ -140,6 +152,8 @@ def validate_body(body: BodySpec) -> None:
         (0.0 < body.max_contraction < 1.0, "max_contraction must be in (0, 1)"),
         (body.faces.ndim == 2 and body.faces.shape[1] == 4, "faces must have shape (F, 4)"),
         (body.face_weights.shape == body.faces.shape, "face_weights must match faces"),
+        (body.face_parts.shape == (body.faces.shape[0],) and set(np.unique(body.face_parts))
+         <= {0, 1, 2}, "face_parts must be (F,) of 0 (body), 1 (nose), 2 (tail)"),
         (np.allclose(body.face_weights.sum(axis=1), 1.0), "face_weights rows must sum to 1"),
         (body.fin_areas.shape == (body.fin_nodes.shape[0],), "one fin area per fin"),
         (len(body.fin_names) == body.fin_nodes.shape[0], "one fin name per fin"),

@@ -22,10 +22,11 @@ from numba import njit
 from animat.envs.body import BodySpec
 from animat.envs.fish import fish_body
 from animat.envs.motor import FinParams
+from animat.envs.physics.ball import ball_substep
 from animat.envs.physics.integrator import step_batch
 from animat.envs.physics.observe import body_state, momenta, proprioception
 from animat.envs.physics.system import DEFAULT_DT, System, Water
-from animat.envs.tasks import Task
+from animat.envs.tasks import Task, World
 
 OBS_LIMIT = 1e4  # observation entries are clipped to +-OBS_LIMIT
 DEFAULT_FRAME_SKIP = 40  # integration steps per env step: 40 x 1.25 ms = 0.05 s
@@ -94,6 +95,11 @@ class FishState:
         steps: (B,) env steps since each episode began.
         origin: (B, 3) centre of mass at each episode's start, m.
         targets: (B, T) each episode's task parameters (:meth:`animat.envs.tasks.Task.sample`).
+        splash: (B,) the re-entry impulse of the last env step, N s
+            (:func:`animat.envs.physics.forces.add_face_forces`).
+        memory: (B, M) what the task keeps over an episode (``Task.memory_size``).
+        ball: (B, 6) the beach ball's position (m) and velocity (m/s), if the task has one.
+        touch: (B, 3) the ball's contact impulse with each body part this episode, N s.
     """
 
     x: np.ndarray
@@ -104,14 +110,20 @@ class FishState:
     steps: np.ndarray
     origin: np.ndarray
     targets: np.ndarray
+    splash: np.ndarray
+    memory: np.ndarray
+    ball: np.ndarray
+    touch: np.ndarray
 
     @classmethod
-    def zeros(cls, num_envs: int, body: BodySpec, target_size: int) -> FishState:
+    def zeros(cls, num_envs: int, body: BodySpec, task: Task) -> FishState:
         n, a, p = body.num_nodes, body.num_actuators, body.fin_nodes.shape[0]
         return cls(np.zeros((num_envs, n, 3)), np.zeros((num_envs, n, 3)),
                    np.zeros((num_envs, a)), np.zeros((num_envs, a)), np.zeros((num_envs, p)),
                    np.zeros(num_envs, dtype=np.int64), np.zeros((num_envs, 3)),
-                   np.zeros((num_envs, target_size)))
+                   np.zeros((num_envs, task.target_size)), np.zeros(num_envs),
+                   np.zeros((num_envs, task.memory_size)), np.zeros((num_envs, 6)),
+                   np.zeros((num_envs, 3)))
 
 
 class Kinematics(NamedTuple):
@@ -161,7 +173,9 @@ class FishBatch:
         self.dt = self.system.dt * self.frame_skip
         self.episode_steps = max(1, int(round(duration / self.dt)))
         self.reset_noise_scale = float(reset_noise_scale)
-        self.state = FishState.zeros(num_envs, self.body, task.target_size)
+        self.state = FishState.zeros(num_envs, self.body, task)
+        self.ball = task.ball
+        self._ball_args = None if self.ball is None else self.ball.as_args()
         n, a = self.body.num_nodes, self.body.num_actuators
         self.obs_size = 2 * n * 3 + 6 + a + task.obs_size
         self.fin_actions = bool(fins)
@@ -175,14 +189,20 @@ class FishBatch:
     def reset_rows(self, rows: np.ndarray, rngs: list[np.random.Generator]) -> None:
         """Start new episodes in ``rows``, drawing row k's noise and task from ``rngs[k]``."""
         state, length = self.state, self.body.length
+        start = self.task.place(self.body)
         for row, rng in zip(rows, rngs):
             noise = rng.uniform(-1.0, 1.0, self.body.rest_positions.shape)
-            state.x[row] = self.body.rest_positions + self.reset_noise_scale * length * noise
+            state.x[row] = start + self.reset_noise_scale * length * noise
             state.v[row] = 0.0
             state.targets[row] = self.task.sample(rng)
         state.u_prev[rows] = 0.0
         state.u_prev2[rows] = 0.0
         state.steps[rows] = 0
+        state.splash[rows] = 0.0
+        state.memory[rows] = self.task.initial_memory()
+        state.touch[rows] = 0.0
+        if self.ball is not None:
+            state.ball[rows] = np.concatenate([self.ball.rest, np.zeros(3)])
         state.origin[rows] = self.kinematics().com[rows]
 
     def kinematics(self) -> Kinematics:
@@ -199,36 +219,61 @@ class FishBatch:
         u = 0.5 * (actions[:, :a] + 1.0)
         if self.fin_actions:
             state.fins[:] = self.fin_max_angle * actions[:, a:]
-        step_batch(state.x, state.v, state.u_prev, u, state.fins, self.frame_skip,
-                   self.system.kernel_args)
+        state.splash[:] = 0.0
+        if self.ball is None:
+            step_batch(state.x, state.v, state.u_prev, u, state.fins, self.frame_skip,
+                       self.system.kernel_args, state.splash)
+        else:
+            self._step_with_ball(u)
         w = self.weights
         e_u = control_energy(u, state.u_prev, state.u_prev2, self.dt, w.nu1, w.nu2)
         state.u_prev2, state.u_prev = state.u_prev, u
         state.steps += 1
-        info, kinematics = self.measure(last=self.truncated)
+        info, kinematics = self.measure(last=self.truncated, commit=True)
         reward_ctrl = -w.mu1 * e_u * self.dt
         reward_task = -w.mu2 * info["E_v"] * self.dt
         info.update(E_u=e_u, reward_ctrl=reward_ctrl, reward_task=reward_task)
         return reward_ctrl + reward_task, info, kinematics
+
+    def _step_with_ball(self, u: np.ndarray) -> None:
+        """The integrator one step at a time, the ball's contact and motion after each (the
+        activations ramped as :func:`step_batch` ramps them)."""
+        state, c, splash = self.state, self.system.kernel_args, np.zeros(self.num_envs)
+        support = np.zeros(self.num_envs)
+        for s in range(self.frame_skip):
+            u_s = state.u_prev + (s / self.frame_skip) * (u - state.u_prev)
+            step_batch(state.x, state.v, u_s, u_s, state.fins, 1, c, splash)
+            ball_substep(state.x, state.v, c.masses, c.faces, self.body.face_parts,
+                         state.ball, state.touch, support, self._ball_args, c.water, c.dt)
+        state.splash[:] = splash
 
     @property
     def truncated(self) -> np.ndarray:
         """(B,) whether each episode has used its ``duration``."""
         return self.state.steps >= self.episode_steps
 
-    def measure(self, last: np.ndarray | None = None
+    def world(self, kinematics: Kinematics) -> World:
+        """What a task may read of the current state (:class:`animat.envs.tasks.World`)."""
+        state, (com, com_vel, frames) = self.state, kinematics
+        return World(com - state.origin, com_vel, frames, state.targets, self.body.length,
+                     com, state.x, state.v, state.splash, state.memory, state.ball,
+                     state.touch, self.system.water.surface_z, self.body, self.dt)
+
+    def measure(self, last: np.ndarray | None = None, commit: bool = False
                 ) -> tuple[dict[str, np.ndarray], Kinematics]:
         """Info arrays of the current state: ``com`` (B, 3) m, ``forward`` (B, 3),
         ``linear_momentum`` (B, 3) kg m/s and ``angular_momentum`` (B, 3) kg m^2/s (world frame,
         about the centre of mass), ``time`` (B,) s, ``E_v`` (B,) and the task's metrics (B,);
-        and the kinematics they were computed from."""
+        and the kinematics they were computed from. ``commit``: keep the task's updated
+        episode memory (once per env step, by :meth:`step`)."""
         state = self.state
         kinematics = self.kinematics()
         com, com_vel, frames = kinematics
         linear, angular = momenta(state.x, state.v, self.body.masses, com)
         last = np.zeros(self.num_envs, dtype=bool) if last is None else last
-        e_v, metrics = self.task.terms(com - state.origin, com_vel, frames, state.targets,
-                                       self.body.length, last)
+        e_v, metrics, memory = self.task.world_terms(self.world(kinematics), last)
+        if commit and state.memory.size:
+            state.memory[:] = memory
         info = {"com": com, "forward": frames[:, 0].copy(), "linear_momentum": linear,
                 "angular_momentum": angular, "time": state.steps * self.dt,
                 "E_v": e_v, **metrics}
@@ -245,8 +290,7 @@ class FishBatch:
         proprioception(state.x, state.v, state.u_prev, com, com_vel, frames, self.body.length,
                        OBS_LIMIT, obs)
         if self.task.obs_size:
-            task_obs = self.task.observe(com - state.origin, com_vel, frames, state.targets,
-                                         self.body.length)
+            task_obs = self.task.world_observe(self.world(kinematics))
             obs[:, self.obs_size - self.task.obs_size:] = np.clip(task_obs, -OBS_LIMIT,
                                                                   OBS_LIMIT)
         return obs

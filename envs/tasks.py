@@ -14,6 +14,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -35,17 +36,74 @@ def world_to_body(vectors: np.ndarray, frames: np.ndarray) -> np.ndarray:
     return np.einsum("bij,bj->bi", frames, vectors)
 
 
+class World(NamedTuple):
+    """Everything a task may read of B bodies' current state (the arrays are the core's own:
+    a task reads them, and changes only the copy of ``memory`` it returns).
+
+    ``com`` (B, 3) relative to each episode's start, m; ``com_vel`` (B, 3) m/s; ``frames``
+    (B, 3, 3); ``targets`` (B, T); ``length`` m; ``position`` (B, 3) the centre of mass in the
+    world frame, m; ``x``, ``v`` (B, N, 3) the nodes; ``splash`` (B,) the last env step's
+    re-entry impulse, N s; ``memory`` (B, M) the task's episode memory; ``ball`` (B, 6) and
+    ``touch`` (B, 3) (:class:`animat.envs.fish_core.FishState`); ``surface_z`` m; ``body`` the
+    ``BodySpec``; ``dt`` the env step, s.
+    """
+
+    com: np.ndarray
+    com_vel: np.ndarray
+    frames: np.ndarray
+    targets: np.ndarray
+    length: float
+    position: np.ndarray
+    x: np.ndarray
+    v: np.ndarray
+    splash: np.ndarray
+    memory: np.ndarray
+    ball: np.ndarray
+    touch: np.ndarray
+    surface_z: float
+    body: Any
+    dt: float
+
+
 class Task:
     """Base class: a task has ``target_size`` parameters per episode, ``obs_size`` extra
     observation entries, a ``default_duration`` (s) and episode metrics: the per-step metrics
     named in ``mean_metrics`` averaged over the episode, and what :meth:`final_metrics` reads
-    off its last step."""
+    off its last step.
+
+    Tasks that need more than the centre of mass and the frame (the dolphin's stunts,
+    :mod:`animat.envs.stunts`) override :meth:`world_terms` and :meth:`world_observe`, which
+    see the whole :class:`World`, keep ``memory_size`` numbers per episode (from
+    :meth:`initial_memory`), may start the body elsewhere (:meth:`place`) and may put a beach
+    ball in the world (``ball``, a :class:`animat.envs.physics.ball.BallParams`)."""
 
     name = "task"
     target_size = 0
     obs_size = 0
+    memory_size = 0
     default_duration = 10.0
     mean_metrics: tuple[str, ...] = ()
+    ball = None
+
+    def place(self, body) -> np.ndarray:
+        """(N, 3) the body's start (``body`` a ``BodySpec``), before the reset noise: the rest
+        shape where it lies."""
+        return body.rest_positions
+
+    def initial_memory(self) -> np.ndarray:
+        """(memory_size,) the episode memory at a reset."""
+        return np.zeros(self.memory_size)
+
+    def world_terms(self, world: World, last: np.ndarray):
+        """E_v (B,), metrics (B,) each, and the updated memory (B, M), from the world."""
+        e_v, metrics = self.terms(world.com, world.com_vel, world.frames, world.targets,
+                                  world.length, last)
+        return e_v, metrics, world.memory
+
+    def world_observe(self, world: World) -> np.ndarray:
+        """(B, obs_size) task part of the observation, from the world."""
+        return self.observe(world.com, world.com_vel, world.frames, world.targets,
+                            world.length)
 
     def sample(self, rng: np.random.Generator) -> np.ndarray:
         """(target_size,) parameters of a new episode."""

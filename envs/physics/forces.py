@@ -87,22 +87,25 @@ def add_element_forces(x, v, elements, stiffness, damping, rest, f) -> None:
 
 @njit(**FAST)
 def _face_forces_into(x, v, faces, weights, face_mass, water, dt, g) -> None:
-    """g (F, 3, L): the force the water exerts on each face of every body, negated. The lane
+    """g (F, 4, L): the force the water exerts on each face of every body, negated (rows 0-2),
+    and the impact momentum of the share of the face going under the surface this step (row
+    3: the splash, :func:`add_face_forces`). The lane
     loop is branch-free (blends and selects) and calls no function that takes an array, so it
     runs in SIMD across the bodies."""
     kappa_water, kappa_air, friction_water, friction_air, crossflow, surface_z = water[:6]
-    c0, c1, c2 = water[6], water[7], water[8]
+    c0, c1, c2, density = water[6], water[7], water[8], water[9]
     cross = 1.0 if crossflow else 0.0
     for k in range(faces.shape[0]):
         _one_face_into(x, v, faces[k, 0], faces[k, 1], faces[k, 2], faces[k, 3], weights[k, 0],
                        weights[k, 1], weights[k, 2], weights[k, 3], face_mass[k], kappa_water,
                        kappa_air, friction_water, friction_air, cross, surface_z, c0, c1, c2,
-                       dt, g[k])
+                       density, dt, g[k])
 
 
 @njit(**FAST)
 def _one_face_into(x, v, a, b, c, d, s0, s1, s2, s3, mass, kappa_water, kappa_air,
-                   friction_water, friction_air, cross, surface_z, c0, c1, c2, dt, g) -> None:
+                   friction_water, friction_air, cross, surface_z, c0, c1, c2, density, dt,
+                   g) -> None:
     for lane in range(x.shape[2]):
         p0, p1, p2 = (x[c, 0, lane] - x[a, 0, lane], x[c, 1, lane] - x[a, 1, lane],
                       x[c, 2, lane] - x[a, 2, lane])
@@ -116,8 +119,8 @@ def _one_face_into(x, v, a, b, c, d, s0, s1, s2, s3, mass, kappa_water, kappa_ai
         w1 = s0 * v[a, 1, lane] + s1 * v[b, 1, lane] + s2 * v[c, 1, lane] + s3 * v[d, 1, lane] - c1
         w2 = s0 * v[a, 2, lane] + s1 * v[b, 2, lane] + s2 * v[c, 2, lane] + s3 * v[d, 2, lane] - c2
         za, zb, zc, zd = x[a, 2, lane], x[b, 2, lane], x[c, 2, lane], x[d, 2, lane]
-        wet = wet_fraction(min(min(za, zb), min(zc, zd)), max(max(za, zb), max(zc, zd)),
-                           surface_z)
+        low, high = min(min(za, zb), min(zc, zd)), max(max(za, zb), max(zc, zd))
+        wet = wet_fraction(low, high, surface_z)
         normal_speed = n0 * w0 + n1 * w1 + n2 * w2
         t0, t1, t2 = w0 - normal_speed * n0, w1 - normal_speed * n1, w2 - normal_speed * n2
         tangential = np.sqrt(t0 * t0 + t1 * t1 + t2 * t2)
@@ -130,11 +133,21 @@ def _one_face_into(x, v, a, b, c, d, s0, s1, s2, s3, mass, kappa_water, kappa_ai
         g[0, lane] = normal_force * n0 + friction * t0
         g[1, lane] = normal_force * n1 + friction * t1
         g[2, lane] = normal_force * n2 + friction * t2
+        drop = dt * min(w2, 0.0)  # how far the face goes down in the step
+        wetting = wet_fraction(low + drop, high + drop, surface_z) - wet
+        g[3, lane] = density * area * np.sqrt(area) * pushing * wetting
 
 
 @njit(**FAST)
-def add_face_forces(x, v, faces, weights, face_mass, water, dt, f, g) -> None:
+def add_face_forces(x, v, faces, weights, face_mass, water, dt, f, g, splash) -> None:
     """Reaction force and skin friction on every face (``faces`` (F, 4), ``weights`` (F, 4)).
+
+    ``splash`` (L,) accumulates the splash of each body, kg m/s: the impact momentum of the
+    faces entering the water, von Karman's slamming model for a plate, the added mass of a
+    face (``rho A^(3/2)``) times its speed into the water along its normal (``n.w``, when
+    pushing), for the share of the face that goes under the surface in the step. A flat belly
+    flop meets the water with its faces' normals along the motion and scores high; a clean
+    dive goes in edge-on and scores low.
 
     A face's area vector is half the cross product of its diagonals (exact for a planar quad
     and for a triangle given as a quad with a repeated corner); its velocity and height are the
@@ -143,6 +156,9 @@ def add_face_forces(x, v, faces, weights, face_mass, water, dt, f, g) -> None:
     work space in SIMD passes over the bodies (:func:`_face_forces_into`), then are shared out
     among each face's corners by ``weights``."""
     _face_forces_into(x, v, faces, weights, face_mass, water, dt, g)
+    for k in range(faces.shape[0]):
+        for lane in range(x.shape[2]):
+            splash[lane] += g[k, 3, lane]
     for k in range(faces.shape[0]):
         a, b, c, d = faces[k, 0], faces[k, 1], faces[k, 2], faces[k, 3]
         s0, s1, s2, s3 = weights[k, 0], weights[k, 1], weights[k, 2], weights[k, 3]
@@ -240,17 +256,36 @@ def add_fin_forces(x, v, frame_nodes, fin_nodes, fin_areas, fin_mass, sin_cos, w
                 f[node, 2, lane] -= scratch[15, lane]
 
 
+@njit(cache=True, inline="always")
+def compressed(volume: float, depth: float, pressure_head: float) -> float:
+    """A gas volume (m^3 at the surface) at ``depth`` m, by Boyle's law: ``V / (1 + d / H)``
+    with ``H = p_air / (rho g)`` the pressure head of the air (10.3 m of water)."""
+    return volume / (1.0 + max(depth, 0.0) / pressure_head)
+
+
 @njit(**FAST)
-def add_gravity_buoyancy(x, masses, volumes, density, gravity, surface_z, f) -> None:
+def add_gravity_buoyancy(x, masses, volumes, lungs, density, gravity, surface_z, air_pressure,
+                         f) -> None:
     """Weight ``-m g`` on every node and buoyancy ``rho g V`` on the submerged share of every
     node's volume (a sphere of that volume about the node: :func:`sphere_submerged`), along
-    z."""
+    z. A node's lung volume ``lungs`` (m^3 at the surface) adds to its volume, compressed with
+    depth (:func:`compressed`); without a surface there is no depth and lungs keep their
+    surface volume."""
+    head = air_pressure / max(density * gravity, 1e-300)
     for i in range(x.shape[0]):
         weight, lift = gravity * masses[i], gravity * density * volumes[i]
         if surface_z == np.inf:  # no surface: all under (no cube root per step; as it always was)
             for b in range(x.shape[2]):
-                f[i, 2, b] += lift * submerged(x[i, 2, b], surface_z) - weight
+                f[i, 2, b] += (lift + gravity * density * lungs[i]) * submerged(
+                    x[i, 2, b], surface_z) - weight
             continue
-        radius = max((0.75 * volumes[i] / np.pi) ** (1.0 / 3.0), 1e-6)
+        if lungs[i] == 0.0:
+            radius = max((0.75 * volumes[i] / np.pi) ** (1.0 / 3.0), 1e-6)
+            for b in range(x.shape[2]):
+                f[i, 2, b] += lift * sphere_submerged(x[i, 2, b], radius, surface_z) - weight
+            continue
         for b in range(x.shape[2]):
-            f[i, 2, b] += lift * sphere_submerged(x[i, 2, b], radius, surface_z) - weight
+            gas = compressed(lungs[i], surface_z - x[i, 2, b], head)
+            radius = max((0.75 * (volumes[i] + gas) / np.pi) ** (1.0 / 3.0), 1e-6)
+            f[i, 2, b] += gravity * density * (volumes[i] + gas) * sphere_submerged(
+                x[i, 2, b], radius, surface_z) - weight

@@ -59,10 +59,11 @@ def kick_drift(x, v, f, masses, dt) -> None:
 
 
 @njit(cache=True)
-def step_chunk(x, v, u_start, u_end, fin_angles, substeps, c):
+def step_chunk(x, v, u_start, u_end, fin_angles, substeps, c, splash):
     """Advance a chunk of L bodies, x, v (L, N, 3), in place by ``substeps`` steps, with
     activations ramped from u_start to u_end (L, A) and fin angles (L, P) held; ``c`` is
-    :attr:`animat.envs.physics.system.System.kernel_args`."""
+    :attr:`animat.envs.physics.system.System.kernel_args`; ``splash`` (L,) accumulates each
+    body's re-entry impulse, N s (:func:`animat.envs.physics.forces.add_face_forces`)."""
     lanes, n = x.shape[0], x.shape[1]
     xl, vl, fl = np.empty((n, 3, lanes)), np.empty((n, 3, lanes)), np.empty((n, 3, lanes))
     for b in range(lanes):
@@ -76,7 +77,8 @@ def step_chunk(x, v, u_start, u_end, fin_angles, substeps, c):
     for b in range(lanes):
         for p in range(fin_angles.shape[1]):
             sin_cos[p, 0, b], sin_cos[p, 1, b] = np.sin(fin_angles[b, p]), np.cos(fin_angles[b, p])
-    face_scratch = np.empty((c.faces.shape[0], 3, lanes))
+    face_scratch = np.empty((c.faces.shape[0], 4, lanes))
+    splash_lanes = np.zeros(lanes)
     fin_scratch = np.empty((16, lanes))
     frame_nodes = (c.frame_front, c.frame_back, c.frame_up, c.frame_down)
     for s in range(substeps):
@@ -85,12 +87,14 @@ def step_chunk(x, v, u_start, u_end, fin_angles, substeps, c):
         fl[:] = 0.0
         add_element_forces(xl, vl, c.elements, c.stiffness, c.damping, rest, fl)
         add_face_forces(xl, vl, c.faces, c.face_weights, c.face_mass, c.water, c.dt, fl,
-                        face_scratch)
+                        face_scratch, splash_lanes)
         add_fin_forces(xl, vl, frame_nodes, c.fin_nodes, c.fin_areas, c.fin_mass, sin_cos,
                        c.water, c.dt, fl, fin_scratch)
-        add_gravity_buoyancy(xl, c.masses, c.volumes, c.water[9], c.water[10], c.water[5], fl)
+        add_gravity_buoyancy(xl, c.masses, c.volumes, c.lungs, c.water[9], c.water[10],
+                             c.water[5], c.water[11], fl)
         kick_drift(xl, vl, fl, c.masses, c.dt)
     for b in range(lanes):
+        splash[b] += splash_lanes[b]
         for i in range(n):
             for a in range(3):
                 x[b, i, a], v[b, i, a] = xl[i, a, b], vl[i, a, b]
@@ -100,28 +104,30 @@ CHUNK = 32
 
 
 @njit(cache=True)
-def _step_serial(x, v, u_start, u_end, fin_angles, substeps, constants):
+def _step_serial(x, v, u_start, u_end, fin_angles, substeps, constants, splash):
     for c in range(0, x.shape[0], CHUNK):
         e = min(c + CHUNK, x.shape[0])
         step_chunk(x[c:e], v[c:e], u_start[c:e], u_end[c:e], fin_angles[c:e], substeps,
-                   constants)
+                   constants, splash[c:e])
 
 
 @njit(cache=True, parallel=True)
-def _step_parallel(x, v, u_start, u_end, fin_angles, substeps, constants):
+def _step_parallel(x, v, u_start, u_end, fin_angles, substeps, constants, splash):
     for k in prange((x.shape[0] + CHUNK - 1) // CHUNK):
         c = k * CHUNK
         e = min(c + CHUNK, x.shape[0])
         step_chunk(x[c:e], v[c:e], u_start[c:e], u_end[c:e], fin_angles[c:e], substeps,
-                   constants)
+                   constants, splash[c:e])
 
 
 PARALLEL_MIN_BATCH = 2 * CHUNK
 
 
 def step_batch(x: np.ndarray, v: np.ndarray, u_start: np.ndarray, u_end: np.ndarray,
-               fin_angles: np.ndarray, substeps: int, kernel_args) -> None:
-    """Advance a batch in place: x, v (B, N, 3); u_start, u_end (B, A); fin_angles (B, P) rad.
+               fin_angles: np.ndarray, substeps: int, kernel_args,
+               splash: np.ndarray | None = None) -> None:
+    """Advance a batch in place: x, v (B, N, 3); u_start, u_end (B, A); fin_angles (B, P) rad;
+    ``splash`` (B,), if given, accumulates each body's re-entry impulse (N s).
 
     ``kernel_args`` is :attr:`animat.envs.physics.system.System.kernel_args`. Bodies are independent
     and go through the integrator in chunks of ``CHUNK`` (SIMD across bodies), chunks split over
@@ -129,4 +135,6 @@ def step_batch(x: np.ndarray, v: np.ndarray, u_start: np.ndarray, u_end: np.ndar
     a batch of one gives bit for bit the numbers of its row in a batch.
     """
     kernel = _step_parallel if x.shape[0] >= PARALLEL_MIN_BATCH else _step_serial
-    kernel(x, v, u_start, u_end, fin_angles, int(substeps), kernel_args)
+    if splash is None:
+        splash = np.zeros(x.shape[0])
+    kernel(x, v, u_start, u_end, fin_angles, int(substeps), kernel_args, splash)

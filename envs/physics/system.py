@@ -37,6 +37,8 @@ class Water:
         gravity: m/s^2, acting along -z.
         surface_z: height of the water surface, m (``inf``: no surface, everything submerged).
         current: (3,) water velocity in the world frame, m/s.
+        air_pressure: at the surface, Pa; sets how lungs compress with depth (Boyle's law,
+            :func:`animat.envs.physics.forces.compressed`).
 
     ``Water(fluid_coefficient=0, air_coefficient=0, friction_coefficient=0, gravity=0)`` is a
     vacuum (:func:`vacuum`).
@@ -51,6 +53,7 @@ class Water:
     gravity: float = 9.81
     surface_z: float = float("inf")
     current: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    air_pressure: float = 101325.0
 
     def __post_init__(self) -> None:
         for name in ("fluid_coefficient", "air_coefficient", "friction_coefficient",
@@ -65,6 +68,10 @@ class Water:
                 np.isnan(self.surface_z)):
             raise ValueError(f"Water.surface_z must be a number (inf: no surface), got "
                              f"{self.surface_z!r}")
+        if not (isinstance(self.air_pressure, (int, float)) and np.isfinite(self.air_pressure)
+                and self.air_pressure > 0):
+            raise ValueError(f"Water.air_pressure must be a finite number of pascals > 0, got "
+                             f"{self.air_pressure!r}")
         current = tuple(self.current)
         if len(current) != 3 or not all(isinstance(c, (int, float)) and np.isfinite(c)
                                         for c in current):
@@ -87,11 +94,12 @@ class Water:
         return cls(**fields)
 
     def as_args(self) -> np.ndarray:
-        """(11,) the numbers the compiled force terms read, in their order."""
+        """(12,) the numbers the compiled force terms read, in their order."""
         return np.array([self.fluid_coefficient, self.air_coefficient,
                          self.friction_coefficient, self.air_friction_coefficient,
                          1.0 if self.reaction == "crossflow" else 0.0, self.surface_z,
-                         *self.current, self.density, self.gravity], dtype=np.float64)
+                         *self.current, self.density, self.gravity, self.air_pressure],
+                        dtype=np.float64)
 
 
 def vacuum() -> Water:
@@ -105,6 +113,7 @@ class KernelArgs(NamedTuple):
 
     masses: np.ndarray
     volumes: np.ndarray
+    lungs: np.ndarray
     elements: np.ndarray
     stiffness: np.ndarray
     damping: np.ndarray
@@ -169,9 +178,10 @@ class System:
         """Constants for :func:`animat.envs.physics.integrator.step_batch`."""
         b = self.body
         return KernelArgs(
-            b.masses, b.volumes, b.elements, b.stiffness, b.damping, b.rest_lengths, b.actuator,
-            float(b.max_contraction), b.faces, b.face_weights, self.face_mass, b.fin_nodes,
-            b.fin_areas, self.fin_mass, b.frame_front, b.frame_back, b.frame_up, b.frame_down,
+            b.masses, b.volumes, b.lung_volumes, b.elements, b.stiffness, b.damping,
+            b.rest_lengths, b.actuator, float(b.max_contraction), b.faces, b.face_weights,
+            self.face_mass, b.fin_nodes, b.fin_areas, self.fin_mass, b.frame_front,
+            b.frame_back, b.frame_up, b.frame_down,
             frozen_array(self.water.as_args()), float(self.dt))
 
 

@@ -52,7 +52,7 @@ def test_only_faces_moving_into_water_feel_the_reaction_force(reaction):
     f = np.zeros_like(x)
     c = system.kernel_args
     add_face_forces(x, v, c.faces, c.face_weights, c.face_mass, c.water, c.dt, f,
-                    np.empty((len(c.faces), 3, 1)))
+                    np.empty((len(c.faces), 4, 1)), np.zeros(1))
     assert f[:, 1].sum() < 0  # resisted
     left_nodes = body.rest_positions[:, 1] > 0
     lee = f[~left_nodes & (body.rest_positions[:, 1] < 0), 1]
@@ -71,7 +71,7 @@ def test_skin_friction_opposes_sliding_along_the_faces():
         v[:, 0] = 0.3
         f = np.zeros_like(x)
         add_face_forces(x, v, c.faces, c.face_weights, c.face_mass, c.water, 1e-9, f,
-                        np.empty((len(c.faces), 3, 1)))
+                        np.empty((len(c.faces), 4, 1)), np.zeros(1))
         drags[friction] = -f[:, 0].sum()
     p = system.body.rest_positions[system.body.faces]
     wetted = 0.5 * np.linalg.norm(np.cross(p[:, 2] - p[:, 0], p[:, 3] - p[:, 1]), axis=1).sum()

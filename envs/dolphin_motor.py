@@ -1,0 +1,75 @@
+"""The dolphin's hand-designed motor controllers: fluke strokes and turns, as pure functions of
+time returning actuations u (..., 6) in [0, 1] in the order of
+:data:`animat.envs.dolphin.ACTUATOR_NAMES` (dorsal middle, dorsal back, ventral middle,
+ventral back, left front, right front).
+
+The swim-MC is the fish's (:func:`animat.envs.motor.swim_mc`) turned into the vertical plane:
+the fish's left segments become the dorsal ones, its right segments the ventral ones, and the
+fluke beats at up to 5 Hz (the body measured 1.9 BL/s at 5 Hz, 1.2 BL/s at 3 Hz: a dolphin's
+stroke is fast and short). Turns are one-sided strokes as for the fish: dorsal strokes pitch
+the dolphin up, ventral strokes down, the front muscles of one side yaw it to that side.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from animat.envs.dolphin import (
+    DORSAL_BACK,
+    DORSAL_MIDDLE,
+    LEFT_FRONT,
+    RIGHT_FRONT,
+    VENTRAL_BACK,
+    VENTRAL_MIDDLE,
+)
+from animat.envs.motor import (
+    LEFT_BACK,
+    LEFT_MIDDLE,
+    RIGHT_BACK,
+    RIGHT_MIDDLE,
+    SwimParams,
+    TurnParams,
+    swim_mc,
+    turn_mc,
+)
+
+DOLPHIN_SWIM = SwimParams(min_hz=2.0, max_hz=5.0, ramp_cycles=1.0)
+_FROM_FISH = {LEFT_MIDDLE: DORSAL_MIDDLE, LEFT_BACK: DORSAL_BACK, RIGHT_MIDDLE: VENTRAL_MIDDLE,
+              RIGHT_BACK: VENTRAL_BACK}
+
+
+@dataclass(frozen=True)
+class Stroke:
+    """A dolphin turn: which of its actuators contract in the one-sided strokes."""
+
+    actuators: tuple[int, ...]
+
+
+STROKES = {"up": Stroke((DORSAL_MIDDLE, DORSAL_BACK)),
+           "down": Stroke((VENTRAL_MIDDLE, VENTRAL_BACK)),
+           "left": Stroke((LEFT_FRONT,)), "right": Stroke((RIGHT_FRONT,))}
+
+
+def dolphin_swim_mc(speed: float, t: np.ndarray | float,
+                    params: SwimParams = DOLPHIN_SWIM) -> np.ndarray:
+    """Swim forward at ``speed`` in [0, 1] by beating the flukes. Returns u (..., 6)."""
+    fish = swim_mc(speed, t, params)
+    u = np.zeros(fish.shape)
+    for fish_actuator, actuator in _FROM_FISH.items():
+        u[..., actuator] = fish[..., fish_actuator]
+    return u
+
+
+def dolphin_turn_mc(direction: str, angle: float, t: np.ndarray | float,
+                    params: TurnParams = TurnParams()) -> np.ndarray:
+    """Turn ``direction`` (up, down, left, right) by ``angle`` rad with the fish's stroke
+    train (:func:`animat.envs.motor.turn_mc`) on that side's actuators. Returns u (..., 6)."""
+    if direction not in STROKES:
+        raise ValueError(f"direction must be one of {sorted(STROKES)}, got {direction!r}")
+    envelope = turn_mc(angle, t, True, params)[..., LEFT_MIDDLE]
+    u = np.zeros(envelope.shape + (6,))
+    for actuator in STROKES[direction].actuators:
+        u[..., actuator] = envelope
+    return u
