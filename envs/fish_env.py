@@ -91,6 +91,7 @@ from animat.envs.fish_core import (
 )
 from animat.envs.physics.system import DEFAULT_DT
 from animat.envs.render import BodyRenderer
+from animat.envs.seaworld_render import SeaWorldRenderer
 from animat.envs.sensors import Observer
 from animat.envs.tasks import SingleEpisodeSummary, Task, make_task
 
@@ -130,6 +131,21 @@ class _PublicSurface:
         return self.core.episode_steps
 
 
+def _renderer(core: FishBatch):
+    """The third-person view: beside the pool, with sky and surface, for a world with a water
+    surface (:class:`~envs.seaworld_render.SeaWorldRenderer`); else behind and above the body."""
+    surface = core.system.water.surface_z
+    if np.isfinite(surface):
+        return SeaWorldRenderer(core.body, core.ball, surface_z=surface)
+    return BodyRenderer(core.body)
+
+
+def _render_row(renderer, core: FishBatch, row: int) -> np.ndarray:
+    if isinstance(renderer, SeaWorldRenderer):
+        return renderer.render(core.state.x[row], core.state.ball[row])
+    return renderer.render(core.state.x[row])
+
+
 def _action_space(core: FishBatch) -> gym.spaces.Box:
     return gym.spaces.Box(-1.0, 1.0, (core.action_size,), np.float32)
 
@@ -157,7 +173,7 @@ class FishEnv(_PublicSurface, gym.Env):
         self.dt = self.core.dt
         self.body_length = self.core.body.length
         self.metadata = {**self.metadata, "render_fps": int(round(1.0 / self.dt))}
-        self._renderer: BodyRenderer | None = None
+        self._renderer: BodyRenderer | SeaWorldRenderer | None = None
         self._started = False
 
     def episode_summary(self) -> SingleEpisodeSummary:
@@ -186,8 +202,8 @@ class FishEnv(_PublicSurface, gym.Env):
         if self.render_mode != "rgb_array":
             return None
         if self._renderer is None:
-            self._renderer = BodyRenderer(self.core.body)
-        return self._renderer.render(self.core.state.x[0])
+            self._renderer = _renderer(self.core)
+        return _render_row(self._renderer, self.core, 0)
 
     @property
     def node_positions(self) -> np.ndarray:
@@ -246,7 +262,7 @@ class FishVectorEnv(_PublicSurface, VectorEnv):
         self.body_length = self.core.body.length
         self._rngs = [seeding.np_random(None)[0] for _ in range(self.num_envs)]
         self._autoreset = np.zeros(self.num_envs, dtype=bool)
-        self._renderer: BodyRenderer | None = None
+        self._renderer: BodyRenderer | SeaWorldRenderer | None = None
         self._started = False
 
     def reset(self, *, seed: int | list[int | None] | None = None, options: dict | None = None):
@@ -308,8 +324,8 @@ class FishVectorEnv(_PublicSurface, VectorEnv):
         if self.render_mode != "rgb_array":
             return None
         if self._renderer is None:
-            self._renderer = BodyRenderer(self.core.body)
-        return tuple(self._renderer.render(x) for x in self.core.state.x)
+            self._renderer = _renderer(self.core)
+        return tuple(_render_row(self._renderer, self.core, row) for row in range(self.num_envs))
 
 
     @property

@@ -25,8 +25,9 @@ so the task part of an episode's return is S at its end minus S at its start):
 Every stunt reports the same metrics (read off the last step): ``apex_height_bl``,
 ``airborne`` (1 if the centre of mass went above the surface), ``rotation_deg`` (pitch
 rotation above the surface), ``reentry_splash``, ``entry_pitch_deg`` (pitch as the centre of
-mass went back under, negative nose down; NaN if it did not), ``nose_gap_bl``,
-``tail_gap_bl`` (closest approach to the ball; NaN without one), ``first_touch`` (-1 none,
+mass went back under, negative nose down; 0 if it did not: ``reentered`` says whether it did);
+with a ball also
+``nose_gap_bl``, ``tail_gap_bl`` (closest approach to the ball), ``first_touch`` (-1 none,
 0 body, 1 nose, 2 tail), ``ball_off`` (1 if the ball left its support) and ``ball_hit``.
 """
 
@@ -147,8 +148,8 @@ class DolphinTurnTask(Task):
  NOSE_GAP, TAIL_GAP, SCORE, FIRST_TOUCH, BALL_OFF) = range(14)
 BALL_OFF_DISTANCE = 0.1  # m the ball must move from its rest to have left its support
 FINAL_METRICS = ("apex_height_bl", "airborne", "rotation_deg", "reentry_splash",
-                 "entry_pitch_deg", "nose_gap_bl", "tail_gap_bl", "first_touch", "ball_off",
-                 "ball_hit")
+                 "entry_pitch_deg")
+BALL_METRICS = ("nose_gap_bl", "tail_gap_bl", "first_touch", "ball_off", "ball_hit")
 
 
 def _gaps(world: World, nodes: tuple[int, ...], radius: float) -> np.ndarray:
@@ -190,6 +191,8 @@ class StuntTask(Task):
         memory[[APEX, NOSE_GAP, TAIL_GAP]] = -np.inf, np.inf, np.inf
         memory[[ENTRY_PITCH, SCORE]] = np.nan
         memory[FIRST_TOUCH] = -1.0
+        pitch = np.radians(self.start_pitch_deg)  # the placed body's heading
+        memory[FORWARD_X:FORWARD_Z + 1] = np.cos(pitch), 0.0, np.sin(pitch)
         return memory
 
     def world_observe(self, world: World) -> np.ndarray:
@@ -243,21 +246,21 @@ class StuntTask(Task):
             "apex_height_bl": m[:, APEX] / length, "airborne": m[:, AIRBORNE],
             "rotation_deg": np.degrees(m[:, ROTATION]),
             "reentry_splash": m[:, SPLASH] / splash_unit,
-            "entry_pitch_deg": m[:, ENTRY_PITCH],
-            "nose_gap_bl": np.where(np.isfinite(m[:, NOSE_GAP]), m[:, NOSE_GAP] / length,
-                                    np.nan),
-            "tail_gap_bl": np.where(np.isfinite(m[:, TAIL_GAP]), m[:, TAIL_GAP] / length,
-                                    np.nan),
-            "first_touch": m[:, FIRST_TOUCH], "ball_off": m[:, BALL_OFF],
-            "ball_hit": self.ball_hit(m),
+            "entry_pitch_deg": np.where(m[:, REENTERED] > 0, m[:, ENTRY_PITCH], 0.0),
+            "reentered": m[:, REENTERED],
         }
+        if self.ball is not None:
+            metrics.update(nose_gap_bl=m[:, NOSE_GAP] / length, tail_gap_bl=m[:, TAIL_GAP] / length,
+                           first_touch=m[:, FIRST_TOUCH], ball_off=m[:, BALL_OFF],
+                           ball_hit=self.ball_hit(m))
         return -gain / world.dt, metrics, m
 
     def terms(self, com, com_vel, frames, targets, length, last):
         raise TypeError(f"the {self.name} task needs the world: use world_terms")
 
     def final_metrics(self, last):
-        return {k: np.asarray(last[k], dtype=float) for k in FINAL_METRICS}
+        names = FINAL_METRICS + (BALL_METRICS if self.ball is not None else ())
+        return {k: np.asarray(last[k], dtype=float) for k in names + ("reentered",)}
 
 
 def _below(apex_bl: np.ndarray) -> np.ndarray:

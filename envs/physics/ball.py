@@ -2,8 +2,10 @@
 
 The ball is a rigid sphere (radius R, mass m) under gravity, buoyancy on its submerged cap
 (:func:`animat.envs.physics.forces.sphere_submerged`), quadratic drag (``0.5 rho C_d pi R^2
-|v| v``, ``rho`` blended between air and water by the submerged share) and the added mass of
-its submerged share (``0.5 rho V``: a light ball in water is not a light ball in air). It
+|v| v``, ``rho`` blended between air and water by the submerged share), the added mass of
+its submerged share (``0.5 rho V``: a light ball in water is not a light ball in air), and,
+floating, a linear damping of its bobbing for the waves it radiates (damping ratio
+:data:`HEAVE_DAMPING` of the waterline's stiffness ``rho g pi R^2``). It
 starts at rest on a support, a flat disc whose top holds it up by a penalty contact.
 
 Ball and body meet by penalty contact: each body face is split into two triangles; where the
@@ -27,6 +29,7 @@ from numba import njit
 from animat.envs.physics.forces import sphere_submerged
 
 BODY_PART, NOSE_PART, TAIL_PART = 0, 1, 2
+HEAVE_DAMPING = 0.3  # damping ratio of a floating ball's bobbing (wave radiation), 1
 PART_NAMES = ("body", "nose", "tail")
 
 
@@ -167,6 +170,9 @@ def ball_substep(x, v, masses, faces, face_parts, ball, touch, support_impulse, 
         drag = 0.5 * rho * cd * np.pi * radius * radius * speed
         effective = mass + 0.5 * density * volume * wet
         total[2] += gravity * (density * volume * wet - mass)
+        if 0.0 < wet < 1.0:  # the waves a bobbing ball makes carry its heave away
+            heave = gravity * density * np.pi * radius * radius  # N/m at the waterline
+            total[2] -= 2.0 * HEAVE_DAMPING * np.sqrt(heave * effective) * velocity[2]
         velocity = (velocity + dt * total / effective) / (1.0 + dt * drag / effective)
         ball[b, 3:] = velocity
         ball[b, :3] = centre + dt * velocity

@@ -1,0 +1,137 @@
+"""The dolphin's Gymnasium tasks: the envs' contracts, the native vector env, the stunts'
+scores, and the beach ball (stays on its support until touched; knows what touched it)."""
+
+import warnings
+
+import gymnasium as gym
+import numpy as np
+import pytest
+from gymnasium.utils.env_checker import check_env
+from stable_baselines3.common.env_checker import check_env as sb3_check_env
+
+from animat.envs import DOLPHIN_ENVS
+from animat.envs.dolphin_motor import dolphin_swim_mc, dolphin_turn_mc
+from animat.envs.motor import to_action
+from animat.envs.physics.ball import NOSE_PART
+
+DOLPHIN_IDS = sorted(DOLPHIN_ENVS)
+
+
+def _swim(k: int) -> np.ndarray:
+    return to_action(dolphin_swim_mc(1.0, (k + 1) * 0.05))
+
+
+@pytest.mark.parametrize("env_id", DOLPHIN_IDS)
+def test_checkers_and_the_contract(env_id):
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        check_env(gym.make(env_id, render_mode="rgb_array").unwrapped)
+        sb3_check_env(gym.make(env_id))
+    env = gym.make(env_id, render_mode="rgb_array")
+    env.reset(seed=0)
+    assert env.unwrapped.dt == pytest.approx(0.05)
+    assert env.unwrapped.body_length == pytest.approx(2.5)
+    _, reward, _, _, info = env.step(env.action_space.sample())
+    assert info["com"].shape == (3,) and info["forward"].shape == (3,)
+    assert reward == pytest.approx(info["reward_ctrl"] + info["reward_task"])
+    frame = env.render()
+    assert frame.shape == (360, 480, 3)
+    sky, water = frame[5].mean(axis=0), frame[-5].mean(axis=0)
+    assert sky[2] > 200 and water[2] < sky[2] - 40  # the sky above, the water below
+
+
+@pytest.mark.parametrize("env_id", ["Animat/DolphinLeap-v0", "Animat/DolphinNoseBall-v0"])
+def test_native_vector_env_matches_single_envs_step_for_step(env_id):
+    num = 3
+    vec = gym.make_vec(env_id, num_envs=num, duration=0.5)
+    singles = [gym.make(env_id, duration=0.5) for _ in range(num)]
+    obs, _ = vec.reset(seed=4)
+    np.testing.assert_array_equal(obs, np.stack([e.reset(seed=4 + i)[0]
+                                                 for i, e in enumerate(singles)]))
+    rng, done = np.random.default_rng(0), np.zeros(num, dtype=bool)
+    for _ in range(14):  # across an episode end (10 steps) and its autoreset
+        actions = rng.uniform(-1, 1, (num, 6)).astype(np.float32)
+        obs, reward, _, trunc, _ = vec.step(actions)
+        for i, env in enumerate(singles):
+            if done[i]:
+                o, r, t = env.reset()[0], 0.0, False
+            else:
+                o, r, _, t, _ = env.step(actions[i])
+            np.testing.assert_array_equal(obs[i], o)
+            assert reward[i] == r and trunc[i] == t
+        done = trunc
+
+
+def test_random_actions_on_the_batch_stay_finite():
+    vec = gym.make_vec("Animat/DolphinNoseBall-v0", num_envs=32)
+    obs, _ = vec.reset(seed=0)
+    rng = np.random.default_rng(0)
+    for _ in range(200):
+        obs, reward, _, _, info = vec.step(rng.uniform(-1, 1, (32, 6)).astype(np.float32))
+        assert np.isfinite(obs).all() and np.isfinite(reward).all()
+        assert all(np.isfinite(np.asarray(v, float)).all() for v in info.values())
+
+
+def test_a_leaps_return_pays_out_its_apex_and_the_metrics_follow_the_flight():
+    env = gym.make("Animat/DolphinLeap-v0", start_pitch_deg=80.0)
+    env.reset(seed=0)
+    heights, task = [], 0.0
+    for k in range(env.unwrapped.episode_steps):
+        _, _, _, _, info = env.step(_swim(k))
+        heights.append(info["height_bl"])
+        task += info["reward_task"]
+    assert info["apex_height_bl"] == pytest.approx(max(heights)) and max(heights) > 0.5
+    assert task == pytest.approx(max(heights) - heights[0])  # S_T - S_1: the apex gained
+    assert info["airborne"] == 1.0 and info["entry_pitch_deg"] < 0  # back in nose down
+    assert -300 < info["rotation_deg"] < -45  # the arc of its flight turned it nose down
+    assert info["reentry_splash"] > 0
+
+
+def test_the_somersault_counts_the_pitch_turned_above_the_surface():
+    """A dolphin thrown up spinning, 2 m above the water (its nodes set in motion by hand):
+    over the 0.6 s before any of it nears the water, the rotation counted is the spin times
+    the time, within the flex of a relaxed body."""
+    env = gym.make("Animat/DolphinSomersault-v0", start_depth=-2.0).unwrapped
+    env.reset(seed=0)
+    core = env.core
+    x = core.state.x[0]
+    com = core.body.masses @ x / core.body.total_mass
+    spin = np.array([0.0, -2.0 * np.pi, 0.0])  # one turn per second, nose up
+    core.state.v[0] = np.array([0.0, 0.0, 2.0]) + np.cross(spin, x - com)
+    for _ in range(12):
+        _, _, _, _, info = env.step(-np.ones(6, np.float32))
+        assert core.state.x[0, :, 2].min() > 0.5  # in flight
+    assert info["rotation_deg"] == pytest.approx(360.0 * 12 * env.dt, rel=0.02)
+    assert info["score"] == pytest.approx(info["rotation_deg"] / 360.0)
+
+
+def test_the_ball_stays_on_its_support_until_touched_then_knows_the_nose_hit_it():
+    env = gym.make("Animat/DolphinNoseBall-v0", duration=10.0).unwrapped
+    env.reset(seed=0)
+    rest = env.core.ball.rest.copy()
+    for _ in range(200):  # 10 s with the dolphin relaxed 3 m down
+        _, _, _, _, info = env.step(-np.ones(6, np.float32))
+    assert np.abs(env.core.state.ball[0, :3] - rest).max() < 1e-3
+    assert info["first_touch"] == -1 and info["ball_off"] == 0 and info["ball_hit"] == 0
+    env = gym.make("Animat/DolphinNoseBall-v0", start_pitch_deg=80.0, ball_x=1.0).unwrapped
+    env.reset(seed=0)
+    for k in range(env.episode_steps):
+        _, _, _, _, info = env.step(_swim(k))
+    assert info["first_touch"] == NOSE_PART and info["ball_off"] == 1 and info["ball_hit"] == 1
+    ball = env.core.state.ball[0]
+    assert abs(ball[2] - env.core.ball.radius) < 0.05 and np.abs(ball[3:]).max() < 0.5  # floats
+
+
+def test_turn_tasks_measure_pitch_and_yaw_and_the_hand_mcs_turn_the_right_way():
+    for direction, check in (("up", lambda i: i["pitch_deg"] > 10),
+                             ("down", lambda i: i["pitch_deg"] < -10),
+                             ("left", lambda i: i["heading_deg"] > 5),
+                             ("right", lambda i: i["heading_deg"] < -5)):
+        env = gym.make("Animat/DolphinTurn-v0", direction=direction)
+        env.reset(seed=0)
+        for k in range(env.unwrapped.episode_steps):
+            _, _, _, _, info = env.step(to_action(dolphin_turn_mc(
+                direction, np.radians(45.0), (k + 1) * 0.05)))
+        assert check(info), (direction, info["pitch_deg"], info["heading_deg"])
+    with pytest.raises(ValueError, match="direction"):
+        gym.make("Animat/DolphinTurn-v0", direction="sideways")
