@@ -6,8 +6,9 @@ ventral back, left front, right front).
 The swim-MC is the fish's (:func:`animat.envs.motor.swim_mc`) turned into the vertical plane:
 the fish's left segments become the dorsal ones, its right segments the ventral ones, and the
 fluke beats at up to 5 Hz (the body measured 1.9 BL/s at 5 Hz, 1.2 BL/s at 3 Hz: a dolphin's
-stroke is fast and short). Turns are one-sided strokes as for the fish: dorsal strokes pitch
-the dolphin up, ventral strokes down, the front muscles of one side yaw it to that side.
+stroke is fast and short). Pitch turns are one-sided strokes as for the fish: dorsal strokes
+pitch the dolphin up, ventral strokes down. It turns left or right by steering: the head
+bent to the side by the front muscles while it swims.
 """
 
 from __future__ import annotations
@@ -48,8 +49,9 @@ class Stroke:
 
 
 STROKES = {"up": Stroke((DORSAL_MIDDLE, DORSAL_BACK)),
-           "down": Stroke((VENTRAL_MIDDLE, VENTRAL_BACK)),
-           "left": Stroke((LEFT_FRONT,)), "right": Stroke((RIGHT_FRONT,))}
+           "down": Stroke((VENTRAL_MIDDLE, VENTRAL_BACK))}
+STEER = {"left": LEFT_FRONT, "right": RIGHT_FRONT}
+STEER_RATE = np.radians(40.0)  # rad/s: the yaw rate of a steered full-speed swim (measured)
 
 
 def dolphin_swim_mc(speed: float, t: np.ndarray | float,
@@ -64,10 +66,20 @@ def dolphin_swim_mc(speed: float, t: np.ndarray | float,
 
 def dolphin_turn_mc(direction: str, angle: float, t: np.ndarray | float,
                     params: TurnParams = TurnParams()) -> np.ndarray:
-    """Turn ``direction`` (up, down, left, right) by ``angle`` rad with the fish's stroke
-    train (:func:`animat.envs.motor.turn_mc`) on that side's actuators. Returns u (..., 6)."""
+    """Turn ``direction`` (up, down, left, right) by ``angle`` rad. Up and down: the fish's
+    stroke train (:func:`animat.envs.motor.turn_mc`) on the dorsal or ventral actuators.
+    Left and right: steer, the head bent to that side by its front muscles while the flukes
+    beat at full speed, for ``angle / STEER_RATE`` s, then it glides (alone, a one-sided stroke of the front
+    segment barely yaws the body: measured 1.5 deg the wrong way over 4 s). Returns u (..., 6)."""
+    if direction in STEER:
+        t = np.asarray(t, dtype=float)
+        steering = ((t >= 0) & (t < angle / STEER_RATE))[..., None]
+        u = np.where(steering, dolphin_swim_mc(1.0, t), 0.0)
+        u[..., STEER[direction]] = steering[..., 0]
+        return u
     if direction not in STROKES:
-        raise ValueError(f"direction must be one of {sorted(STROKES)}, got {direction!r}")
+        raise ValueError(f"direction must be one of {sorted(STROKES) + sorted(STEER)}, got "
+                         f"{direction!r}")
     envelope = turn_mc(angle, t, True, params)[..., LEFT_MIDDLE]
     u = np.zeros(envelope.shape + (6,))
     for actuator in STROKES[direction].actuators:

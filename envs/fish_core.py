@@ -22,7 +22,6 @@ from numba import njit
 from animat.envs.body import BodySpec
 from animat.envs.fish import fish_body
 from animat.envs.motor import FinParams
-from animat.envs.physics.ball import ball_substep
 from animat.envs.physics.integrator import step_batch
 from animat.envs.physics.observe import body_state, momenta, proprioception
 from animat.envs.physics.system import DEFAULT_DT, System, Water
@@ -220,11 +219,11 @@ class FishBatch:
         if self.fin_actions:
             state.fins[:] = self.fin_max_angle * actions[:, a:]
         state.splash[:] = 0.0
-        if self.ball is None:
-            step_batch(state.x, state.v, state.u_prev, u, state.fins, self.frame_skip,
-                       self.system.kernel_args, state.splash)
-        else:
-            self._step_with_ball(u)
+        ball = None if self.ball is None else (
+            state.ball, state.touch, np.zeros(self.num_envs), self._ball_args,
+            self.body.face_parts)
+        step_batch(state.x, state.v, state.u_prev, u, state.fins, self.frame_skip,
+                   self.system.kernel_args, state.splash, ball)
         w = self.weights
         e_u = control_energy(u, state.u_prev, state.u_prev2, self.dt, w.nu1, w.nu2)
         state.u_prev2, state.u_prev = state.u_prev, u
@@ -234,18 +233,6 @@ class FishBatch:
         reward_task = -w.mu2 * info["E_v"] * self.dt
         info.update(E_u=e_u, reward_ctrl=reward_ctrl, reward_task=reward_task)
         return reward_ctrl + reward_task, info, kinematics
-
-    def _step_with_ball(self, u: np.ndarray) -> None:
-        """The integrator one step at a time, the ball's contact and motion after each (the
-        activations ramped as :func:`step_batch` ramps them)."""
-        state, c, splash = self.state, self.system.kernel_args, np.zeros(self.num_envs)
-        support = np.zeros(self.num_envs)
-        for s in range(self.frame_skip):
-            u_s = state.u_prev + (s / self.frame_skip) * (u - state.u_prev)
-            step_batch(state.x, state.v, u_s, u_s, state.fins, 1, c, splash)
-            ball_substep(state.x, state.v, c.masses, c.faces, self.body.face_parts,
-                         state.ball, state.touch, support, self._ball_args, c.water, c.dt)
-        state.splash[:] = splash
 
     @property
     def truncated(self) -> np.ndarray:

@@ -281,12 +281,15 @@ class LeapTask(StuntTask):
 @dataclass
 class BallTask(StuntTask):
     """Bounce the beach ball off its support with ``part`` (nose or tail). The ball rests on a
-    support with its top at (``ball_x``, 0, ``ball_height``) m; observation: height, then the
-    ball relative to the centre of mass in the body frame, BL."""
+    support with its top at (``ball_x``, ``ball_y``, ``ball_height``) m (by default where the
+    leap macro controller of ``configs/dolphin_leap_macro.yaml`` broke the surface: where a
+    trainer holds the ball); observation: height, then the ball relative to the centre of
+    mass in the body frame, BL."""
 
     part: str = "nose"
-    ball_x: float = 6.0
-    ball_height: float = 1.2
+    ball_x: float = 15.3
+    ball_y: float = -1.0
+    ball_height: float = 1.9
     ball_radius: float = 0.3
     name = "ball"
     obs_size = 4
@@ -296,7 +299,8 @@ class BallTask(StuntTask):
         if self.part not in ("nose", "tail"):
             raise ValueError(f"part must be 'nose' or 'tail', got {self.part!r}")
         self.ball = BallParams(radius=float(self.ball_radius),
-                               support=(float(self.ball_x), 0.0, float(self.ball_height)))
+                               support=(float(self.ball_x), float(self.ball_y),
+                                        float(self.ball_height)))
 
     @property
     def part_index(self) -> int:

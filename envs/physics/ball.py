@@ -146,7 +146,14 @@ def ball_substep(x, v, masses, faces, face_parts, ball, touch, support_impulse, 
     for b in range(x.shape[0]):
         centre, velocity = ball[b, :3].copy(), ball[b, 3:].copy()
         total = np.zeros(3)
-        for k in range(faces.shape[0]):
+        reach, gap = 0.0, 0.0  # broad phase: every face lies within ``reach`` of node 0
+        for i in range(x.shape[1]):
+            d0, d1, d2 = x[b, i, 0] - x[b, 0, 0], x[b, i, 1] - x[b, 0, 1], x[b, i, 2] - x[b, 0, 2]
+            reach = max(reach, d0 * d0 + d1 * d1 + d2 * d2)
+        for a in range(3):
+            gap += (centre[a] - x[b, 0, a]) ** 2
+        near = np.sqrt(gap) < np.sqrt(reach) + radius
+        for k in range(faces.shape[0] if near else 0):
             for half in range(2):
                 corners[0] = faces[k, 0]
                 corners[1] = faces[k, 1 + half]

@@ -25,6 +25,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, prange
 
+from animat.envs.physics.ball import ball_substep
 from animat.envs.physics.forces import (
     FAST,
     add_element_forces,
@@ -59,11 +60,14 @@ def kick_drift(x, v, f, masses, dt) -> None:
 
 
 @njit(cache=True)
-def step_chunk(x, v, u_start, u_end, fin_angles, substeps, c, splash):
+def step_chunk(x, v, u_start, u_end, fin_angles, substeps, c, splash, ball, touch, support,
+               ball_args, face_parts):
     """Advance a chunk of L bodies, x, v (L, N, 3), in place by ``substeps`` steps, with
     activations ramped from u_start to u_end (L, A) and fin angles (L, P) held; ``c`` is
     :attr:`animat.envs.physics.system.System.kernel_args`; ``splash`` (L,) accumulates each
-    body's re-entry impulse, N s (:func:`animat.envs.physics.forces.add_face_forces`)."""
+    body's splash, kg m/s (:func:`animat.envs.physics.forces.add_face_forces`). With
+    ``ball_args`` not empty, each body has a beach ball (``ball`` (L, 6), ``touch`` (L, 3),
+    ``support`` (L,); :func:`animat.envs.physics.ball.ball_substep`) stepped after it."""
     lanes, n = x.shape[0], x.shape[1]
     xl, vl, fl = np.empty((n, 3, lanes)), np.empty((n, 3, lanes)), np.empty((n, 3, lanes))
     for b in range(lanes):
@@ -93,6 +97,9 @@ def step_chunk(x, v, u_start, u_end, fin_angles, substeps, c, splash):
         add_gravity_buoyancy(xl, c.masses, c.volumes, c.lungs, c.water[9], c.water[10],
                              c.water[5], c.water[11], fl)
         kick_drift(xl, vl, fl, c.masses, c.dt)
+        if ball_args.shape[0] > 0:
+            ball_substep(xl.transpose(2, 0, 1), vl.transpose(2, 0, 1), c.masses, c.faces,
+                         face_parts, ball, touch, support, ball_args, c.water, c.dt)
     for b in range(lanes):
         splash[b] += splash_lanes[b]
         for i in range(n):
@@ -104,30 +111,37 @@ CHUNK = 32
 
 
 @njit(cache=True)
-def _step_serial(x, v, u_start, u_end, fin_angles, substeps, constants, splash):
+def _step_serial(x, v, u_start, u_end, fin_angles, substeps, constants, splash, ball, touch,
+                 support, ball_args, face_parts):
     for c in range(0, x.shape[0], CHUNK):
         e = min(c + CHUNK, x.shape[0])
         step_chunk(x[c:e], v[c:e], u_start[c:e], u_end[c:e], fin_angles[c:e], substeps,
-                   constants, splash[c:e])
+                   constants, splash[c:e], ball[c:e], touch[c:e], support[c:e], ball_args,
+                   face_parts)
 
 
 @njit(cache=True, parallel=True)
-def _step_parallel(x, v, u_start, u_end, fin_angles, substeps, constants, splash):
+def _step_parallel(x, v, u_start, u_end, fin_angles, substeps, constants, splash, ball, touch,
+                   support, ball_args, face_parts):
     for k in prange((x.shape[0] + CHUNK - 1) // CHUNK):
         c = k * CHUNK
         e = min(c + CHUNK, x.shape[0])
         step_chunk(x[c:e], v[c:e], u_start[c:e], u_end[c:e], fin_angles[c:e], substeps,
-                   constants, splash[c:e])
+                   constants, splash[c:e], ball[c:e], touch[c:e], support[c:e], ball_args,
+                   face_parts)
 
 
 PARALLEL_MIN_BATCH = 2 * CHUNK
+NO_BALL = (np.zeros((0, 6)), np.zeros((0, 3)), np.zeros(0), np.zeros(0), np.zeros(0, np.int64))
 
 
 def step_batch(x: np.ndarray, v: np.ndarray, u_start: np.ndarray, u_end: np.ndarray,
                fin_angles: np.ndarray, substeps: int, kernel_args,
-               splash: np.ndarray | None = None) -> None:
+               splash: np.ndarray | None = None, ball=None) -> None:
     """Advance a batch in place: x, v (B, N, 3); u_start, u_end (B, A); fin_angles (B, P) rad;
-    ``splash`` (B,), if given, accumulates each body's re-entry impulse (N s).
+    ``splash`` (B,), if given, accumulates each body's splash (kg m/s). ``ball``: None, or
+    (ball (B, 6), touch (B, 3), support (B,), ball_args, face_parts) for a beach ball per body
+    (:mod:`animat.envs.physics.ball`), stepped with the bodies at every step.
 
     ``kernel_args`` is :attr:`animat.envs.physics.system.System.kernel_args`. Bodies are independent
     and go through the integrator in chunks of ``CHUNK`` (SIMD across bodies), chunks split over
@@ -137,4 +151,6 @@ def step_batch(x: np.ndarray, v: np.ndarray, u_start: np.ndarray, u_end: np.ndar
     kernel = _step_parallel if x.shape[0] >= PARALLEL_MIN_BATCH else _step_serial
     if splash is None:
         splash = np.zeros(x.shape[0])
-    kernel(x, v, u_start, u_end, fin_angles, int(substeps), kernel_args, splash)
+    if ball is None:
+        ball = NO_BALL
+    kernel(x, v, u_start, u_end, fin_angles, int(substeps), kernel_args, splash, *ball)

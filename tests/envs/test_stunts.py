@@ -113,7 +113,8 @@ def test_the_ball_stays_on_its_support_until_touched_then_knows_the_nose_hit_it(
         _, _, _, _, info = env.step(-np.ones(6, np.float32))
     assert np.abs(env.core.state.ball[0, :3] - rest).max() < 1e-3
     assert info["first_touch"] == -1 and info["ball_off"] == 0 and info["ball_hit"] == 0
-    env = gym.make("Animat/DolphinNoseBall-v0", start_pitch_deg=80.0, ball_x=1.0).unwrapped
+    env = gym.make("Animat/DolphinNoseBall-v0", start_pitch_deg=80.0, ball_x=1.0, ball_y=0.0,
+                   ball_height=1.2).unwrapped
     env.reset(seed=0)
     for k in range(env.episode_steps):
         _, _, _, _, info = env.step(_swim(k))
