@@ -69,8 +69,9 @@ def dolphin_turn_mc(direction: str, angle: float, t: np.ndarray | float,
     """Turn ``direction`` (up, down, left, right) by ``angle`` rad. Up and down: the fish's
     stroke train (:func:`animat.envs.motor.turn_mc`) on the dorsal or ventral actuators.
     Left and right: steer, the head bent to that side by its front muscles while the flukes
-    beat at full speed, for ``angle / STEER_RATE`` s, then it glides (alone, a one-sided stroke of the front
-    segment barely yaws the body: measured 1.5 deg the wrong way over 4 s). Returns u (..., 6)."""
+    beat at full speed, for ``angle / STEER_RATE`` s, then glide (alone, a one-sided stroke
+    of the front segment barely yaws the body: measured 1.5 deg the wrong way over 4 s).
+    Returns u (..., 6)."""
     if direction in STEER:
         t = np.asarray(t, dtype=float)
         steering = ((t >= 0) & (t < angle / STEER_RATE))[..., None]

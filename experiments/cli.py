@@ -9,6 +9,8 @@
     animat tune CONFIG --trials N [--set ...] [--out DIR]
     animat bench [--seconds S] [--breakdown]
     animat figures --out DIR [--seed S] [--frames N]
+    animat stunt-figures --out DIR --leap RUN [--nose-ball RUN] [--tail-ball RUN]
+                         [--somersault RUN] [--belly-flop RUN]
     animat list
     animat --version
 
@@ -122,6 +124,12 @@ def _parser() -> argparse.ArgumentParser:
     bench.add_argument("--num-envs", type=int, default=256, help="the batch's size")
     bench.add_argument("--breakdown", action="store_true",
                        help="where an integration step's time goes, per force term")
+    stunts = sub.add_parser("stunt-figures", help="the paper's Figs. 10, 11 and a leap video "
+                            "from finished dolphin macro runs")
+    stunts.add_argument("--out", type=Path, required=True, help="folder for the files")
+    stunts.add_argument("--leap", type=Path, required=True, help="a finished leap macro run")
+    for name in ("nose-ball", "tail-ball", "somersault", "belly-flop"):
+        stunts.add_argument(f"--{name}", type=Path, help=f"a finished {name} macro run")
     figures = sub.add_parser("figures", help="the paper's Figs. 5, 7, 8 from a pursuit")
     figures.add_argument("--out", type=Path, required=True, help="folder for the PNG files")
     figures.add_argument("--seed", type=int, default=0, help="the pursuit's seed")
@@ -231,6 +239,15 @@ def cmd_list(args) -> int:
     return 0 if all(e in gym.registry for e in animat.envs.ENV_IDS) else 1
 
 
+def cmd_stunt_figures(args) -> int:
+    from animat.experiments.stunt_figures import make_stunt_figures
+
+    result = make_stunt_figures(args.out, args.leap, args.nose_ball, args.tail_ball,
+                                args.somersault, args.belly_flop)
+    print(f"figures in {args.out}: " + ", ".join(f"{k} {v:.3g}" for k, v in result.items()))
+    return 0
+
+
 def cmd_figures(args) -> int:
     from animat.experiments.figures import make_figures
 
@@ -256,7 +273,8 @@ def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
     args.argv = argv  # recorded in each run folder's command.txt
     handlers = {"run": cmd_run, "sweep": cmd_sweep, "compare": cmd_compare, "list": cmd_list,
-                "bench": cmd_bench, "figures": cmd_figures, "eval": cmd_eval, "tune": cmd_tune}
+                "bench": cmd_bench, "figures": cmd_figures, "stunt-figures": cmd_stunt_figures,
+                "eval": cmd_eval, "tune": cmd_tune}
     try:
         return handlers[args.command](args)
     except (ConfigError, RunError, FileNotFoundError) as error:

@@ -27,7 +27,9 @@ from animat.learners.rollout import START_STATES
 class MacroParams:
     """repertoire: path of a repertoire JSON (required); skills: the names to use (None: all);
     slots; min_duration, max_duration: s per slot; overlap: the blend's share;
-    checkpoint_every: rounds; start_states: seeded starts each candidate is scored over."""
+    checkpoint_every: rounds; start_states: seeded starts each candidate is scored over;
+    start_from: a sequence [{skill, duration}] the chains start from (e.g. a learned leap
+    that a stunt builds on; None: a random sequence)."""
 
     repertoire: str | None = None
     skills: list | None = None
@@ -37,12 +39,19 @@ class MacroParams:
     overlap: float = 0.05
     checkpoint_every: int = 10
     start_states: int = START_STATES
+    start_from: list | None = None
 
     def __post_init__(self) -> None:
         if self.repertoire is None:
             raise ValueError("needs params.repertoire (a repertoire file)")
         if self.slots < 1 or not 0 < self.min_duration <= self.max_duration:
             raise ValueError("need slots >= 1 and 0 < min_duration <= max_duration")
+        if self.start_from is not None:
+            if not isinstance(self.start_from, list) or len(self.start_from) > self.slots or any(
+                    not isinstance(s, dict) or set(s) != {"skill", "duration"}
+                    for s in self.start_from):
+                raise ValueError(f"start_from must be a list of at most slots ({self.slots}) "
+                                 "{skill, duration} entries")
 
 
 class MacroSequence:
@@ -72,7 +81,7 @@ class MacroSequence:
 class MacroLearner(BlackBoxLearner):
     """Params: ``repertoire`` (path to a repertoire JSON), ``skills`` (names to use; default
     all), ``slots`` (3), ``min_duration``/``max_duration`` (0.5 / 4 s), ``overlap`` (0.05),
-    plus the annealing parameters."""
+    ``start_from`` (a sequence to start from), plus the annealing parameters."""
 
     name = "macro"
     optimizer = annealing
@@ -87,12 +96,32 @@ class MacroLearner(BlackBoxLearner):
             self.repertoire[name]  # raises KeyError naming a missing skill
         self.slots, self.overlap = own.slots, own.overlap
         self.min_duration, self.max_duration = own.min_duration, own.max_duration
+        if own.start_from is not None:
+            self._x0(0)  # a start the encoding cannot hold is refused now, naming it
 
     def _fit_encoding(self, opt_params: dict) -> dict:
         return opt_params  # slots are not blocks of nodal values
 
     def _x0(self, num_actuators: int) -> np.ndarray:
+        if self.own.start_from is not None:
+            return self.encode([(s["skill"], float(s["duration"])) for s in self.own.start_from])
         return np.random.default_rng(self.seed).uniform(0.0, 1.0, 2 * self.slots)
+
+    def encode(self, steps: list[tuple[str, float]]) -> np.ndarray:
+        """The genes (2 slots,) that :meth:`decode` reads as ``steps`` (the slots after them
+        empty); a duration outside [min_duration, max_duration] is an error naming it."""
+        genes = np.zeros(2 * self.slots)
+        choices = len(self.skill_names)
+        for k, (name, duration) in enumerate(steps):
+            if name not in self.skill_names:
+                raise ValueError(f"start_from: skill {name!r} is not among {self.skill_names}")
+            if not self.min_duration <= duration <= self.max_duration:
+                raise ValueError(f"start_from: duration {duration} of {name!r} is outside "
+                                 f"[{self.min_duration}, {self.max_duration}]")
+            genes[2 * k] = (self.skill_names.index(name) + 1.5) / (choices + 1)
+            genes[2 * k + 1] = (duration - self.min_duration) / (
+                self.max_duration - self.min_duration)
+        return genes
 
     def decode(self, vector: np.ndarray) -> list[tuple[str, float]]:
         """[(skill, duration)] of the filled slots, in order."""

@@ -17,7 +17,9 @@ CONFIGS = sorted((ROOT / "configs").rglob("*.yaml"))  # tune/ and tuned/ include
 # rendering; it is validated at both budgets below)
 CHEAP = ["quickstart.yaml", "fish_swim_annealing.yaml", "fish_swim_cmaes.yaml",
          "fish_swim_handmc.yaml", "fish_swim_ppo.yaml", "fish_reach_macro.yaml",
-         "fish_basic_training.yaml", "fish_pursuit_active_vision.yaml"]
+         "fish_basic_training.yaml", "fish_pursuit_active_vision.yaml",
+         "dolphin_basic_training.yaml", "dolphin_leap_macro.yaml", "dolphin_nose_ball_macro.yaml",
+         "dolphin_leap_ppo.yaml"]
 
 
 @pytest.mark.parametrize("budget", [20_000, 600_000])
@@ -30,7 +32,7 @@ def test_every_shipped_config_validates_at_small_and_large_budgets(budget):
 def test_cheap_shipped_configs_run_at_20k_env_steps(tmp_path, name):
     out = tmp_path / "run"
     overrides = ["--set", "budget.env_steps=20000"]
-    if name == "fish_basic_training.yaml":  # not over the shipped repertoire
+    if name.endswith("basic_training.yaml"):  # not over the shipped repertoire
         overrides += ["--set", f"learner.params.output={tmp_path / 'repertoire.json'}"]
     animat("run", ROOT / "configs" / name, "--out", out, "--quiet", *overrides)
     result = json.loads((out / "result.json").read_text())

@@ -43,6 +43,20 @@ def test_macro_decodes_selection_order_and_durations(tmp_path):
     np.testing.assert_array_equal(after, 0.0)  # relaxed after the sequence
 
 
+def test_macro_starts_from_a_given_sequence_and_refuses_a_bad_one(tmp_path):
+    Repertoire([_skill("a", 0.3), _skill("b", 0.6)]).save(tmp_path / "r.json")
+    params = {"repertoire": str(tmp_path / "r.json"), "slots": 3, "min_duration": 1.0,
+              "max_duration": 3.0}
+    start = [{"skill": "b", "duration": 2.5}, {"skill": "a", "duration": 1.0}]
+    learner = MacroLearner("Animat/FishReach-v0", {}, {**params, "start_from": start})
+    assert learner.decode(learner._x0(CHANNELS)) == [("b", 2.5), ("a", 1.0)]
+    with pytest.raises(ValueError, match="duration 5.0 of 'a' is outside"):
+        MacroLearner("Animat/FishReach-v0", {}, {**params, "start_from": [
+            {"skill": "a", "duration": 5.0}]})
+    with pytest.raises(ValueError, match="start_from must be a list"):
+        MacroLearner("Animat/FishReach-v0", {}, {**params, "start_from": [{"skill": "a"}]})
+
+
 def _skill_score(skill, refine: int) -> float:
     """A shipped skill's score from the 4 seeded start states, at the default step refined
     ``refine`` times (same env step, so the same actions): swims their mean speed (BL/s),

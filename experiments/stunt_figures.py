@@ -1,0 +1,161 @@
+"""The paper's dolphin figures, re-made from finished macro-learner runs.
+
+``animat stunt-figures --out DIR --leap RUN [--nose-ball RUN] [--tail-ball RUN]
+[--somersault RUN] [--belly-flop RUN]`` plays each run's learned macro controller (its own
+repertoire copy, seed = the run's seed) and writes:
+
+* ``fig10_macro_controller.png``: the leap's macro controller (Fig. 10): on top the basic
+  abstracted controllers it uses, each over the duration it was learned for; below, which of
+  them it plays, in what order and for how long, and the blended actuation curves;
+* ``fig11_stunts.png``: frames of the stunts (Fig. 11): the dolphin leaving the water, at the
+  apex, hitting the ball with its nose, with its tail, mid-somersault, and right after
+  splashdown (each from its own run, where given);
+* ``leap.mp4``: the whole leap, seen from beside the pool;
+
+and returns the figures it read off the episodes.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import cv2
+import gymnasium as gym
+import numpy as np
+
+import animat  # noqa: F401
+from animat.envs.dolphin import ACTUATOR_NAMES
+from animat.experiments.config import load_config
+from animat.learners.concatenation import schedule
+from animat.learners.macro import MacroSequence
+from animat.learners.repertoire import Repertoire
+
+
+def macro_of(run_dir: str | Path) -> tuple[MacroSequence, Repertoire, dict]:
+    """A finished macro run's learned sequence, its repertoire copy and its config."""
+    folder = Path(run_dir)
+    config = load_config(folder / "config.yaml", build=False)
+    repertoire = Repertoire.load(folder / "checkpoints" / "repertoire.json")
+    artefacts = json.loads((folder / "artefacts.json").read_text())
+    steps = [(s["skill"], float(s["duration"])) for s in artefacts["sequence"]]
+    overlap = float(config.learner.params.get("overlap", 0.05))
+    return MacroSequence(repertoire, steps, overlap), repertoire, {
+        "env_id": config.env.id, "env_kwargs": dict(config.env.kwargs), "seed": config.seed,
+        "overlap": overlap}
+
+
+def play(run_dir: str | Path, render: bool = True) -> tuple[list[dict], list[np.ndarray]]:
+    """The infos and rendered frames of the run's learned sequence from its first start."""
+    sequence, _, setup = macro_of(run_dir)
+    env = gym.make(setup["env_id"], render_mode="rgb_array" if render else None,
+                   **setup["env_kwargs"])
+    env.reset(seed=setup["seed"])
+    actions = sequence.actions(env.unwrapped.dt, env.unwrapped.episode_steps)
+    infos, frames = [], []
+    for action in actions:
+        infos.append(env.step(action)[4])
+        if render:
+            frames.append(env.render())
+    return infos, frames
+
+
+def fig10(run_dir: str | Path, path: Path) -> list[tuple[str, float]]:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    sequence, repertoire, setup = macro_of(run_dir)
+    overlap = setup["overlap"]
+    used = sorted({name for name, _ in sequence.steps})
+    figure = plt.figure(figsize=(11, 7))
+    grid = figure.add_gridspec(2, len(used), height_ratios=[1, 1.3])
+    for k, name in enumerate(used):
+        axis = figure.add_subplot(grid[0, k])
+        skill = repertoire[name]
+        t = np.linspace(0.0, skill.duration, 400)
+        axis.plot(t, skill.controller(t))
+        axis.set_title(f"{name} ({skill.controller.num_parameters} params)", fontsize=9)
+        axis.set_xlabel("s", fontsize=8)
+        axis.set_ylim(-0.05, 1.05)
+    axis = figure.add_subplot(grid[1, :])
+    t = np.linspace(0.0, sequence.duration, 1000)
+    curves = sequence(t)
+    for a, name in enumerate(ACTUATOR_NAMES):
+        axis.plot(t, curves[:, a], label=name)
+    starts, _ = schedule([d for _, d in sequence.steps], overlap)
+    for (name, duration), start in zip(sequence.steps, starts):
+        axis.axvspan(start, start + duration, alpha=0.08, color="k")
+        axis.text(start + 0.05, 1.08, f"{name}\n{duration:.2f} s", fontsize=8, va="bottom")
+    axis.set_ylim(-0.05, 1.35)
+    axis.set_xlabel("time, s")
+    axis.set_ylabel("activation u")
+    axis.legend(loc="upper right", fontsize=7, ncol=3)
+    figure.tight_layout()
+    figure.savefig(path, dpi=100)
+    plt.close(figure)
+    return sequence.steps
+
+
+def _labelled(image: np.ndarray, text: str) -> np.ndarray:
+    out = image.copy()
+    cv2.putText(out, text, (8, 22), cv2.FONT_HERSHEY_SIMPLEX, 0.6, (20, 20, 20), 2,
+                cv2.LINE_AA)
+    return out
+
+
+def _pick(infos: list[dict], frames: list[np.ndarray], which: str) -> tuple[int, np.ndarray]:
+    """The frame of an event: ``exit`` (the centre of mass crossing up through the surface),
+    ``apex``, ``touch`` (the first ball contact), ``spin`` (mid-way through the airborne
+    rotation), ``splash`` (just after the re-entry)."""
+    heights = np.array([i["height_bl"] for i in infos])
+    if which == "exit":
+        k = int(np.argmax(heights > 0.0))
+    elif which == "apex":
+        k = int(np.argmax(heights))
+    elif which == "touch":
+        touched = np.array([i.get("first_touch", -1) >= 0 for i in infos])
+        k = int(np.argmax(touched)) if touched.any() else int(np.argmax(heights))
+    elif which == "spin":
+        rotation = np.abs([i["rotation_deg"] for i in infos])
+        k = int(np.argmax(rotation >= 0.5 * rotation.max()))
+    else:
+        entered = np.array([i["reentered"] for i in infos]) > 0
+        k = min(int(np.argmax(entered)) + 2, len(frames) - 1) if entered.any() else -1
+    return k, frames[k]
+
+
+def make_stunt_figures(out: str | Path, leap: str | Path, nose_ball=None, tail_ball=None,
+                       somersault=None, belly_flop=None) -> dict[str, float]:
+    """Write Fig. 10, Fig. 11 and the leap's video into ``out``; returns what they show."""
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    steps = fig10(leap, out / "fig10_macro_controller.png")
+    infos, frames = play(leap)
+    writer = cv2.VideoWriter(str(out / "leap.mp4"), cv2.VideoWriter_fourcc(*"mp4v"), 20,
+                             (frames[0].shape[1], frames[0].shape[0]))
+    for frame in frames:
+        writer.write(frame[:, :, ::-1])
+    writer.release()
+    tiles = [_labelled(_pick(infos, frames, "exit")[1], "(a) leaving the water"),
+             _labelled(_pick(infos, frames, "apex")[1], "(a') the apex")]
+    result = {"leap_apex_bl": float(infos[-1]["apex_height_bl"]),
+              "leap_steps": float(len(steps))}
+    for run, which, caption, key in ((nose_ball, "touch", "(b) nose hits the ball", "nose"),
+                                     (tail_ball, "touch", "(c) tail hits the ball", "tail"),
+                                     (somersault, "spin", "(c') mid-somersault", "somersault"),
+                                     (belly_flop, "splash", "(d) belly flop", "belly_flop")):
+        if run is None:
+            continue
+        run_infos, run_frames = play(run)
+        tiles.append(_labelled(_pick(run_infos, run_frames, which)[1], caption))
+        last = run_infos[-1]
+        result[f"{key}_ball_hit" if key in ("nose", "tail") else key] = float(
+            last.get("ball_hit", last["rotation_deg"] if key == "somersault"
+                     else last["reentry_splash"]))
+    while len(tiles) % 3:
+        tiles.append(np.full_like(tiles[0], 255))
+    rows = [np.concatenate(tiles[k:k + 3], axis=1) for k in range(0, len(tiles), 3)]
+    cv2.imwrite(str(out / "fig11_stunts.png"), np.concatenate(rows, axis=0)[:, :, ::-1])
+    return result
