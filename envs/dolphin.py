@@ -45,6 +45,7 @@ from animat.envs.fish import (
     WATER_DENSITY,
     _is_hoop,
     _pairs,
+    ring_faces,
 )
 from animat.envs.physics.ball import NOSE_PART, TAIL_PART
 
@@ -92,12 +93,7 @@ def rest_positions_units() -> np.ndarray:
 def _faces() -> tuple[np.ndarray, np.ndarray]:
     """24 faces: 4 nose triangles, 16 quads between rings, the flukes' upper and lower faces
     and their two edge triangles; corners ordered so that each normal points outward."""
-    rings = [list(range(1 + 4 * k, 5 + 4 * k)) for k in range(len(STATIONS))]
-    faces = [(0, rings[0][s], rings[0][(s + 1) % 4], rings[0][(s + 1) % 4]) for s in range(4)]
-    for front, back in zip(rings[:-1], rings[1:]):
-        for s in range(4):
-            t = (s + 1) % 4
-            faces.append((front[s], front[t], back[t], back[s]))
+    faces = ring_faces(len(STATIONS))
     faces += [(17, LEFT_TIP, RIGHT_TIP, 18), (20, LEFT_TIP, RIGHT_TIP, 19),
               (17, 20, LEFT_TIP, LEFT_TIP), (18, 19, RIGHT_TIP, RIGHT_TIP)]
     faces = np.array(faces)

@@ -110,14 +110,21 @@ def _outward(faces: np.ndarray, positions: np.ndarray) -> np.ndarray:
     return faces
 
 
-def _faces() -> tuple[np.ndarray, np.ndarray]:
-    """Hydrodynamic faces: 4 nose triangles, 16 side quads between rings, 4 caudal-fin faces."""
-    rings = [list(range(1 + 4 * k, 5 + 4 * k)) for k in range(len(_STATIONS))]
+def ring_faces(stations: int) -> list[tuple[int, int, int, int]]:
+    """The faces of a nose (node 0) and ``stations`` rings of four (nodes 1 + 4k ..): 4 nose
+    triangles (a repeated corner), then 4 side quads between each pair of rings."""
+    rings = [list(range(1 + 4 * k, 5 + 4 * k)) for k in range(stations)]
     faces = [(0, rings[0][s], rings[0][(s + 1) % 4], rings[0][(s + 1) % 4]) for s in range(4)]
     for front, back in zip(rings[:-1], rings[1:]):
         for s in range(4):
             t = (s + 1) % 4
             faces.append((front[s], front[t], back[t], back[s]))
+    return faces
+
+
+def _faces() -> tuple[np.ndarray, np.ndarray]:
+    """Hydrodynamic faces: 4 nose triangles, 16 side quads between rings, 4 caudal-fin faces."""
+    faces = ring_faces(len(_STATIONS))
     faces += [(17, 21, 22, 20), (18, 21, 22, 19), (17, 18, 21, 21), (20, 19, 22, 22)]
     faces = _outward(np.array(faces), _rest_positions_units())
     weights = np.where(faces == np.roll(faces, 1, axis=1), 0.0, 1.0)

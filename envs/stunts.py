@@ -40,7 +40,7 @@ import numpy as np
 from animat.envs.dolphin import LEFT_TIP, RIGHT_TIP
 from animat.envs.dolphin_motor import dolphin_swim_mc, dolphin_turn_mc
 from animat.envs.physics.ball import NOSE_PART, TAIL_PART, BallParams
-from animat.envs.tasks import TASKS, SwimTask, Task, World, heading_yaw, wrap_angle
+from animat.envs.tasks import TASKS, SwimTask, Task, TurnTask, World, heading_yaw, wrap_angle
 
 NOSE_NODES = (0,)
 TAIL_NODES = (17, 18, 19, 20, LEFT_TIP, RIGHT_TIP)
@@ -62,16 +62,27 @@ def pitch_of(frames: np.ndarray) -> np.ndarray:
     return np.arcsin(np.clip(frames[:, 0, 2], -1.0, 1.0))
 
 
-def _check_start(depth: float, pitch: float) -> None:
-    if not np.isfinite(depth):
-        raise ValueError(f"start_depth must be a number of metres (negative: above the "
-                         f"surface), got {depth!r}")
-    if not -90.0 <= pitch <= 90.0:
-        raise ValueError(f"start_pitch_deg must be in [-90, 90], got {pitch!r}")
+class Underwater:
+    """A dolphin task's start: ``start_depth`` m (negative: above the surface) and
+    ``start_pitch_deg`` (the task's dataclass fields)."""
+
+    start_depth: float
+    start_pitch_deg: float
+
+    def check_start(self) -> None:
+        if not np.isfinite(self.start_depth):
+            raise ValueError(f"start_depth must be a number of metres (negative: above the "
+                             f"surface), got {self.start_depth!r}")
+        if not -90.0 <= self.start_pitch_deg <= 90.0:
+            raise ValueError(f"start_pitch_deg must be in [-90, 90], got "
+                             f"{self.start_pitch_deg!r}")
+
+    def place(self, body):
+        return placed(body, self.start_depth, self.start_pitch_deg)
 
 
 @dataclass
-class DolphinForwardTask(SwimTask):
+class DolphinForwardTask(Underwater, SwimTask):
     """Move forward (the fish's swim task, started under water)."""
 
     start_depth: float = 3.0
@@ -81,27 +92,23 @@ class DolphinForwardTask(SwimTask):
 
     def __post_init__(self) -> None:
         super().__post_init__()
-        _check_start(self.start_depth, self.start_pitch_deg)
-
-    def place(self, body):
-        return placed(body, self.start_depth, self.start_pitch_deg)
+        self.check_start()
 
     def hand_controller(self, speed: float = 1.0):
         return lambda t: dolphin_swim_mc(speed, t)
 
 
 @dataclass
-class DolphinTurnTask(Task):
+class DolphinTurnTask(Underwater, TurnTask):
     """Turn ``direction`` (up, down, left, right) by ``angle_deg``: E_v the squared error of
     the pitch (up, down) or of the yaw (left, right), rad^2; observation: its sine and
-    cosine."""
+    cosine (the fish's turn task, in both planes)."""
 
-    direction: str = "up"
     angle_deg: float = 45.0
+    direction: str = "up"
     start_depth: float = 3.0
     start_pitch_deg: float = 0.0
     name = "dolphin_turn"
-    obs_size = 2
     default_duration = 4.0
 
     def __post_init__(self) -> None:
@@ -112,10 +119,7 @@ class DolphinTurnTask(Task):
         if not 0.0 < float(self.angle_deg) <= limit:
             raise ValueError(f"angle_deg must be in (0, {limit:g}] for {self.direction}, got "
                              f"{self.angle_deg!r}")
-        _check_start(self.start_depth, self.start_pitch_deg)
-
-    def place(self, body):
-        return placed(body, self.start_depth, self.start_pitch_deg)
+        self.check_start()
 
     def _error(self, frames):
         sign = 1.0 if self.direction in ("up", "left") else -1.0
@@ -123,10 +127,6 @@ class DolphinTurnTask(Task):
         if self.direction in ("up", "down"):
             return pitch_of(frames) - (np.radians(self.start_pitch_deg) + target)
         return wrap_angle(heading_yaw(frames) - target)
-
-    def observe(self, com, com_vel, frames, targets, length):
-        error = self._error(frames)
-        return np.stack([np.sin(error), np.cos(error)], axis=1)
 
     def terms(self, com, com_vel, frames, targets, length, last):
         error = self._error(frames)
@@ -169,7 +169,7 @@ def _pitch_step(previous: np.ndarray, frames: np.ndarray) -> np.ndarray:
 
 
 @dataclass
-class StuntTask(Task):
+class StuntTask(Underwater, Task):
     """Base of the stunts: the episode memory and metrics they share; a stunt defines
     :meth:`score`. ``start_depth`` m, ``start_pitch_deg`` as the basic tasks."""
 
@@ -181,10 +181,7 @@ class StuntTask(Task):
     default_duration = 8.0
 
     def __post_init__(self) -> None:
-        _check_start(self.start_depth, self.start_pitch_deg)
-
-    def place(self, body):
-        return placed(body, self.start_depth, self.start_pitch_deg)
+        self.check_start()
 
     def initial_memory(self) -> np.ndarray:
         memory = np.zeros(self.memory_size)

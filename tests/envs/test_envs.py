@@ -12,6 +12,7 @@ import animat
 from animat.envs.motor import swim_mc, to_action
 
 ENV_IDS = animat.envs.ENV_IDS
+VECTOR_IDS = ENV_IDS + ("Animat/DolphinLeap-v0", "Animat/DolphinNoseBall-v0")  # (a ball too)
 
 
 @pytest.mark.parametrize("env_id", ENV_IDS)
@@ -60,7 +61,7 @@ def test_invalid_actions_raise_and_leave_state_unchanged(bad, message):
     assert np.array_equal(state.steps, before[2])
 
 
-@pytest.mark.parametrize("env_id", ENV_IDS)
+@pytest.mark.parametrize("env_id", VECTOR_IDS)
 def test_native_vector_env_matches_single_envs_step_for_step(env_id):
     num = 4
     vec = gym.make_vec(env_id, num_envs=num, duration=0.5)

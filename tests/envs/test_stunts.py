@@ -1,5 +1,6 @@
-"""The dolphin's Gymnasium tasks: the envs' contracts, the native vector env, the stunts'
-scores, and the beach ball (stays on its support until touched; knows what touched it)."""
+"""The dolphin's Gymnasium tasks: the envs' contracts, the stunts' scores, and the beach ball
+(stays on its support until touched; knows what touched it). The native vector env's match
+with single envs is tested with the fish's (``tests/envs/test_envs.py``)."""
 
 import warnings
 
@@ -38,28 +39,6 @@ def test_checkers_and_the_contract(env_id):
     assert frame.shape == (360, 480, 3)
     sky, water = frame[5].mean(axis=0), frame[-5].mean(axis=0)
     assert sky[2] > 200 and water[2] < sky[2] - 40  # the sky above, the water below
-
-
-@pytest.mark.parametrize("env_id", ["Animat/DolphinLeap-v0", "Animat/DolphinNoseBall-v0"])
-def test_native_vector_env_matches_single_envs_step_for_step(env_id):
-    num = 3
-    vec = gym.make_vec(env_id, num_envs=num, duration=0.5)
-    singles = [gym.make(env_id, duration=0.5) for _ in range(num)]
-    obs, _ = vec.reset(seed=4)
-    np.testing.assert_array_equal(obs, np.stack([e.reset(seed=4 + i)[0]
-                                                 for i, e in enumerate(singles)]))
-    rng, done = np.random.default_rng(0), np.zeros(num, dtype=bool)
-    for _ in range(14):  # across an episode end (10 steps) and its autoreset
-        actions = rng.uniform(-1, 1, (num, 6)).astype(np.float32)
-        obs, reward, _, trunc, _ = vec.step(actions)
-        for i, env in enumerate(singles):
-            if done[i]:
-                o, r, t = env.reset()[0], 0.0, False
-            else:
-                o, r, _, t, _ = env.step(actions[i])
-            np.testing.assert_array_equal(obs[i], o)
-            assert reward[i] == r and trunc[i] == t
-        done = trunc
 
 
 def test_random_actions_on_the_batch_stay_finite():
