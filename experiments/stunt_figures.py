@@ -8,8 +8,8 @@ repertoire copy, seed = the run's seed) and writes:
   abstracted controllers it uses, each over the duration it was learned for; below, which of
   them it plays, in what order and for how long, and the blended actuation curves;
 * ``fig11_stunts.png``: frames of the stunts (Fig. 11): the dolphin leaving the water, at the
-  apex, hitting the ball with its nose, with its tail, mid-somersault, and right after
-  splashdown (each from its own run, where given);
+  apex, hitting the ball with its nose, with its tail, turning in the air (the somersault
+  run), and right after splashdown (each from its own run, where given);
 * ``leap.mp4``: the whole leap, seen from beside the pool;
 
 and returns the figures it read off the episodes.
@@ -144,7 +144,8 @@ def make_stunt_figures(out: str | Path, leap: str | Path, nose_ball=None, tail_b
               "leap_steps": float(len(steps))}
     for run, which, caption, key in ((nose_ball, "touch", "(b) nose hits the ball", "nose"),
                                      (tail_ball, "touch", "(c) tail hits the ball", "tail"),
-                                     (somersault, "spin", "(c') mid-somersault", "somersault"),
+                                     (somersault, "spin", "(c') somersault run, in the air",
+                                      "somersault"),
                                      (belly_flop, "splash", "(d) belly flop", "belly_flop")):
         if run is None:
             continue
