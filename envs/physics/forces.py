@@ -133,9 +133,12 @@ def _one_face_into(x, v, a, b, c, d, s0, s1, s2, s3, mass, kappa_water, kappa_ai
         g[0, lane] = normal_force * n0 + friction * t0
         g[1, lane] = normal_force * n1 + friction * t1
         g[2, lane] = normal_force * n2 + friction * t2
-        drop = dt * min(w2, 0.0)  # how far the face goes down in the step
-        wetting = wet_fraction(low + drop, high + drop, surface_z) - wet
-        g[3, lane] = density * area * np.sqrt(area) * pushing * wetting
+        if surface_z < np.inf:  # the splash (none without a surface: not computed)
+            drop = dt * min(w2, 0.0)  # how far the face goes down in the step
+            wetting = wet_fraction(low + drop, high + drop, surface_z) - wet
+            g[3, lane] = density * area * np.sqrt(area) * pushing * wetting
+        else:
+            g[3, lane] = 0.0
 
 
 @njit(**FAST)
