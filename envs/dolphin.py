@@ -22,11 +22,14 @@ elements (:mod:`animat.envs.fish`), re-shaped and re-muscled:
   the elements that carry their load with them.
 * **Buoyancy**: the body's tissue is denser than water and its lungs (``lung_share`` of its
   volume at the surface, in the chest) hold air that Boyle's law compresses with depth
-  (:func:`animat.envs.physics.forces.compressed`). Each node is neutral at
-  ``neutral_depth``: released there at rest the dolphin stays; above it, it is buoyant and
-  floats up to the surface, as a dolphin at rest does; below it, it sinks.
+  (:func:`animat.envs.physics.forces.compressed`). The level body is neutral with its centre
+  of mass at ``neutral_depth`` (each node's volume is its own water's there, before a small
+  share moves from the lower nodes to the upper ones to keep it upright): released there at
+  rest the dolphin stays; above it, it is buoyant and floats up to the surface, as a dolphin
+  at rest does; below it, it sinks. The lungs' pressure head is that of Water's defaults
+  (101325 Pa, 9.81 m/s^2); with other values the neutral depth moves.
 
-Total mass about 260 kg (hull volume, no lungs' air, water of 1000 kg/m^3).
+Total mass 170 kg (the hull's volume of water of 1000 kg/m^3).
 """
 
 from __future__ import annotations

@@ -94,8 +94,8 @@ class FishState:
         steps: (B,) env steps since each episode began.
         origin: (B, 3) centre of mass at each episode's start, m.
         targets: (B, T) each episode's task parameters (:meth:`animat.envs.tasks.Task.sample`).
-        splash: (B,) the re-entry impulse of the last env step, N s
-            (:func:`animat.envs.physics.forces.add_face_forces`).
+        splash: (B,) the splash of the last env step: the impact momentum of the faces that
+            went under the surface, kg m/s (:func:`animat.envs.physics.forces.add_face_forces`).
         memory: (B, M) what the task keeps over an episode (``Task.memory_size``).
         ball: (B, 6) the beach ball's position (m) and velocity (m/s), if the task has one.
         touch: (B, 3) the ball's contact impulse with each body part this episode, N s.
@@ -219,9 +219,8 @@ class FishBatch:
         if self.fin_actions:
             state.fins[:] = self.fin_max_angle * actions[:, a:]
         state.splash[:] = 0.0
-        ball = None if self.ball is None else (
-            state.ball, state.touch, np.zeros(self.num_envs), self._ball_args,
-            self.body.face_parts)
+        ball = None if self.ball is None else (state.ball, state.touch, self._ball_args,
+                                               self.body.face_parts)
         step_batch(state.x, state.v, state.u_prev, u, state.fins, self.frame_skip,
                    self.system.kernel_args, state.splash, ball)
         w = self.weights

@@ -8,18 +8,19 @@ Basic tasks (basic training learns each into the repertoire):
 ``dolphin_turn`` (``direction`` up, down, left or right by ``angle_deg``: E_v is the squared
 pitch or yaw error, rad^2).
 
-Stunts, each a score S that the reward pays out as it grows (``E_v = -(S_t - S_t-1) / dt``,
-so the task part of an episode's return is S at its end minus S at its start):
+Stunts, each a score S that the reward pays out as it grows (``E_v = -(S_t - S_t-1) / dt``
+from the second step on, so the task part of an episode's return is ``mu2`` times S at its
+last step minus S at its first):
 
 * ``leap``: S = the apex of the centre of mass above the surface, BL.
 * ``nose_ball`` / ``tail_ball``: a beach ball rests on a support above the water
   (:mod:`animat.envs.physics.ball`). S = -(closest approach of the named part to the ball,
   BL) + 1 if the named part is the first to touch it + 1 more if the ball then leaves its
   support (``ball_hit``: both).
-* ``somersault``: S = the pitch rotation while the centre of mass is above the surface, in
+* ``somersault``: S = |the pitch rotation while the centre of mass is above the surface|, in
   turns, + 0.5 min(apex, 0) (the way up).
-* ``belly_flop``: S = the re-entry splash (the water's impulse on faces going down through
-  the surface after the dolphin has been out, :func:`animat.envs.physics.forces.add_face_forces`),
+* ``belly_flop``: S = the re-entry splash (the impact momentum of the faces going under the
+  surface once the dolphin has been out, :func:`animat.envs.physics.forces.add_face_forces`),
   in units of ``mass * sqrt(g L)``, + 0.5 min(apex, 0).
 
 Every stunt reports the same metrics (read off the last step): ``apex_height_bl``,
@@ -28,7 +29,8 @@ rotation above the surface), ``reentry_splash``, ``entry_pitch_deg`` (pitch as t
 mass went back under, negative nose down; 0 if it did not: ``reentered`` says whether it did);
 with a ball also
 ``nose_gap_bl``, ``tail_gap_bl`` (closest approach to the ball), ``first_touch`` (-1 none,
-0 body, 1 nose, 2 tail), ``ball_off`` (1 if the ball left its support) and ``ball_hit``.
+0 body, 1 nose, 2 tail: the part with most of the contact impulse in the env step the ball was
+first touched), ``ball_off`` (1 if the ball left its support) and ``ball_hit``.
 """
 
 from __future__ import annotations
@@ -40,7 +42,16 @@ import numpy as np
 from animat.envs.dolphin import LEFT_TIP, RIGHT_TIP
 from animat.envs.dolphin_motor import dolphin_swim_mc, dolphin_turn_mc
 from animat.envs.physics.ball import NOSE_PART, TAIL_PART, BallParams
-from animat.envs.tasks import TASKS, SwimTask, Task, TurnTask, World, heading_yaw, wrap_angle
+from animat.envs.tasks import (
+    TASKS,
+    SwimTask,
+    Task,
+    TurnTask,
+    World,
+    heading_yaw,
+    world_to_body,
+    wrap_angle,
+)
 
 NOSE_NODES = (0,)
 TAIL_NODES = (17, 18, 19, 20, LEFT_TIP, RIGHT_TIP)
@@ -217,7 +228,8 @@ class StuntTask(Underwater, Task):
             m[:, NOSE_GAP] = np.minimum(m[:, NOSE_GAP], _gaps(world, NOSE_NODES, radius))
             m[:, TAIL_GAP] = np.minimum(m[:, TAIL_GAP], _gaps(world, TAIL_NODES, radius))
             touched = world.touch.max(axis=1) > 0
-            first = np.where(touched, np.argmax(world.touch > 0, axis=1), -1)
+            # the part with most of the contact in the env step of the first touch
+            first = np.where(touched, np.argmax(world.touch, axis=1), -1)
             m[:, FIRST_TOUCH] = np.where(m[:, FIRST_TOUCH] < 0, first, m[:, FIRST_TOUCH])
             moved = np.linalg.norm(world.ball[:, :3] - self.ball.rest, axis=1)
             m[:, BALL_OFF] = np.maximum(m[:, BALL_OFF], moved > BALL_OFF_DISTANCE)
@@ -304,8 +316,7 @@ class BallTask(StuntTask):
         return NOSE_PART if self.part == "nose" else TAIL_PART
 
     def world_observe(self, world):
-        relative = world.ball[:, :3] - world.position
-        body = np.einsum("bij,bj->bi", world.frames, relative) / world.length
+        body = world_to_body(world.ball[:, :3] - world.position, world.frames) / world.length
         return np.concatenate([super().world_observe(world), body], axis=1)
 
     def ball_hit(self, m):

@@ -43,7 +43,7 @@ class World(NamedTuple):
     ``com`` (B, 3) relative to each episode's start, m; ``com_vel`` (B, 3) m/s; ``frames``
     (B, 3, 3); ``targets`` (B, T); ``length`` m; ``position`` (B, 3) the centre of mass in the
     world frame, m; ``x``, ``v`` (B, N, 3) the nodes; ``splash`` (B,) the last env step's
-    re-entry impulse, N s; ``memory`` (B, M) the task's episode memory; ``ball`` (B, 6) and
+    splash, kg m/s; ``memory`` (B, M) the task's episode memory; ``ball`` (B, 6) and
     ``touch`` (B, 3) (:class:`animat.envs.fish_core.FishState`); ``surface_z`` m; ``body`` the
     ``BodySpec``; ``dt`` the env step, s.
     """

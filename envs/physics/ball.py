@@ -8,15 +8,16 @@ floating, a linear damping of its bobbing for the waves it radiates (damping rat
 :data:`HEAVE_DAMPING` of the waterline's stiffness ``rho g pi R^2``). It
 starts at rest on a support, a flat disc whose top holds it up by a penalty contact.
 
-Ball and body meet by penalty contact: each body face is split into two triangles; where the
-ball's surface goes into a triangle by ``d``, the force ``k d + c max(-v_n, 0)`` pushes the
-ball out along the normal and, equal and opposite, the triangle's corners in, shared by the
-barycentric weights of the contact point (so that momentum is conserved). Contact is
+Ball and body meet by penalty contact at one point: of all the body's faces, each split into
+two triangles, the surface point nearest the ball's centre; where the ball goes into it by
+``d``, the force ``k d + c max(-v_n, 0)`` pushes the ball out along the normal and, equal and
+opposite, that triangle's corners in, shared by the barycentric weights of the contact point
+(so that momentum is conserved). Contact is
 frictionless. Each contact's impulse is added to the part of the body the face belongs to
 (``face_parts``: 0 body, 1 nose, 2 tail), so that which part touched the ball is known.
 
 Arrays: ``x, v`` (B, N, 3) the bodies' nodes; ``ball`` (B, 6) position and velocity;
-``touch`` (B, 3) contact impulse per part, N s; ``support_impulse`` (B,) the support's, N s.
+``touch`` (B, 3) contact impulse per part, N s.
 """
 
 from __future__ import annotations
@@ -109,18 +110,41 @@ def _closest_on_triangle(p, a, b, c):
 
 
 @njit(cache=True)
-def _contact_force(x, v, masses, corners, centre, velocity, radius, stiffness, damping, dt):
-    """Penalty contact of the ball (centre, velocity (3,)) with triangle ``corners`` (3,) of
-    body nodes x, v (N, 3): updates the corners' velocities (the reaction) and returns the
-    force on the ball (3,), N."""
-    a, b, c = x[corners[0]], x[corners[1]], x[corners[2]]
-    wa, wb, wc = _closest_on_triangle(centre, a, b, c)
-    point = wa * a + wb * b + wc * c
+def _deepest_contact(x, faces, centre, radius):
+    """The body's one contact with the ball (x (N, 3) its nodes): the face, its triangle's
+    corners (3,) and their barycentric weights (3,) of the surface point nearest the ball's
+    centre, over every triangle of every face; face -1 if the ball touches none. One
+    contact, so that a ball pressing on an edge or a corner shared by several triangles
+    meets one spring, not one per triangle."""
+    best, best_face = radius, -1
+    corners, best_corners = np.empty(3, dtype=np.int64), np.zeros(3, dtype=np.int64)
+    best_weights = np.zeros(3)
+    for k in range(faces.shape[0]):
+        for half in range(2):
+            corners[0], corners[1], corners[2] = faces[k, 0], faces[k, 1 + half], faces[k, 2 + half]
+            if corners[0] == corners[1] or corners[1] == corners[2] or corners[0] == corners[2]:
+                continue  # the repeated corner of a triangle face
+            wa, wb, wc = _closest_on_triangle(centre, x[corners[0]], x[corners[1]],
+                                              x[corners[2]])
+            gap = centre - (wa * x[corners[0]] + wb * x[corners[1]] + wc * x[corners[2]])
+            distance = np.sqrt(gap @ gap)
+            if 1e-9 < distance < best:
+                best, best_face = distance, k
+                best_corners[:] = corners
+                best_weights[0], best_weights[1], best_weights[2] = wa, wb, wc
+    return best_face, best_corners, best_weights
+
+
+@njit(cache=True)
+def _contact_force(x, v, masses, corners, weights, centre, velocity, radius, stiffness,
+                   damping, dt):
+    """Penalty force (3,) N on the ball (centre, velocity (3,)) from its contact point on
+    triangle ``corners`` with barycentric ``weights``; the corners' velocities (v (N, 3))
+    take the reaction, shared by the weights, so that momentum is conserved."""
+    wa, wb, wc = weights[0], weights[1], weights[2]
+    point = wa * x[corners[0]] + wb * x[corners[1]] + wc * x[corners[2]]
     gap = centre - point
     distance = np.sqrt(gap @ gap)
-    force = np.zeros(3)
-    if distance >= radius or distance < 1e-9:
-        return force
     normal = gap / distance
     surface_velocity = wa * v[corners[0]] + wb * v[corners[1]] + wc * v[corners[2]]
     approach = -((velocity - surface_velocity) @ normal)
@@ -132,8 +156,7 @@ def _contact_force(x, v, masses, corners, centre, velocity, radius, stiffness, d
 
 
 @njit(cache=True, error_model="numpy")
-def ball_substep(x, v, masses, faces, face_parts, ball, touch, support_impulse, params,
-                 water, dt) -> None:
+def ball_substep(x, v, masses, faces, face_parts, ball, touch, params, water, dt) -> None:
     """One step of ``dt`` s for the ball of every body of the batch, after the bodies' own
     step: contact with the body's faces (``faces`` (F, 4), ``face_parts`` (F,)) and with the
     support, then the ball's own forces, then symplectic Euler for the ball. ``params`` is
@@ -142,7 +165,6 @@ def ball_substep(x, v, masses, faces, face_parts, ball, touch, support_impulse, 
     sx, sy, sz, support_radius = params[3], params[4], params[5], params[6]
     stiffness, damping, volume = params[7], params[8], params[9]
     surface_z, density, gravity = water[5], water[9], water[10]
-    corners = np.empty(3, dtype=np.int64)
     for b in range(x.shape[0]):
         centre, velocity = ball[b, :3].copy(), ball[b, 3:].copy()
         total = np.zeros(3)
@@ -152,25 +174,17 @@ def ball_substep(x, v, masses, faces, face_parts, ball, touch, support_impulse, 
             reach = max(reach, d0 * d0 + d1 * d1 + d2 * d2)
         for a in range(3):
             gap += (centre[a] - x[b, 0, a]) ** 2
-        near = np.sqrt(gap) < np.sqrt(reach) + radius
-        for k in range(faces.shape[0] if near else 0):
-            for half in range(2):
-                corners[0] = faces[k, 0]
-                corners[1] = faces[k, 1 + half]
-                corners[2] = faces[k, 2 + half]
-                if (corners[0] == corners[1] or corners[1] == corners[2]
-                        or corners[0] == corners[2]):
-                    continue  # the repeated corner of a triangle face
-                force = _contact_force(x[b], v[b], masses, corners, centre, velocity, radius,
-                                       stiffness, damping, dt)
+        if np.sqrt(gap) < np.sqrt(reach) + radius:
+            face, corners, weights = _deepest_contact(x[b], faces, centre, radius)
+            if face >= 0:
+                force = _contact_force(x[b], v[b], masses, corners, weights, centre,
+                                       velocity, radius, stiffness, damping, dt)
                 total += force
-                touch[b, face_parts[k]] += dt * np.sqrt(force @ force)
+                touch[b, face_parts[face]] += dt * np.sqrt(force @ force)
         horizontal = np.hypot(centre[0] - sx, centre[1] - sy)
         sink = sz + radius - centre[2]
         if horizontal < support_radius and 0.0 < sink < radius:
-            push = stiffness * sink + damping * max(-velocity[2], 0.0)
-            total[2] += push
-            support_impulse[b] += dt * push
+            total[2] += stiffness * sink + damping * max(-velocity[2], 0.0)
         wet = sphere_submerged(centre[2], radius, surface_z)
         rho = 1.2 + (density - 1.2) * wet
         speed = np.sqrt(velocity @ velocity)

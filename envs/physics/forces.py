@@ -134,7 +134,7 @@ def _one_face_into(x, v, a, b, c, d, s0, s1, s2, s3, mass, kappa_water, kappa_ai
         g[1, lane] = normal_force * n1 + friction * t1
         g[2, lane] = normal_force * n2 + friction * t2
         if surface_z < np.inf:  # the splash (none without a surface: not computed)
-            drop = dt * min(w2, 0.0)  # how far the face goes down in the step
+            drop = dt * min(w2 + c2, 0.0)  # how far the face goes down in the step
             wetting = wet_fraction(low + drop, high + drop, surface_z) - wet
             g[3, lane] = density * area * np.sqrt(area) * pushing * wetting
         else:

@@ -60,14 +60,14 @@ def kick_drift(x, v, f, masses, dt) -> None:
 
 
 @njit(cache=True)
-def step_chunk(x, v, u_start, u_end, fin_angles, substeps, c, splash, ball, touch, support,
-               ball_args, face_parts):
+def step_chunk(x, v, u_start, u_end, fin_angles, substeps, c, splash, ball, touch, ball_args,
+               face_parts):
     """Advance a chunk of L bodies, x, v (L, N, 3), in place by ``substeps`` steps, with
     activations ramped from u_start to u_end (L, A) and fin angles (L, P) held; ``c`` is
     :attr:`animat.envs.physics.system.System.kernel_args`; ``splash`` (L,) accumulates each
     body's splash, kg m/s (:func:`animat.envs.physics.forces.add_face_forces`). With
-    ``ball_args`` not empty, each body has a beach ball (``ball`` (L, 6), ``touch`` (L, 3),
-    ``support`` (L,); :func:`animat.envs.physics.ball.ball_substep`) stepped after it."""
+    ``ball_args`` not empty, each body has a beach ball (``ball`` (L, 6), ``touch`` (L, 3);
+    :func:`animat.envs.physics.ball.ball_substep`) stepped after it."""
     lanes, n = x.shape[0], x.shape[1]
     xl, vl, fl = np.empty((n, 3, lanes)), np.empty((n, 3, lanes)), np.empty((n, 3, lanes))
     for b in range(lanes):
@@ -99,7 +99,7 @@ def step_chunk(x, v, u_start, u_end, fin_angles, substeps, c, splash, ball, touc
         kick_drift(xl, vl, fl, c.masses, c.dt)
         if ball_args.shape[0] > 0:
             ball_substep(xl.transpose(2, 0, 1), vl.transpose(2, 0, 1), c.masses, c.faces,
-                         face_parts, ball, touch, support, ball_args, c.water, c.dt)
+                         face_parts, ball, touch, ball_args, c.water, c.dt)
     for b in range(lanes):
         splash[b] += splash_lanes[b]
         for i in range(n):
@@ -112,27 +112,25 @@ CHUNK = 32
 
 @njit(cache=True)
 def _step_serial(x, v, u_start, u_end, fin_angles, substeps, constants, splash, ball, touch,
-                 support, ball_args, face_parts):
+                 ball_args, face_parts):
     for c in range(0, x.shape[0], CHUNK):
         e = min(c + CHUNK, x.shape[0])
         step_chunk(x[c:e], v[c:e], u_start[c:e], u_end[c:e], fin_angles[c:e], substeps,
-                   constants, splash[c:e], ball[c:e], touch[c:e], support[c:e], ball_args,
-                   face_parts)
+                   constants, splash[c:e], ball[c:e], touch[c:e], ball_args, face_parts)
 
 
 @njit(cache=True, parallel=True)
 def _step_parallel(x, v, u_start, u_end, fin_angles, substeps, constants, splash, ball, touch,
-                   support, ball_args, face_parts):
+                   ball_args, face_parts):
     for k in prange((x.shape[0] + CHUNK - 1) // CHUNK):
         c = k * CHUNK
         e = min(c + CHUNK, x.shape[0])
         step_chunk(x[c:e], v[c:e], u_start[c:e], u_end[c:e], fin_angles[c:e], substeps,
-                   constants, splash[c:e], ball[c:e], touch[c:e], support[c:e], ball_args,
-                   face_parts)
+                   constants, splash[c:e], ball[c:e], touch[c:e], ball_args, face_parts)
 
 
 PARALLEL_MIN_BATCH = 2 * CHUNK
-NO_BALL = (np.zeros((0, 6)), np.zeros((0, 3)), np.zeros(0), np.zeros(0), np.zeros(0, np.int64))
+NO_BALL = (np.zeros((0, 6)), np.zeros((0, 3)), np.zeros(0), np.zeros(0, np.int64))
 
 
 def step_batch(x: np.ndarray, v: np.ndarray, u_start: np.ndarray, u_end: np.ndarray,
@@ -140,7 +138,7 @@ def step_batch(x: np.ndarray, v: np.ndarray, u_start: np.ndarray, u_end: np.ndar
                splash: np.ndarray | None = None, ball=None) -> None:
     """Advance a batch in place: x, v (B, N, 3); u_start, u_end (B, A); fin_angles (B, P) rad;
     ``splash`` (B,), if given, accumulates each body's splash (kg m/s). ``ball``: None, or
-    (ball (B, 6), touch (B, 3), support (B,), ball_args, face_parts) for a beach ball per body
+    (ball (B, 6), touch (B, 3), ball_args, face_parts) for a beach ball per body
     (:mod:`animat.envs.physics.ball`), stepped with the bodies at every step.
 
     ``kernel_args`` is :attr:`animat.envs.physics.system.System.kernel_args`. Bodies are independent

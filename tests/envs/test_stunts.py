@@ -60,7 +60,7 @@ def test_a_leaps_return_pays_out_its_apex_and_the_metrics_follow_the_flight():
         heights.append(info["height_bl"])
         task += info["reward_task"]
     assert info["apex_height_bl"] == pytest.approx(max(heights)) and max(heights) > 0.5
-    assert task == pytest.approx(max(heights) - heights[0])  # S_T - S_1: the apex gained
+    assert task == pytest.approx(max(heights) - heights[0])  # S_T - S_1 (mu2 = 1)
     assert info["airborne"] == 1.0 and info["entry_pitch_deg"] < 0  # back in nose down
     assert -300 < info["rotation_deg"] < -45  # the arc of its flight turned it nose down
     assert info["reentry_splash"] > 0

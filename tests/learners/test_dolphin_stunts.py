@@ -1,5 +1,6 @@
 """The dolphin's repertoire and the stunts composed from it: shipped skills that are the
-animal's (not the solver's), and the unchanged macro learner discovering a leap."""
+animal's (not the solver's), and the macro learner (the fish's, from a random start)
+discovering a leap."""
 
 from pathlib import Path
 
@@ -47,5 +48,6 @@ def test_the_macro_learner_discovers_a_leap_from_the_repertoire():
     assert ups and "move_forward" in sequence[ups[0] + 1:], sequence
     evaluator = BatchEvaluator("Animat/DolphinLeap-v0", {"duration": 8.0, **DOLPHIN_STEP},
                                num_envs=1, seed=0)
-    _, metrics = evaluator.evaluate_players([learner._player(result.artefacts)])
+    agent = learner.agent(result.artefacts, None)  # the learned sequence, open loop
+    _, metrics = evaluator.evaluate(agent.actions[None])
     assert np.all(metrics["apex_height_bl"] >= 0.5), metrics["apex_height_bl"]
