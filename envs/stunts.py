@@ -126,10 +126,13 @@ class DolphinTurnTask(Underwater, TurnTask):
         if self.direction not in ("up", "down", "left", "right"):
             raise ValueError(f"direction must be up, down, left or right, got "
                              f"{self.direction!r}")
-        limit = 90.0 if self.direction in ("up", "down") else 180.0
+        limit = 180.0
+        if self.direction in ("up", "down"):  # a pitch beyond +-90 deg is not a pitch
+            sign = 1.0 if self.direction == "up" else -1.0
+            limit = 90.0 - sign * float(self.start_pitch_deg)
         if not 0.0 < float(self.angle_deg) <= limit:
-            raise ValueError(f"angle_deg must be in (0, {limit:g}] for {self.direction}, got "
-                             f"{self.angle_deg!r}")
+            raise ValueError(f"angle_deg must be in (0, {limit:g}] for {self.direction} from "
+                             f"start_pitch_deg {self.start_pitch_deg:g}, got {self.angle_deg!r}")
         self.check_start()
 
     def _error(self, frames):
@@ -161,6 +164,12 @@ BALL_OFF_DISTANCE = 0.1  # m the ball must move from its rest to have left its s
 FINAL_METRICS = ("apex_height_bl", "airborne", "rotation_deg", "reentry_splash",
                  "entry_pitch_deg")
 BALL_METRICS = ("nose_gap_bl", "tail_gap_bl", "first_touch", "ball_off", "ball_hit")
+
+
+def splash_unit_of(world: World) -> float:
+    """The splash's unit, ``mass sqrt(g L)`` kg m/s (g of Water's default, 9.81 m/s^2): the
+    momentum of the body falling from half its length."""
+    return world.body.total_mass * np.sqrt(9.81 * world.length)
 
 
 def _gaps(world: World, nodes: tuple[int, ...], radius: float) -> np.ndarray:
@@ -248,7 +257,7 @@ class StuntTask(Underwater, Task):
         gain = np.where(np.isnan(m[:, SCORE]), 0.0, score - m[:, SCORE])
         m[:, SCORE] = score
         length = world.length
-        splash_unit = world.body.total_mass * np.sqrt(9.81 * length)
+        splash_unit = splash_unit_of(world)
         metrics = {
             "height_bl": (world.position[:, 2] - world.surface_z) / length,
             "score": score,
@@ -345,8 +354,7 @@ class BellyFlopTask(StuntTask):
     name = "belly_flop"
 
     def score(self, m, world):
-        unit = world.body.total_mass * np.sqrt(9.81 * world.length)
-        return m[:, SPLASH] / unit + _below(m[:, APEX] / world.length)
+        return m[:, SPLASH] / splash_unit_of(world) + _below(m[:, APEX] / world.length)
 
 
 DOLPHIN_TASKS: dict[str, type[Task]] = {

@@ -133,7 +133,8 @@ def make_stunt_figures(out: str | Path, leap: str | Path, nose_ball=None, tail_b
     out.mkdir(parents=True, exist_ok=True)
     steps = fig10(leap, out / "fig10_macro_controller.png")
     infos, frames = play(leap)
-    writer = cv2.VideoWriter(str(out / "leap.mp4"), cv2.VideoWriter_fourcc(*"mp4v"), 20,
+    fps = round(1.0 / gym.make(macro_of(leap)[2]["env_id"]).unwrapped.dt)
+    writer = cv2.VideoWriter(str(out / "leap.mp4"), cv2.VideoWriter_fourcc(*"mp4v"), fps,
                              (frames[0].shape[1], frames[0].shape[0]))
     for frame in frames:
         writer.write(frame[:, :, ::-1])
