@@ -2,10 +2,12 @@
 
 Importing ``animat`` (or ``animat.envs``) registers the Gymnasium environments under ``Animat``:
 ``Animat/FishSwim-v0``, ``Animat/FishTurn-v0`` and ``Animat/FishReach-v0``, each with a native
-batched vector env (``gym.make_vec(id, num_envs=256)``), and ``Animat/FishPursuit-v0``
-(vision-guided pursuit; :mod:`animat.envs.pursuit`); and the dolphin's tasks
+batched vector env (``gym.make_vec(id, num_envs=256)``), ``Animat/FishPursuit-v0``
+(vision-guided pursuit; :mod:`animat.envs.pursuit`) and ``Animat/MarineWorld-v0`` (the living
+world of 10 fishes; :mod:`animat.envs.world`); and the dolphin's tasks
 (:mod:`animat.envs.stunts`): ``Animat/DolphinForward-v0``, ``Animat/DolphinTurn-v0`` (up, down,
-left, right), ``Animat/DolphinLeap-v0``, ``Animat/DolphinNoseBall-v0``,
+left, right), ``Animat/DolphinArc-v0`` (a turn taken at speed), ``Animat/DolphinLeap-v0``,
+``Animat/DolphinNoseBall-v0``,
 ``Animat/DolphinTailBall-v0``, ``Animat/DolphinSomersault-v0``, ``Animat/DolphinBellyFlop-v0``,
 each with a native vector env.
 """
@@ -27,6 +29,7 @@ STUNT_WEIGHTS = {"mu1": 1e-5}
 DOLPHIN_ENVS = {
     "Animat/DolphinForward-v0": {"task": "dolphin_forward"},
     "Animat/DolphinTurn-v0": {"task": "dolphin_turn"},
+    "Animat/DolphinArc-v0": {"task": "dolphin_arc"},
     "Animat/DolphinLeap-v0": {"task": "leap", "reward_weights": STUNT_WEIGHTS},
     "Animat/DolphinNoseBall-v0": {"task": "ball", "part": "nose",
                                   "reward_weights": STUNT_WEIGHTS},
@@ -50,6 +53,9 @@ def _register() -> None:
                          kwargs={**DOLPHIN_KWARGS, **kwargs})
     if "Animat/FishPursuit-v0" not in gym.registry:
         gym.register(id="Animat/FishPursuit-v0", entry_point="animat.envs.pursuit:FishPursuitEnv")
+    if "Animat/MarineWorld-v0" not in gym.registry:
+        gym.register(id="Animat/MarineWorld-v0",
+                     entry_point="animat.envs.world.marine_env:MarineWorldEnv")
 
 
 _register()

@@ -189,10 +189,11 @@ class FishBatch:
         """Start new episodes in ``rows``, drawing row k's noise and task from ``rngs[k]``."""
         state, length = self.state, self.body.length
         start = self.task.place(self.body)
+        start_v = self.task.start_velocity(self.body)
         for row, rng in zip(rows, rngs):
             noise = rng.uniform(-1.0, 1.0, self.body.rest_positions.shape)
             state.x[row] = start + self.reset_noise_scale * length * noise
-            state.v[row] = 0.0
+            state.v[row] = start_v
             state.targets[row] = self.task.sample(rng)
         state.u_prev[rows] = 0.0
         state.u_prev2[rows] = 0.0

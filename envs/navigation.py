@@ -41,9 +41,12 @@ class Navigator:
     def reset(self, rows: np.ndarray) -> None:
         self.kind[rows], self.angle[rows], self.start[rows] = 0, 0.0, 0.0
 
-    def actions(self, commands: np.ndarray, time: float | np.ndarray) -> np.ndarray:
+    def actions(self, commands: np.ndarray, time: float | np.ndarray,
+                reflex: np.ndarray | None = None) -> np.ndarray:
         """(count, 8) fish-env actions (6 actuations, 2 fins) at ``time`` (s, scalar or per
-        fish) for commands (count, 3): speed in [0, 1], turn and pitch in [-1, 1]."""
+        fish) for commands (count, 3): speed in [0, 1], turn and pitch in [-1, 1]. Where
+        ``reflex`` (count,) is True, a turn the other way than the command's is cut short for
+        it (a reflex, such as collision avoidance, pre-empts the running MC)."""
         commands = np.asarray(commands, dtype=float)
         time = np.broadcast_to(np.asarray(time, dtype=float), self.kind.shape)
         out = np.empty((len(self.kind), 8), np.float32)
@@ -52,6 +55,9 @@ class Navigator:
             elapsed = time[k] - self.start[k]
             if self.kind[k] != 0 and elapsed >= turn_duration(self.angle[k]):
                 self.kind[k], self.start[k] = 0, time[k]  # the turn is over: swim again
+            if (reflex is not None and reflex[k] and self.kind[k] * turn < 0
+                    and abs(turn) > self.params.turn_threshold):
+                self.kind[k] = 0  # the reflex's turn starts now
             if self.kind[k] == 0 and abs(turn) > self.params.turn_threshold:
                 self.kind[k], self.start[k] = (1 if turn > 0 else -1), time[k]
                 self.angle[k] = abs(turn) * self.params.max_turn

@@ -3,9 +3,12 @@
 ## Description
 Three fish of :mod:`animat.envs.fish` share the water (one batched simulation): the observer
 (orange), whose two eyes (:mod:`animat.envs.retina`) are the only way it sees; a reddish prey
-that swims about and turns away when the observer comes within ``flee_distance_bl``; and a
-yellow fish of the same size that swims straight across, passing behind the prey a few seconds
-in. Every fish moves only through its motor controllers (:mod:`animat.envs.navigation`).
+and a yellow passer that live by the living world's mind and behaviours
+(:mod:`animat.envs.world`): the prey swims on at ``prey_speed`` and flees the observer, which
+it fears as a predator (its fear is 0.5, the threshold of flight, with the observer
+``flee_distance_bl`` away, and decays once it is far), and the passer, of the same size,
+swims straight across, passing behind the prey a few seconds in. Every fish moves only
+through its motor controllers (:mod:`animat.envs.navigation`).
 
 ## Action Space
 ``Box(-1, 1, (7,), float32)``: swim speed (mapped to [0, 1]), turn (positive: left; above
@@ -63,6 +66,12 @@ from animat.envs.render import Camera, Scene, fish_skin, look_at, yaw_matrix
 from animat.envs.retina import RetinaParams, composite, eye_positions, gaze_rotation, render_eyes
 from animat.envs.scenery import SceneryParams, furnish, scatter
 from animat.envs.tasks import SwimTask
+from animat.envs.world import behaviours
+from animat.envs.world.behaviours import BehaviourParams
+from animat.envs.world.intention import IntentionGenerator
+from animat.envs.world.mind import MentalState, MindParams, advance
+from animat.envs.world.oracle import Obstacles, OracleParams
+from animat.envs.world.percepts import AvoidParams, Tank, perceive
 
 OBSERVER, PREY, PASSER = 0, 1, 2
 COLOURS = ((250, 140, 60), (220, 50, 40), (230, 210, 40))
@@ -146,6 +155,7 @@ class FishPursuitEnv(gym.Env):
         self.flee_distance_bl, self.prey_speed = float(flee_distance_bl), float(prey_speed)
         self.retina = RetinaParams()
         self.navigator = Navigator(3)
+        self._live_init()
         eye = gym.spaces.Box(0, 255, (self.retina.size, self.retina.size,
                                       3 * self.retina.levels), np.uint8)
         self.observation_space = gym.spaces.Dict({
@@ -190,20 +200,49 @@ class FishPursuitEnv(gym.Env):
         self.core.state.origin[:] = self.core.kinematics().com
         self._scenery = scatter(rng, SEABED_Z, SCENERY)
         self.navigator.reset(np.arange(3))
+        self._live_reset()
         self.gaze[:] = 0.0
         self._time = 0.0
         self._distance = self._target_distance(self.core.kinematics())
         self._started = True
         return self._observe(), self._info(self.core.kinematics())
 
+    # --- the prey and the passer: the living world's mind and behaviours ----------------
+    def _live_init(self) -> None:
+        """Minds for the three fish (only the prey's and the passer's are used): the prey
+        fears the observer; no hunger or libido; open water (no walls) round z = 0."""
+        self.tank = Tank(half_size=1e3, seabed_z=SEABED_Z, top_z=-SEABED_Z)
+        self.mind_params = MindParams(fear_distance=0.5 * self.flee_distance_bl
+                                      * self.body_length)
+        fears = np.zeros((3, 3), bool)
+        fears[PREY, OBSERVER] = True
+        none = np.zeros((3, 3), bool)
+        self.relations = {"fears": fears, "hunts": none, "schools_with": none, "courts": none}
+        self.habit_arrays = {name: np.zeros(3, bool)
+                             for name in ("eats_food", "predator", "schooling", "mates")}
+        self.cruise = np.array([0.0, self.prey_speed, 1.0])
+        self.intentions = IntentionGenerator(3)
+
+    def _live_reset(self) -> None:
+        self.mind = MentalState.start(np.zeros(3), np.zeros(3))
+        self.intentions.reset()
+        self.wander = self.core.kinematics().frames[:, 0].copy()  # straight on
+        self.wander[:, 2] = 0.0
+
     def _behaviours(self, kinematics) -> np.ndarray:
-        """(2, 3) commands of the prey (flees when the observer is near) and the passer."""
-        com, frames = kinematics.com, kinematics.frames
-        away = com[OBSERVER] - com[PREY]
-        near = np.linalg.norm(away) < self.flee_distance_bl * self.body_length
-        left_of_prey = float(away @ frames[PREY, 1])
-        turn = (-0.8 if left_of_prey > 0 else 0.8) if near else 0.0
-        return np.array([[self.prey_speed, turn, 0.0], [1.0, 0.0, 0.0]])
+        """(2, 3) commands of the prey and the passer, from their minds and behaviours."""
+        heads, headings = self.core.state.x[:, 0], kinematics.frames[:, 0]
+        percepts = perceive(heads, headings, kinematics.com, kinematics.com_vel,
+                            np.zeros((0, 3)), np.zeros(0, bool), self.relations,
+                            Obstacles.none(), self.tank, OracleParams(), AvoidParams())
+        advance(self.mind, self.dt, np.zeros(3), np.zeros(3, bool),
+                percepts.predator_distance, self.mind_params)
+        intention = self.intentions.decide(percepts, self.mind, self.habit_arrays, self._time)
+        self.wander = behaviours.wander_directions(
+            self.np_random, heads, self.wander, np.zeros(3, bool), self.tank, BehaviourParams())
+        return behaviours.commands(intention, np.full((3, 3), np.nan), percepts, heads,
+                                   headings, kinematics.com, self.wander, self.cruise,
+                                   self.cruise, BehaviourParams())[[PREY, PASSER]]
 
     def step(self, action):
         if not self._started:

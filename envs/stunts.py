@@ -74,11 +74,14 @@ def pitch_of(frames: np.ndarray) -> np.ndarray:
 
 
 class Underwater:
-    """A dolphin task's start: ``start_depth`` m (negative: above the surface) and
-    ``start_pitch_deg`` (the task's dataclass fields)."""
+    """A dolphin task's start: ``start_depth`` m (negative: above the surface),
+    ``start_pitch_deg`` and ``start_speed`` m/s, the velocity of every node along the pitched
+    heading (0: at rest; a glide at speed, the start of a turn learned while swimming), the
+    task's dataclass fields."""
 
     start_depth: float
     start_pitch_deg: float
+    start_speed: float
 
     def check_start(self) -> None:
         if not np.isfinite(self.start_depth):
@@ -87,9 +90,16 @@ class Underwater:
         if not -90.0 <= self.start_pitch_deg <= 90.0:
             raise ValueError(f"start_pitch_deg must be in [-90, 90], got "
                              f"{self.start_pitch_deg!r}")
+        if not (np.isfinite(self.start_speed) and self.start_speed >= 0.0):
+            raise ValueError(f"start_speed must be a speed >= 0 m/s, got {self.start_speed!r}")
 
     def place(self, body):
         return placed(body, self.start_depth, self.start_pitch_deg)
+
+    def start_velocity(self, body):
+        a = np.radians(self.start_pitch_deg)
+        heading = np.array([np.cos(a), 0.0, np.sin(a)])
+        return np.broadcast_to(self.start_speed * heading, body.rest_positions.shape).copy()
 
 
 @dataclass
@@ -98,6 +108,7 @@ class DolphinForwardTask(Underwater, SwimTask):
 
     start_depth: float = 3.0
     start_pitch_deg: float = 0.0
+    start_speed: float = 0.0
     name = "dolphin_forward"
     default_duration = 4.0
 
@@ -119,6 +130,7 @@ class DolphinTurnTask(Underwater, TurnTask):
     direction: str = "up"
     start_depth: float = 3.0
     start_pitch_deg: float = 0.0
+    start_speed: float = 0.0
     name = "dolphin_turn"
     default_duration = 4.0
 
@@ -155,6 +167,47 @@ class DolphinTurnTask(Underwater, TurnTask):
     def hand_controller(self, speed: float = 1.0):
         angle = np.radians(float(self.angle_deg))
         return lambda t: dolphin_turn_mc(self.direction, angle, t)
+
+
+@dataclass
+class DolphinArcTask(Underwater, Task):
+    """Swim an arc (a turn of radius ``radius_bl`` taken at speed, the paper's "turns of
+    different radii"): pitching ``direction`` (up or down) round a centre ``radius_bl`` body
+    lengths above or below the start's centre of mass. E_v = -u_arc, the centre of mass's
+    speed along the circle (BL/s: the angular speed about the centre times the radius), so
+    that the faster the dolphin swims round the arc the better, and a straight swim makes
+    ever less of it. Metrics: ``arc_speed_bl_per_s``, ``pitch_deg``."""
+
+    direction: str = "down"
+    radius_bl: float = 2.0
+    start_depth: float = 3.0
+    start_pitch_deg: float = 0.0
+    start_speed: float = 0.0
+    name = "dolphin_arc"
+    default_duration = 4.0
+    mean_metrics = ("arc_speed_bl_per_s",)
+
+    def __post_init__(self) -> None:
+        if self.direction not in ("up", "down"):
+            raise ValueError(f"direction must be up or down, got {self.direction!r}")
+        if not (np.isfinite(self.radius_bl) and self.radius_bl > 0.0):
+            raise ValueError(f"radius_bl must be a length > 0 BL, got {self.radius_bl!r}")
+        self.check_start()
+
+    def terms(self, com, com_vel, frames, targets, length, last):
+        a = np.radians(self.start_pitch_deg)
+        heading, normal = np.array([np.cos(a), np.sin(a)]), np.array([-np.sin(a), np.cos(a)])
+        sign = -1.0 if self.direction == "down" else 1.0  # the centre: below or above
+        r = com[:, [0, 2]] - sign * self.radius_bl * length * normal  # (B, 2) from the centre
+        v = com_vel[:, [0, 2]]
+        tangent = -sign * (r @ normal[:, None] * heading - r @ heading[:, None] * normal)
+        u_arc = np.einsum("bk,bk->b", tangent, v) / np.maximum(np.linalg.norm(r, axis=1),
+                                                              1e-9)
+        return -u_arc / length, {"arc_speed_bl_per_s": u_arc / length,
+                                 "pitch_deg": np.degrees(pitch_of(frames))}
+
+    def hand_controller(self, speed: float = 1.0):
+        return lambda t: dolphin_swim_mc(speed, t)
 
 
 # Episode memory of a stunt, by column.
@@ -195,6 +248,7 @@ class StuntTask(Underwater, Task):
 
     start_depth: float = 3.0
     start_pitch_deg: float = 0.0
+    start_speed: float = 0.0
     name = "stunt"
     memory_size = 14
     obs_size = 1
@@ -358,7 +412,8 @@ class BellyFlopTask(StuntTask):
 
 
 DOLPHIN_TASKS: dict[str, type[Task]] = {
-    "dolphin_forward": DolphinForwardTask, "dolphin_turn": DolphinTurnTask, "leap": LeapTask,
+    "dolphin_forward": DolphinForwardTask, "dolphin_turn": DolphinTurnTask,
+    "dolphin_arc": DolphinArcTask, "leap": LeapTask,
     "ball": BallTask, "somersault": SomersaultTask, "belly_flop": BellyFlopTask,
 }
 TASKS.update(DOLPHIN_TASKS)

@@ -90,6 +90,10 @@ class Task:
         shape where it lies."""
         return body.rest_positions
 
+    def start_velocity(self, body) -> np.ndarray:
+        """(N, 3) the nodes' velocity at the start, m/s (``body`` a ``BodySpec``): at rest."""
+        return np.zeros_like(body.rest_positions)
+
     def initial_memory(self) -> np.ndarray:
         """(memory_size,) the episode memory at a reset."""
         return np.zeros(self.memory_size)

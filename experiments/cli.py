@@ -134,6 +134,16 @@ def _parser() -> argparse.ArgumentParser:
     figures.add_argument("--out", type=Path, required=True, help="folder for the PNG files")
     figures.add_argument("--seed", type=int, default=0, help="the pursuit's seed")
     figures.add_argument("--frames", type=int, default=400, help="frames of the pursuit")
+    world_bench = sub.add_parser("world-bench", help="the 10-fish world's env steps/s, "
+                                 "without and with one fish's eyes")
+    world_bench.add_argument("--seconds", type=float, default=3.0,
+                             help="wall seconds per measurement (3 interleaved rounds)")
+    world_video = sub.add_parser("world-video", help="a video of the living world")
+    world_video.add_argument("--out", type=Path, required=True, help="the mp4 file")
+    world_video.add_argument("--seconds", type=float, default=60.0, help="simulated seconds")
+    world_video.add_argument("--seed", type=int, default=0, help="the world's seed")
+    world_video.add_argument("--vision", action="store_true",
+                             help="the shark hunts by its eyes and active vision")
     sub.add_parser("list", help="registered envs, learners and shipped configs")
     return parser
 
@@ -268,13 +278,33 @@ def cmd_bench(args) -> int:
     return 0
 
 
+def cmd_world_bench(args) -> int:
+    from animat.envs.world.bench import report, run
+
+    if not args.seconds > 0:
+        raise RunError(f"--seconds must be > 0, got {args.seconds}")
+    print(report(run(args.seconds)))
+    return 0
+
+
+def cmd_world_video(args) -> int:
+    from animat.experiments.world_video import world_video
+
+    if not args.seconds > 0:
+        raise RunError(f"--seconds must be > 0, got {args.seconds}")
+    totals = world_video(args.out, args.seconds, args.seed, args.vision)
+    print(f"video: {args.out}; " + ", ".join(f"{k} {v:g}" for k, v in totals.items()))
+    return 0
+
+
 def main(argv: list[str] | None = None) -> int:
     argv = sys.argv[1:] if argv is None else list(argv)
     args = _parser().parse_args(argv)
     args.argv = argv  # recorded in each run folder's command.txt
     handlers = {"run": cmd_run, "sweep": cmd_sweep, "compare": cmd_compare, "list": cmd_list,
                 "bench": cmd_bench, "figures": cmd_figures, "stunt-figures": cmd_stunt_figures,
-                "eval": cmd_eval, "tune": cmd_tune}
+                "eval": cmd_eval, "tune": cmd_tune, "world-bench": cmd_world_bench,
+                "world-video": cmd_world_video}
     try:
         return handlers[args.command](args)
     except (ConfigError, RunError, FileNotFoundError) as error:

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from animat.learners.active_vision import ActiveVisionLearner
 from animat.learners.base import Learner
+from animat.learners.behaviours import BehavioursLearner
 from animat.learners.blackbox import AnnealingLearner, CMAESLearner
 from animat.learners.handmc import HandMCLearner
 from animat.learners.logger import Logger
@@ -13,7 +14,8 @@ from animat.learners.repertoire import BasicTrainingLearner
 
 LEARNERS: dict[str, type[Learner]] = {
     cls.name: cls for cls in (AnnealingLearner, CMAESLearner, PPOLearner, HandMCLearner,
-                              BasicTrainingLearner, MacroLearner, ActiveVisionLearner)
+                              BasicTrainingLearner, MacroLearner, ActiveVisionLearner,
+                              BehavioursLearner)
 }
 
 

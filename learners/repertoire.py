@@ -38,7 +38,13 @@ FISH_REGIMEN = [
 # The dolphin's 5 basic motor tasks (the paper's Section 4.2), each 4 s from rest 3 m down.
 # Move-forward is periodic over one 5 Hz fluke beat (0.2 s, 6 nodes per actuator: a 0.4 s
 # period with 10 nodes reached 1.40 BL/s on the same budget, this one 1.91); the turns span
-# their episode (11 nodes), 45 deg up or down, 90 deg left or right.
+# their episode (11 nodes), 45 deg up or down, 90 deg left or right. Then two turns taken at
+# speed (the paper's "turns of different radii"): arcs of 2 BL radius down and up, periodic
+# over one beat as move-forward. The pitch turns are turns from rest, whose best is a held
+# bend; a somersault needs a stroke that keeps its power while it bends, which only the arcs
+# have (docs/dolphin_stunts.md). Appended last, they leave the first five skills, their
+# seeds (seed + index) and budgets (the run's budget over the regimen) as they were when the
+# run's budget grows by theirs.
 _DOLPHIN_TURN = {"period": None, "nodes": 11}
 DOLPHIN_REGIMEN = [
     {"name": "move_forward", "env_id": "Animat/DolphinForward-v0",
@@ -47,6 +53,9 @@ DOLPHIN_REGIMEN = [
        "env_kwargs": {"duration": 4.0, "direction": direction, "angle_deg": angle},
        "params": _DOLPHIN_TURN}
       for direction, angle in (("down", 45.0), ("up", 45.0), ("left", 90.0), ("right", 90.0))),
+    *({"name": f"arc_{direction}", "env_id": "Animat/DolphinArc-v0",
+       "env_kwargs": {"duration": 4.0, "direction": direction, "radius_bl": 2.0},
+       "params": {"period": 0.2, "nodes": 6}} for direction in ("down", "up")),
 ]
 REGIMENS = {"fish": FISH_REGIMEN, "dolphin": DOLPHIN_REGIMEN}
 

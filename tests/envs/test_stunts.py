@@ -115,3 +115,44 @@ def test_turn_tasks_measure_pitch_and_yaw_and_the_hand_mcs_turn_the_right_way():
         assert check(info), (direction, info["pitch_deg"], info["heading_deg"])
     with pytest.raises(ValueError, match="direction"):
         gym.make("Animat/DolphinTurn-v0", direction="sideways")
+
+
+def test_a_start_at_speed_glides_along_the_pitched_heading_and_bad_speeds_are_refused():
+    env = gym.make("Animat/DolphinArc-v0", start_speed=4.0, start_pitch_deg=30.0)
+    env.reset(seed=0)
+    core = env.unwrapped.core
+    heading = np.array([np.cos(np.radians(30.0)), 0.0, np.sin(np.radians(30.0))])
+    assert np.allclose(core.state.v[0], 4.0 * heading)
+    _, _, _, _, info = env.step(-np.ones(6, dtype=np.float32))  # relaxed: a glide
+    assert 3.0 < info["linear_momentum"] @ heading / core.body.total_mass < 4.0
+    for bad in (-1.0, float("nan")):
+        with pytest.raises(ValueError, match="start_speed"):
+            gym.make("Animat/DolphinArc-v0", start_speed=bad)
+
+
+def test_the_arc_pays_the_speed_round_its_circle():
+    """E_v = -u_arc: the full speed on the circle's tangent, none moving along the radius,
+    and a straight swim from the circle's top makes ever less of its speed."""
+    from animat.envs.stunts import DolphinArcTask
+
+    length, radius = 2.5, 2.0 * 2.5
+    frames = np.tile(np.eye(3), (3, 1, 1))
+    for direction, centre_z in (("down", -radius), ("up", radius)):
+        task = DolphinArcTask(direction=direction, radius_bl=2.0)
+        angle = np.radians(40.0)  # a point 40 deg round the circle from the start
+        sign = -np.sign(centre_z)
+        on_circle = np.array([radius * np.sin(angle), 0.0,
+                              centre_z + sign * radius * np.cos(angle)])
+        tangent = np.array([np.cos(angle), 0.0, -sign * np.sin(angle)])
+        com = np.stack([on_circle, on_circle, [3.0 * radius, 0.0, 0.0]])
+        vel = np.stack([2.0 * tangent, 2.0 * (on_circle - [0.0, 0.0, centre_z]) / radius,
+                        [2.0, 0.0, 0.0]])
+        e_v, metrics = task.terms(com, vel, frames, None, length, None)
+        assert e_v[0] == pytest.approx(-2.0 / length), direction
+        assert e_v[1] == pytest.approx(0.0, abs=1e-12), direction
+        assert -2.0 / length < e_v[2] < -0.2 / length, direction  # straight on: a fraction
+        assert np.allclose(metrics["arc_speed_bl_per_s"], -e_v)
+    with pytest.raises(ValueError, match="radius_bl"):
+        DolphinArcTask(radius_bl=0.0)
+    with pytest.raises(ValueError, match="direction"):
+        DolphinArcTask(direction="left")

@@ -19,18 +19,20 @@ def _skill_score(skill, finer: bool) -> float:
     kwargs = {**skill.metadata["env_kwargs"], **(DOLPHIN_STEP if finer else {})}
     evaluator = BatchEvaluator(skill.metadata["env_id"], kwargs, num_envs=1, seed=0)
     _, metrics = evaluator.evaluate_players([skill.controller])
-    if "speed_bl_per_s" in metrics:
-        return float(metrics["speed_bl_per_s"][0])
+    for speed in ("speed_bl_per_s", "arc_speed_bl_per_s"):
+        if speed in metrics:
+            return float(metrics[speed][0])
     return float(skill.metadata["env_kwargs"]["angle_deg"] - metrics["final_turn_error_deg"][0])
 
 
 def test_shipped_dolphin_skills_turn_and_swim_and_keep_their_score_at_half_the_step():
     repertoire = Repertoire.load(REPERTOIRE)
-    assert sorted(repertoire.names) == ["move_forward", "turn_down", "turn_left", "turn_right",
-                                        "turn_up"]
+    assert sorted(repertoire.names) == ["arc_down", "arc_up", "move_forward", "turn_down",
+                                        "turn_left", "turn_right", "turn_up"]
     for name, skill in repertoire.skills.items():
         default, finer = _skill_score(skill, False), _skill_score(skill, True)
-        assert default > (1.5 if name == "move_forward" else 20.0), (name, default)
+        swims = name == "move_forward" or name.startswith("arc_")
+        assert default > (1.5 if swims else 20.0), (name, default)
         assert abs(finer - default) <= 0.2 * default, (name, default, finer)
 
 

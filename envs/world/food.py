@@ -1,0 +1,78 @@
+"""Food particles of the living world: they sink slowly and drift with a current, rest on the
+seabed, and are eaten; a feeder releases a new particle at the top of the water for every one
+eaten, so the world keeps its ``count``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from animat.envs.world.oracle import Obstacles
+from animat.envs.world.percepts import Tank
+
+
+@dataclass(frozen=True)
+class FoodParams:
+    """count: particles; sink_speed: m/s down; drift: m/s, the current's largest speed (a
+    steady current per episode, drawn within it); eat_radius: m from a fish's head within
+    which it eats a particle; release_depth: (low, high) m under the top where new ones appear;
+    clearance: m new particles keep from obstacles (and currents cannot carry them into one)."""
+
+    count: int = 15
+    sink_speed: float = 0.002
+    drift: float = 0.01
+    eat_radius: float = 0.08
+    release_depth: tuple[float, float] = (0.15, 0.35)
+    clearance: float = 0.25
+
+    def __post_init__(self) -> None:
+        if self.count < 0 or self.sink_speed < 0 or self.drift < 0 or self.eat_radius <= 0:
+            raise ValueError("food: count, sink_speed and drift must be >= 0, eat_radius > 0")
+
+
+def release(rng: np.random.Generator, count: int, tank: Tank, obstacles: Obstacles,
+            params: FoodParams, depth: tuple[float, float] | None = None) -> np.ndarray:
+    """(count, 3) m: new particles at random over the tank (not inside an obstacle), within
+    ``depth`` (low, high) z m (default: ``release_depth`` under the top)."""
+    low, high = depth or (tank.top_z - params.release_depth[1],
+                          tank.top_z - params.release_depth[0])
+    out = np.empty((count, 3))
+    for k in range(count):
+        while True:
+            point = np.array([*rng.uniform(-0.9, 0.9, 2) * tank.half_size,
+                              rng.uniform(low, high)])
+            if not len(obstacles.radii) or np.all(obstacles.clearance(point) > params.clearance):
+                out[k] = point
+                break
+    return out
+
+
+def drift(food: np.ndarray, current: np.ndarray, dt: float, tank: Tank, obstacles: Obstacles,
+          params: FoodParams) -> np.ndarray:
+    """(M, 3) the particles after ``dt`` s: carried by ``current`` (3,) m/s, sinking, held on
+    the seabed (there the current no longer moves them), inside the tank and (the current
+    parting round them) ``clearance`` m clear of obstacles."""
+    moved = food + dt * (current + [0.0, 0.0, -params.sink_speed])
+    on_bed = food[:, 2] <= tank.seabed_z + 1e-9
+    moved[on_bed] = food[on_bed]
+    if len(obstacles.radii):
+        blocked = (obstacles.clearance(moved) < params.clearance).any(axis=1)
+        moved[blocked, :2] = food[blocked, :2]
+    moved[:, 2] = np.maximum(moved[:, 2], tank.seabed_z)
+    moved[:, :2] = np.clip(moved[:, :2], -tank.half_size, tank.half_size)
+    return moved
+
+
+def eaten(heads: np.ndarray, food: np.ndarray, eaters: np.ndarray,
+          params: FoodParams) -> tuple[np.ndarray, np.ndarray]:
+    """Which fish eat which particle this step: (F,) meals per fish, (M,) bool eaten. A particle
+    within ``eat_radius`` of several eaters' heads (``eaters`` (F,) bool) goes to the nearest."""
+    distance = np.linalg.norm(heads[:, None] - food[None], axis=-1)  # (F, M)
+    distance[~eaters] = np.inf
+    reach = distance < params.eat_radius
+    gone = reach.any(axis=0)
+    winner = np.argmin(distance, axis=0)
+    meals = np.bincount(winner[gone], minlength=len(heads)).astype(float)
+    return meals, gone

@@ -1,0 +1,374 @@
+"""The living marine world: F fish of several species on one batched physics
+(:class:`animat.envs.fish_core.FishBatch`), each with a mind, the perceptual oracle, an
+intention generator and behaviour routines; food particles; static obstacles; a tank.
+
+One :meth:`MarineWorld.step` (one env step of ``dt`` s): every fish perceives
+(:func:`~animat.envs.world.percepts.perceive`), its mind advances, its intention is chosen, its
+behaviour gives a navigation command and the :class:`~animat.envs.navigation.Navigator` turns
+that into muscle and fin actions; the physics steps all fish at once; then the world's events:
+food eaten (head within reach of a particle), prey caught (a predator's head within
+``catch_radius`` of a prey's body: the prey is taken, and a new one enters at the tank's edge),
+matings (a courting pair within ``court_distance`` for ``court_time`` s) and contacts (a body
+node inside an obstacle; two fish's nodes within ``contact_distance``, a predator touching its
+prey aside: that is a hunt), counted once per contact as it begins (for two fish: after they
+have been apart ``apart_time`` s, so that one brush is one collision). Any fish's command or
+actions can come from outside instead (:meth:`step`'s ``commands`` and ``actions``): a learner
+or an eye-driven fish.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from animat.envs.fish_core import FishBatch
+from animat.envs.navigation import Navigator
+from animat.envs.render import yaw_matrix
+from animat.envs.tasks import SwimTask
+from animat.envs.world import behaviours
+from animat.envs.world import food as food_mod
+from animat.envs.world.behaviours import BehaviourParams
+from animat.envs.world.food import FoodParams
+from animat.envs.world.intention import (
+    AVOID,
+    EAT,
+    HUNT,
+    MATE,
+    NAMES,
+    IntentionGenerator,
+    IntentionParams,
+)
+from animat.envs.world.mind import Habits, MentalState, MindParams, advance
+from animat.envs.world.oracle import Obstacles, OracleParams
+from animat.envs.world.percepts import AvoidParams, Tank, perceive
+
+SHARK = Habits("shark", (70, 85, 120), predator=True, prey=("minnow",), eats_food=False,
+               speed=0.7)
+MINNOW = Habits("minnow", (220, 50, 40), schooling=True, fears=("shark",), speed=0.6,
+                sprint=0.8, appetite=0.7)
+ANGELFISH = Habits("angelfish", (230, 210, 40), mates=True, fears=("shark",), speed=0.5,
+                   sprint=0.8)
+PAPER_SPECIES = ((SHARK, 1), (MINNOW, 6), (ANGELFISH, 3))  # 10 fishes
+
+
+@dataclass(frozen=True)
+class WorldParams:
+    """The world: ``species`` ((Habits, count), ...); ``obstacles`` (count of pillars);
+    ``obstacle_radius`` (low, high) m; the other parts' params; ``catch_radius``,
+    ``court_distance`` m, ``court_time`` s, ``contact_distance`` m, ``apart_time`` s (see the
+    module docstring);
+    ``duration`` s per episode."""
+
+    species: tuple = PAPER_SPECIES
+    obstacles: int = 5
+    obstacle_radius: tuple[float, float] = (0.12, 0.25)
+    tank: Tank = field(default_factory=Tank)
+    food: FoodParams = field(default_factory=FoodParams)
+    mind: MindParams = field(default_factory=MindParams)
+    intention: IntentionParams = field(default_factory=IntentionParams)
+    behaviour: BehaviourParams = field(default_factory=BehaviourParams)
+    oracle: OracleParams = field(default_factory=OracleParams)
+    avoid: AvoidParams = field(default_factory=AvoidParams)
+    catch_radius: float = 0.1
+    court_distance: float = 0.3
+    court_time: float = 2.0
+    contact_distance: float = 0.02
+    apart_time: float = 1.0
+    duration: float = 60.0
+
+    def __post_init__(self) -> None:
+        if not self.species or any(count < 1 for _, count in self.species):
+            raise ValueError("world: species needs at least one (habits, count >= 1)")
+        if self.obstacles < 0 or not 0 < self.obstacle_radius[0] <= self.obstacle_radius[1]:
+            raise ValueError("world: obstacles must be >= 0 and 0 < obstacle_radius low <= high")
+
+    @property
+    def habits(self) -> list[Habits]:
+        """(F,) the habits of each fish, species by species."""
+        return [h for h, count in self.species for _ in range(count)]
+
+
+def relations(habits: list[Habits]) -> dict[str, np.ndarray]:
+    """(F, F) bool ``hunts``, ``fears``, ``schools_with``, ``courts`` (sexes alternate within
+    a species: its even members female, odd male)."""
+    f = len(habits)
+    index = {}
+    sex = np.zeros(f, int)
+    for k, h in enumerate(habits):
+        sex[k] = index.setdefault(h.name, 0) % 2
+        index[h.name] += 1
+    same = np.array([[a.name == b.name for b in habits] for a in habits]) & ~np.eye(f, dtype=bool)
+    return {"hunts": np.array([[a.predator and b.name in a.prey for b in habits]
+                               for a in habits]),
+            "fears": np.array([[b.name in a.fears for b in habits] for a in habits]),
+            "schools_with": same & np.array([h.schooling for h in habits])[:, None],
+            "courts": same & np.array([h.mates for h in habits])[:, None]
+            & (sex[:, None] != sex[None])}
+
+
+class MarineWorld:
+    """The world's state and its step (see the module docstring)."""
+
+    def __init__(self, params: WorldParams = WorldParams()) -> None:
+        self.params = params
+        self.habits = params.habits
+        f = len(self.habits)
+        self.core = FishBatch(f, SwimTask(), duration=params.duration, fins=True)
+        self.dt, self.length = self.core.dt, self.core.body.length
+        self.navigator = Navigator(f)
+        self.intentions = IntentionGenerator(f, params.intention)
+        self.relations = relations(self.habits)
+        self.arrays = {name: np.array([getattr(h, name) for h in self.habits])
+                       for name in ("eats_food", "predator", "schooling", "mates", "appetite")}
+        self.cruise = np.array([h.speed for h in self.habits])
+        self.sprint = np.array([h.sprint for h in self.habits])
+        self.obstacles = Obstacles.none()
+        self.rng = np.random.default_rng(0)
+        self.time = 0.0
+
+    @property
+    def num_fish(self) -> int:
+        return len(self.habits)
+
+    # --- the start ---------------------------------------------------------------------
+    def _place_obstacles(self) -> None:
+        p, tank = self.params, self.params.tank
+        centres, radii = [], []
+        while len(centres) < p.obstacles:
+            c = self.rng.uniform(-0.6, 0.6, 2) * tank.half_size
+            r = self.rng.uniform(*p.obstacle_radius)
+            if all(np.linalg.norm(c - o) > r + q + 0.5 for o, q in zip(centres, radii)):
+                centres.append(c)
+                radii.append(r)
+        self.obstacles = Obstacles(np.array(centres).reshape(-1, 2), np.array(radii),
+                                   np.full(len(radii), tank.top_z + 0.1))
+
+    def _free_spot(self, taken: list[np.ndarray], edge: bool = False,
+                   near: np.ndarray | None = None) -> np.ndarray:
+        """A start point 0.3 m clear of obstacles and 0.45 m from those ``taken``: anywhere in
+        the tank, on its rim (``edge``), or within 0.8 m of ``near`` (3,)."""
+        tank = self.params.tank
+        while True:
+            xy = self.rng.uniform(-0.8, 0.8, 2) * tank.half_size
+            if near is not None:
+                xy = np.clip(near[:2] + self.rng.uniform(-0.8, 0.8, 2), -0.8 * tank.half_size,
+                             0.8 * tank.half_size)
+            if edge:  # on the rim of the tank
+                side = self.rng.integers(2)
+                xy[side] = np.sign(xy[side] or 1.0) * 0.85 * tank.half_size
+            z = self.rng.uniform(tank.seabed_z + 0.2, tank.top_z - 0.2)
+            point = np.array([*xy, z])
+            if np.all(self.obstacles.clearance(point) > 0.3) and all(
+                    np.linalg.norm(point - t) > 0.45 for t in taken):
+                return point
+
+    def place_fish(self, row: int, position: np.ndarray, yaw: float) -> None:
+        """Put fish ``row`` at rest with its head at ``position`` (3,) m, heading ``yaw`` rad
+        (a start: staging a scene, a new fish entering; never a behaviour)."""
+        rest = self.core.body.rest_positions
+        self.core.state.x[row] = (rest - rest[0]) @ yaw_matrix(yaw).T + position
+        self.core.state.v[row] = 0.0
+
+    def reset(self, rng: np.random.Generator) -> None:
+        """A new episode: obstacles, fish, food and minds drawn from ``rng``."""
+        self.rng, f, p = rng, self.num_fish, self.params
+        self.core.reset_rows(np.arange(f), [rng] * f)
+        self._place_obstacles()
+        taken: list[np.ndarray] = []
+        schools: dict[str, tuple[np.ndarray, float]] = {}
+        for row, habits in enumerate(self.habits):
+            if habits.schooling and habits.name in schools:  # a school starts as one
+                centre, yaw = schools[habits.name]
+                taken.append(self._free_spot(taken, near=centre))
+                self.place_fish(row, taken[-1], yaw + rng.uniform(-0.3, 0.3))
+                continue
+            taken.append(self._free_spot(taken))
+            yaw = rng.uniform(-np.pi, np.pi)
+            schools.setdefault(habits.name, (taken[-1], yaw))
+            self.place_fish(row, taken[-1], yaw)
+        self.core.state.origin[:] = self.core.kinematics().com
+        self.food = food_mod.release(rng, p.food.count, p.tank, self.obstacles, p.food)
+        angle = rng.uniform(-np.pi, np.pi)
+        self.current = p.food.drift * rng.uniform(0, 1) * np.array([np.cos(angle),
+                                                                   np.sin(angle), 0.0])
+        self.mind = MentalState.start(rng.uniform(0.3, 0.8, f), rng.uniform(0.0, 0.6, f))
+        self.intentions.reset()
+        self.navigator.reset(np.arange(f))
+        self.wander = np.zeros((f, 3))
+        self.wander_due = rng.uniform(0.0, p.behaviour.wander_change, f)
+        self.courting = np.zeros((f, f))
+        self.obstacle_contact = np.zeros((f, len(self.obstacles.radii)), bool)
+        self.fish_contact = np.zeros((f, f), bool)
+        self.apart = np.full((f, f), np.inf)
+        self.apart_before = self.apart.copy()
+        self.meals, self.mated = np.zeros(f), np.zeros(f, bool)
+        self.time = 0.0
+        self.percepts = self._perceive()
+
+    def stage(self, obstacles: Obstacles | None = None, food: np.ndarray | None = None) -> None:
+        """After :meth:`reset`, set a scene by hand (tests, figures): ``obstacles``, ``food``
+        (M, 3) m, and any fish moved with :meth:`place_fish` or minds set; the episode then
+        starts from it."""
+        if obstacles is not None:
+            self.obstacles = obstacles
+        if food is not None:
+            self.food = np.asarray(food, float).reshape(-1, 3).copy()
+        self.core.state.origin[:] = self.core.kinematics().com
+        self.obstacle_contact = np.zeros((self.num_fish, len(self.obstacles.radii)), bool)
+        self.percepts = self._perceive()
+
+    # --- a step ------------------------------------------------------------------------
+    def kinematics(self):
+        """(heads (F, 3), headings (F, 3), com (F, 3), com_vel (F, 3))."""
+        k = self.core.kinematics()
+        return self.core.state.x[:, 0], k.frames[:, 0], k.com, k.com_vel
+
+    def _perceive(self):
+        heads, headings, com, com_vel = self.kinematics()
+        p = self.params
+        exempt = np.zeros((self.num_fish, self.num_fish), bool)
+        seeking = np.isin(self.intentions.intention, (HUNT, MATE)) & (self.intentions.focus >= 0)
+        exempt[np.flatnonzero(seeking), self.intentions.focus[seeking]] = True
+        return perceive(heads, headings, com, com_vel, self.food, np.ones(len(self.food), bool),
+                        self.relations, self.obstacles, p.tank, p.oracle, p.avoid,
+                        self.core.state.x, exempt)
+
+    def _focus_positions(self, intention: np.ndarray, com: np.ndarray) -> np.ndarray:
+        focus = self.intentions.focus
+        out = np.full((self.num_fish, 3), np.nan)
+        on_food = (intention == EAT) & (focus >= 0)
+        out[on_food] = self.food[focus[on_food]]
+        on_fish = np.isin(intention, (HUNT, MATE)) & (focus >= 0)
+        out[on_fish] = com[focus[on_fish]]
+        return out
+
+    def behaviour_commands(self) -> np.ndarray:
+        """(F, 3) this step's navigation commands from every fish's mind and behaviours (and
+        the intention each is acting on: :attr:`intention`)."""
+        p, percepts = self.params, self.percepts
+        heads, headings, com, _ = self.kinematics()
+        advance(self.mind, self.dt, self.meals, self.mated, percepts.predator_distance, p.mind)
+        intention = self.intentions.decide(percepts, self.mind, self.arrays, self.time)
+        due = self.time >= self.wander_due
+        self.wander = behaviours.wander_directions(self.rng, heads, self.wander, due, p.tank,
+                                                   p.behaviour)
+        self.wander_due = np.where(due, self.time + p.behaviour.wander_change, self.wander_due)
+        focus = self._focus_positions(intention, com)
+        return behaviours.commands(intention, focus, percepts, heads, headings, com,
+                                   self.wander, self.cruise, self.sprint, p.behaviour)
+
+    @property
+    def intention(self) -> np.ndarray:
+        return self.intentions.intention
+
+    def step(self, commands: dict[int, np.ndarray] | None = None,
+             actions: dict[int, np.ndarray] | None = None) -> dict[str, np.ndarray]:
+        """Advance one env step. ``commands`` {fish: (3,) navigation command} and ``actions``
+        {fish: (8,) fish-env action} replace those fish's behaviours. Returns the step's
+        events (see :meth:`_events`)."""
+        wanted = self.behaviour_commands()
+        for row, command in (commands or {}).items():
+            wanted[row] = command
+        moves = self.navigator.actions(wanted, self.time, reflex=self.intention == AVOID)
+        for row, action in (actions or {}).items():
+            moves[row] = action
+        self.core.step(moves.astype(np.float64))
+        self.time += self.dt
+        self.food = food_mod.drift(self.food, self.current, self.dt, self.params.tank,
+                                   self.obstacles, self.params.food)
+        events = self._events()
+        self.percepts = self._perceive()
+        return events
+
+    # --- the world's events ------------------------------------------------------------
+    def _eat(self, heads: np.ndarray) -> np.ndarray:
+        p = self.params
+        meals, gone = food_mod.eaten(heads, self.food, self.arrays["eats_food"], p.food)
+        if gone.any():  # the feeder replaces what was eaten
+            self.food[gone] = food_mod.release(self.rng, int(gone.sum()), p.tank,
+                                               self.obstacles, p.food)
+        return meals
+
+    def _catch(self, heads: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(F,) catches per predator and (F,) bool prey caught; a caught prey is taken and a
+        new one of its species enters at the tank's edge."""
+        x = self.core.state.x
+        reach = np.linalg.norm(x[None] - heads[:, None, None], axis=-1).min(axis=2)  # (F, F)
+        caught_by = self.relations["hunts"] & (reach < self.params.catch_radius)
+        caught = caught_by.any(axis=0)
+        for row in np.flatnonzero(caught):
+            self.core.reset_rows(np.array([row]), [self.rng])
+            spot = self._free_spot([heads[k] for k in range(self.num_fish) if k != row], True)
+            self.place_fish(row, spot, np.arctan2(-spot[1], -spot[0]))
+            self.core.state.origin[row] = self.core.kinematics().com[row]
+            self.navigator.reset(np.array([row]))
+            self.mind.fear[row] = 0.0
+        self.mind.hunger[:] = np.clip(self.mind.hunger - 2 * self.params.mind.meal
+                                      * caught_by.sum(axis=1), 0.0, 1.0)
+        return caught_by.sum(axis=1).astype(float), caught
+
+    def _mate(self, com: np.ndarray) -> np.ndarray:
+        focus, intention = self.intentions.focus, self.intention
+        f = self.num_fish
+        pair = np.zeros((f, f), bool)
+        courting = (intention == MATE) & (focus >= 0)
+        pair[np.flatnonzero(courting), focus[courting]] = True
+        close = np.linalg.norm(com[:, None] - com[None], axis=-1) < self.params.court_distance
+        mutual = pair & pair.T & close
+        self.courting = np.where(mutual, self.courting + self.dt, 0.0)
+        done = self.courting >= self.params.court_time
+        self.courting[done] = 0.0
+        return done.any(axis=1)
+
+    def _contacts(self) -> tuple[np.ndarray, np.ndarray]:
+        """(F,) new obstacle contacts and (F,) new fish contacts of each fish this step."""
+        x = self.core.state.x
+        inside = (self.obstacles.clearance(x) < 0).any(axis=1)  # (F, K)
+        new_obstacle = (inside & ~self.obstacle_contact).sum(axis=1)
+        self.obstacle_contact = inside
+        f = len(x)
+        com = x.mean(axis=1)
+        near = np.linalg.norm(com[:, None] - com[None], axis=-1) < self.length  # broad phase
+        touching = np.zeros((f, f), bool)
+        for i, j in zip(*np.nonzero(np.triu(near, 1))):
+            d = x[i][:, None] - x[j][None]
+            touching[i, j] = touching[j, i] = (np.einsum("abk,abk->ab", d, d).min()
+                                               < self.params.contact_distance**2)
+        touching &= ~(self.relations["hunts"] | self.relations["hunts"].T)  # catches
+        self.apart = np.where(touching, 0.0, self.apart + self.dt)
+        new_fish = (touching & ~self.fish_contact & (self.apart_before >= self.params.apart_time)
+                    ).sum(axis=1)
+        self.apart_before = self.apart.copy()
+        self.fish_contact = touching
+        return new_obstacle.astype(float), new_fish.astype(float)
+
+    def school_cohesion(self, com: np.ndarray) -> float:
+        """Mean distance of schooling fish from their school's centre of mass, BL (nan: no
+        school of 2 or more)."""
+        spreads, weights = [], []
+        for name in {h.name for h in self.habits if h.schooling}:
+            members = np.array([h.name == name for h in self.habits])
+            if members.sum() >= 2:
+                centre = com[members].mean(axis=0)
+                spreads.append(np.linalg.norm(com[members] - centre, axis=1).mean())
+                weights.append(members.sum())
+        return float(np.average(spreads, weights=weights) / self.length) if spreads else np.nan
+
+    def _events(self) -> dict[str, np.ndarray]:
+        """The step's events, per fish (F,): ``meals`` (food particles eaten), ``catches``
+        (prey caught), ``caught`` (taken by a predator), ``mated``, ``obstacle_contacts`` and
+        ``fish_contacts`` (contacts begun), ``intention`` (its code); and
+        ``school_cohesion_bl`` (a float)."""
+        heads, _, com, _ = self.kinematics()
+        self.meals = self._eat(heads)
+        catches, caught = self._catch(heads)
+        self.mated = self._mate(com)
+        obstacle, fish = self._contacts()
+        return {"meals": self.meals.copy(), "catches": catches, "caught": caught,
+                "mated": self.mated.copy(), "obstacle_contacts": obstacle,
+                "fish_contacts": fish, "intention": self.intention.copy(),
+                "school_cohesion_bl": self.school_cohesion(self.kinematics()[2])}
+
+
+INTENTION_NAMES = NAMES

@@ -1,0 +1,53 @@
+"""A video of the living world (``animat world-video``): the 10-fish scenario of
+``Animat/MarineWorld-v0`` from above a corner of the tank, at the env's rate, with the
+episode's running totals written in."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import cv2
+import gymnasium as gym
+import numpy as np
+
+import animat  # noqa: F401  (registers Animat/*)
+from animat.envs.world.marine_env import MarineSummary
+
+
+def _caption(frame: np.ndarray, text: str) -> np.ndarray:
+    out = np.ascontiguousarray(frame)
+    cv2.putText(out, text, (8, 20), cv2.FONT_HERSHEY_SIMPLEX, 0.45, (255, 255, 255), 1,
+                cv2.LINE_AA)
+    return out
+
+
+def world_video(out: str | Path, seconds: float = 60.0, seed: int = 0,
+                vision: bool = False) -> dict[str, float]:
+    """Write the mp4 ``out`` of ``seconds`` of the world from ``seed`` (the shark with eyes
+    if ``vision``); returns the episode's totals."""
+    out = Path(out)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    env = gym.make("Animat/MarineWorld-v0", duration=seconds, render_mode="rgb_array",
+                   vision=0 if vision else None)
+    env.reset(seed=seed)
+    fps = round(1.0 / env.unwrapped.dt)
+    frame = env.render()
+    partial = out.with_name(out.stem + ".partial.mp4")
+    writer = cv2.VideoWriter(str(partial), cv2.VideoWriter_fourcc(*"mp4v"), fps,
+                             (frame.shape[1], frame.shape[0]))
+    summary, action = MarineSummary(), np.zeros(env.action_space.shape, np.float32)
+    try:
+        while True:
+            _, _, _, truncated, info = env.step(action)
+            summary.update(info)
+            t = summary.totals
+            text = (f"t {info['time']:4.1f} s  food {t['food_eaten']:.0f}  catches "
+                    f"{t['catches']:.0f}  matings {t['matings']:.0f}  obstacle hits "
+                    f"{t['obstacle_collisions']:.0f}  fish hits {t['fish_collisions']:.0f}")
+            writer.write(_caption(env.render(), text)[:, :, ::-1])
+            if truncated:
+                break
+    finally:
+        writer.release()
+    partial.replace(out)  # a finished video only under its own name
+    return summary.summary()

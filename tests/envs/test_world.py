@@ -1,0 +1,152 @@
+"""The living world's behaviours, each in a small staged scene (the fish act only through their
+motor controllers), and the world env's contract."""
+
+import dataclasses
+
+import gymnasium as gym
+import numpy as np
+import pytest
+
+from animat.envs.world.food import FoodParams
+from animat.envs.world.intention import FLEE, MATE
+from animat.envs.world.mind import MentalState, MindParams, advance
+from animat.envs.world.oracle import Obstacles
+from animat.envs.world.world import ANGELFISH, MINNOW, SHARK, MarineWorld, WorldParams
+
+
+def _world(species, food: int = 0, seed: int = 0) -> MarineWorld:
+    world = MarineWorld(WorldParams(species=species, obstacles=0, food=FoodParams(count=food)))
+    world.reset(np.random.default_rng(seed))
+    return world
+
+
+def _run(world: MarineWorld, seconds: float, each=None) -> dict:
+    totals: dict = {}
+    for _ in range(int(round(seconds / world.dt))):
+        events = world.step()
+        for key in ("meals", "catches", "mated", "obstacle_contacts", "fish_contacts"):
+            totals[key] = totals.get(key, 0.0) + events[key]
+        if each is not None:
+            each(world, events)
+    return totals
+
+
+def test_a_hungry_fish_reaches_and_eats_food_and_its_hunger_falls():
+    world = _world(((ANGELFISH, 1),))
+    world.place_fish(0, np.array([0.0, 0.0, -0.3]), np.radians(40.0))
+    world.mind.hunger[:], world.mind.libido[:] = 0.9, 0.0
+    world.stage(food=[[1.0, 0.4, -0.3]])  # 1.1 m away, 18 deg off its heading
+    totals = _run(world, 20.0)
+    assert totals["meals"][0] >= 1, world.core.kinematics().com
+    assert world.mind.hunger[0] < 0.9 - world.params.mind.meal + 20.0 / 120.0
+
+
+def test_a_fish_heading_at_an_obstacle_turns_away_without_touching_it():
+    for yaw_deg in (0.0, 8.0, -8.0):
+        world = _world(((ANGELFISH, 1),))
+        world.mind.hunger[:], world.mind.libido[:] = 0.0, 0.0
+        world.place_fish(0, np.array([-1.0, 0.0, -0.3]), np.radians(yaw_deg))
+        pillar = Obstacles(np.array([[0.0, 0.0]]), np.array([0.2]), np.array([0.1]))
+        world.stage(obstacles=pillar)
+        world.wander[:] = [1.0, 0.0, 0.0]  # it wants to swim straight on, into the pillar
+        world.wander_due[:] = np.inf
+        clearance: list[float] = []
+
+        def watch(w, events, clearance=clearance):
+            clearance.append(w.obstacles.clearance(w.core.state.x).min())
+
+        totals = _run(world, 15.0, watch)
+        assert totals["obstacle_contacts"][0] == 0 and min(clearance) > 0.0, yaw_deg
+        assert min(clearance) < 0.3, "it never came near: the test would not test avoidance"
+
+
+def test_prey_flees_a_predator_and_its_fear_decays_afterwards():
+    world = _world(((SHARK, 1), (MINNOW, 1)))
+    world.mind.hunger[:] = [0.0, 0.0]  # the shark is not hunting: it only passes by
+    world.place_fish(0, np.array([-0.2, 0.3, -0.3]), 0.0)  # behind it, off its blind cone
+    world.place_fish(1, np.array([0.0, 0.0, -0.3]), 0.0)
+    world.stage()
+    seen = {"fled": False, "peak": 0.0}
+
+    def watch(w, events):
+        seen["fled"] |= bool(w.intention[1] == FLEE)
+        seen["peak"] = max(seen["peak"], float(w.mind.fear[1]))
+
+    _run(world, 3.0, watch)
+    assert seen["fled"] and seen["peak"] > 0.5
+    world.place_fish(0, np.array([2.5, 2.5, -0.3]), 0.0)  # the predator gone far away
+    world.stage()
+    start = float(world.mind.fear[1])
+    _run(world, 4.0)
+    decay = np.exp(-4.0 / world.params.mind.fear_decay)
+    assert world.mind.fear[1] == pytest.approx(start * decay, rel=0.05)
+
+
+def test_fear_follows_the_nearest_predator_and_decays_with_its_time_constant():
+    params = MindParams()
+    mind = MentalState.start(np.zeros(2), np.zeros(2))
+    advance(mind, 0.05, np.zeros(2), np.zeros(2, bool), np.array([0.3, np.inf]), params)
+    assert mind.fear.tolist() == [1.0, 0.0]
+    advance(mind, 1.0, np.zeros(2), np.zeros(2, bool), np.full(2, np.inf), params)
+    assert mind.fear[0] == pytest.approx(np.exp(-1.0 / params.fear_decay))
+    advance(mind, 1.0, np.array([2.0, 0.0]), np.array([False, True]), np.full(2, np.inf),
+            params)
+    assert mind.hunger[0] == 0.0 and mind.hunger[1] > 0.0 and mind.libido[1] == 0.0
+
+
+def _spread(world: MarineWorld) -> float:
+    com = world.core.kinematics().com
+    return float(np.linalg.norm(com - com.mean(axis=0), axis=1).mean() / world.length)
+
+
+def test_a_school_stays_together_where_loners_drift_apart():
+    spreads = {}
+    for schooling in (True, False):
+        habits = dataclasses.replace(MINNOW, schooling=schooling)
+        world = _world(((habits, 6),), seed=1)
+        world.mind.hunger[:] = 0.0
+        start = _spread(world)
+        _run(world, 30.0)
+        spreads[schooling] = _spread(world)
+    assert spreads[True] < 2.0 and spreads[True] < 0.6 * spreads[False], (start, spreads)
+
+
+def test_a_courting_pair_meets_and_mates():
+    world = _world(((ANGELFISH, 2),))
+    world.mind.hunger[:], world.mind.libido[:] = 0.0, 0.9
+    world.place_fish(0, np.array([-0.6, 0.0, -0.3]), np.radians(90.0))
+    world.place_fish(1, np.array([0.6, 0.0, -0.3]), np.radians(-90.0))
+    world.stage()
+    courted = []
+    totals = _run(world, 30.0, lambda w, e: courted.append(bool((w.intention == MATE).all())))
+    assert any(courted) and totals["mated"].tolist() == [1, 1]
+    assert world.mind.libido.max() < 0.5
+
+
+def test_a_hungry_predator_catches_prey():
+    world = _world(((SHARK, 1), (MINNOW, 1)))
+    world.mind.hunger[:] = [0.9, 0.0]
+    world.place_fish(0, np.array([-0.5, 0.0, -0.3]), 0.0)
+    world.place_fish(1, np.array([0.0, 0.0, -0.3]), np.radians(90.0))
+    world.stage()
+    totals = _run(world, 30.0)
+    assert totals["catches"][0] >= 1
+    assert world.mind.hunger[0] < 0.9
+
+
+def test_the_world_env_contract_and_bad_arguments():
+    env = gym.make("Animat/MarineWorld-v0", duration=2.0, render_mode="rgb_array")
+    obs, info = env.reset(seed=0)
+    assert obs.shape == env.observation_space.shape
+    _, reward, _, _, info = env.step(env.action_space.sample())
+    assert reward == pytest.approx(info["reward_food"] + info["reward_catch"]
+                                   + info["reward_collisions"])
+    assert env.render().shape == (360, 480, 3)
+    with pytest.raises(ValueError, match="action"):
+        env.step(np.array([np.nan, 0.0, 0.0], np.float32))
+    with pytest.raises(ValueError, match="species"):
+        gym.make("Animat/MarineWorld-v0", species={"whale": 1})
+    with pytest.raises(ValueError, match="agent"):
+        gym.make("Animat/MarineWorld-v0", control="navigation")
+    with pytest.raises(ValueError, match="vision"):
+        gym.make("Animat/MarineWorld-v0", vision=3)  # a minnow: not a predator
