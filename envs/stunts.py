@@ -17,15 +17,16 @@ last step minus S at its first):
   (:mod:`animat.envs.physics.ball`). S = -(closest approach of the named part to the ball,
   BL) + 1 if the named part is the first to touch it + 1 more if the ball then leaves its
   support (``ball_hit``: both).
-* ``somersault``: S = |the pitch rotation while the centre of mass is above the surface|, in
-  turns, + 0.5 min(apex, 0) (the way up).
+* ``somersault``: S = the largest |pitch rotation| of one flight (one stretch of the centre of
+  mass above the surface), in turns, + 0.5 min(apex, 0) (the way up).
 * ``belly_flop``: S = the re-entry splash (the impact momentum of the faces going under the
   surface once the dolphin has been out, :func:`animat.envs.physics.forces.add_face_forces`),
   in units of ``mass * sqrt(g L)``, + 0.5 min(apex, 0).
 
 Every stunt reports the same metrics (read off the last step): ``apex_height_bl``,
 ``airborne`` (1 if the centre of mass went above the surface), ``rotation_deg`` (pitch
-rotation above the surface), ``reentry_splash``, ``entry_pitch_deg`` (pitch as the centre of
+rotation above the surface, signed, over all flights), ``flight_rotation_deg`` (the largest
+|pitch rotation| of one flight), ``reentry_splash``, ``entry_pitch_deg`` (pitch as the centre of
 mass went back under, negative nose down; 0 if it did not: ``reentered`` says whether it did);
 with a ball also
 ``nose_gap_bl``, ``tail_gap_bl`` (closest approach to the ball), ``first_touch`` (-1 none,
@@ -212,10 +213,10 @@ class DolphinArcTask(Underwater, Task):
 
 # Episode memory of a stunt, by column.
 (APEX, AIRBORNE, SPLASH, ROTATION, FORWARD_X, FORWARD_Y, FORWARD_Z, ENTRY_PITCH, REENTERED,
- NOSE_GAP, TAIL_GAP, SCORE, FIRST_TOUCH, BALL_OFF) = range(14)
+ NOSE_GAP, TAIL_GAP, SCORE, FIRST_TOUCH, BALL_OFF, FLIGHT, BEST_FLIGHT) = range(16)
 BALL_OFF_DISTANCE = 0.1  # m the ball must move from its rest to have left its support
-FINAL_METRICS = ("apex_height_bl", "airborne", "rotation_deg", "reentry_splash",
-                 "entry_pitch_deg")
+FINAL_METRICS = ("apex_height_bl", "airborne", "rotation_deg", "flight_rotation_deg",
+                 "reentry_splash", "entry_pitch_deg")
 BALL_METRICS = ("nose_gap_bl", "tail_gap_bl", "first_touch", "ball_off", "ball_hit")
 
 
@@ -250,7 +251,7 @@ class StuntTask(Underwater, Task):
     start_pitch_deg: float = 0.0
     start_speed: float = 0.0
     name = "stunt"
-    memory_size = 14
+    memory_size = 16
     obs_size = 1
     default_duration = 8.0
 
@@ -278,8 +279,10 @@ class StuntTask(Underwater, Task):
         m[:, APEX] = np.maximum(m[:, APEX], height)
         was_airborne = m[:, AIRBORNE] > 0
         m[:, SPLASH] += np.where(was_airborne, world.splash, 0.0)
-        m[:, ROTATION] += np.where(above, _pitch_step(m[:, FORWARD_X:FORWARD_Z + 1],
-                                                      world.frames), 0.0)
+        turned = np.where(above, _pitch_step(m[:, FORWARD_X:FORWARD_Z + 1], world.frames), 0.0)
+        m[:, ROTATION] += turned
+        m[:, FLIGHT] = np.where(above, m[:, FLIGHT] + turned, 0.0)  # this flight's, signed
+        m[:, BEST_FLIGHT] = np.maximum(m[:, BEST_FLIGHT], np.abs(m[:, FLIGHT]))
         m[:, FORWARD_X:FORWARD_Z + 1] = world.frames[:, 0]
         entering = was_airborne & ~above & (m[:, REENTERED] == 0)
         m[:, ENTRY_PITCH] = np.where(entering, np.degrees(pitch_of(world.frames)),
@@ -317,6 +320,7 @@ class StuntTask(Underwater, Task):
             "score": score,
             "apex_height_bl": m[:, APEX] / length, "airborne": m[:, AIRBORNE],
             "rotation_deg": np.degrees(m[:, ROTATION]),
+            "flight_rotation_deg": np.degrees(m[:, BEST_FLIGHT]),
             "reentry_splash": m[:, SPLASH] / splash_unit,
             "entry_pitch_deg": np.where(m[:, REENTERED] > 0, m[:, ENTRY_PITCH], 0.0),
             "reentered": m[:, REENTERED],
@@ -393,12 +397,14 @@ class BallTask(StuntTask):
 
 @dataclass
 class SomersaultTask(StuntTask):
-    """Somersault: S = |pitch rotation above the surface| in turns + the way up."""
+    """Somersault: S = the largest |pitch rotation| of one flight (one stretch with the
+    centre of mass above the surface), in turns, + the way up: leaps that each turn part of
+    a circle do not add up to one."""
 
     name = "somersault"
 
     def score(self, m, world):
-        return np.abs(m[:, ROTATION]) / (2.0 * np.pi) + _below(m[:, APEX] / world.length)
+        return m[:, BEST_FLIGHT] / (2.0 * np.pi) + _below(m[:, APEX] / world.length)
 
 
 @dataclass

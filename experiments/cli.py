@@ -129,7 +129,7 @@ def _parser() -> argparse.ArgumentParser:
     stunts.add_argument("--out", type=Path, required=True, help="folder for the files")
     stunts.add_argument("--leap", type=Path, required=True, help="a finished leap macro run")
     for name in ("nose-ball", "tail-ball", "somersault", "belly-flop"):
-        stunts.add_argument(f"--{name}", type=Path, help=f"a finished {name} macro run")
+        stunts.add_argument(f"--{name}", type=Path, help=f"a finished {name} run (macro or PPO)")
     figures = sub.add_parser("figures", help="the paper's Figs. 5, 7, 8 from a pursuit")
     figures.add_argument("--out", type=Path, required=True, help="folder for the PNG files")
     figures.add_argument("--seed", type=int, default=0, help="the pursuit's seed")

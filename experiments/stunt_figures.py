@@ -1,8 +1,9 @@
 """The paper's dolphin figures, re-made from finished macro-learner runs.
 
 ``animat stunt-figures --out DIR --leap RUN [--nose-ball RUN] [--tail-ball RUN]
-[--somersault RUN] [--belly-flop RUN]`` plays each run's learned macro controller (its own
-repertoire copy, seed = the run's seed) and writes:
+[--somersault RUN] [--belly-flop RUN]`` plays each finished run's agent (a macro controller
+on its own repertoire copy; the leap's must be one: Fig. 10 draws it; the others may be PPO
+runs), seed = the run's seed, and writes:
 
 * ``fig10_macro_controller.png``: the leap's macro controller (Fig. 10): on top the basic
   abstracted controllers it uses, each over the duration it was learned for; below, which of
@@ -46,15 +47,23 @@ def macro_of(run_dir: str | Path) -> tuple[MacroSequence, Repertoire, dict]:
 
 
 def play(run_dir: str | Path, render: bool = True) -> tuple[list[dict], list[np.ndarray]]:
-    """The infos and rendered frames of the run's learned sequence from its first start."""
-    sequence, _, setup = macro_of(run_dir)
-    env = gym.make(setup["env_id"], render_mode="rgb_array" if render else None,
-                   **setup["env_kwargs"])
-    env.reset(seed=setup["seed"])
-    actions = sequence.actions(env.unwrapped.dt, env.unwrapped.episode_steps)
+    """The infos and rendered frames of a finished run's agent (a macro sequence, a PPO
+    policy, ...) from its first start."""
+    from animat.experiments.evaluate import load
+
+    folder = Path(run_dir)
+    config = load_config(folder / "config.yaml", build=False)
+    agent = load(folder)
+    env = gym.make(config.env.id, render_mode="rgb_array" if render else None,
+                   **dict(config.env.kwargs))
+    obs, _ = env.reset(seed=config.seed)
+    if hasattr(agent, "reset"):
+        agent.reset()
     infos, frames = [], []
-    for action in actions:
-        infos.append(env.step(action)[4])
+    for _ in range(env.unwrapped.episode_steps):
+        action, _ = agent.predict(obs)
+        obs, _, _, _, info = env.step(action)
+        infos.append(info)
         if render:
             frames.append(env.render())
     return infos, frames
@@ -117,8 +126,8 @@ def _pick(infos: list[dict], frames: list[np.ndarray], which: str) -> tuple[int,
     elif which == "touch":
         touched = np.array([i.get("first_touch", -1) >= 0 for i in infos])
         k = int(np.argmax(touched)) if touched.any() else int(np.argmax(heights))
-    elif which == "spin":
-        rotation = np.abs([i["rotation_deg"] for i in infos])
+    elif which == "spin":  # half-way through its best flight's turn
+        rotation = np.array([i["flight_rotation_deg"] for i in infos])
         k = int(np.argmax(rotation >= 0.5 * rotation.max()))
     else:
         entered = np.array([i["reentered"] for i in infos]) > 0
@@ -154,7 +163,7 @@ def make_stunt_figures(out: str | Path, leap: str | Path, nose_ball=None, tail_b
         tiles.append(_labelled(_pick(run_infos, run_frames, which)[1], caption))
         last = run_infos[-1]
         result[f"{key}_ball_hit" if key in ("nose", "tail") else key] = float(
-            last.get("ball_hit", last["rotation_deg"] if key == "somersault"
+            last.get("ball_hit", last["flight_rotation_deg"] if key == "somersault"
                      else last["reentry_splash"]))
     while len(tiles) % 3:
         tiles.append(np.full_like(tiles[0], 255))

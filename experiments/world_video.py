@@ -1,6 +1,6 @@
 """A video of the living world (``animat world-video``): the 10-fish scenario of
 ``Animat/MarineWorld-v0`` from above a corner of the tank, at the env's rate, with the
-episode's running totals written in."""
+episode's running totals written in, and its middle frame as a PNG beside it."""
 
 from __future__ import annotations
 
@@ -24,7 +24,8 @@ def _caption(frame: np.ndarray, text: str) -> np.ndarray:
 def world_video(out: str | Path, seconds: float = 60.0, seed: int = 0,
                 vision: bool = False) -> dict[str, float]:
     """Write the mp4 ``out`` of ``seconds`` of the world from ``seed`` (the shark with eyes
-    if ``vision``); returns the episode's totals."""
+    if ``vision``) and its middle frame (``out`` with ``.png``); returns the episode's
+    totals."""
     out = Path(out)
     out.parent.mkdir(parents=True, exist_ok=True)
     env = gym.make("Animat/MarineWorld-v0", duration=seconds, render_mode="rgb_array",
@@ -36,17 +37,19 @@ def world_video(out: str | Path, seconds: float = 60.0, seed: int = 0,
     writer = cv2.VideoWriter(str(partial), cv2.VideoWriter_fourcc(*"mp4v"), fps,
                              (frame.shape[1], frame.shape[0]))
     summary, action = MarineSummary(), np.zeros(env.action_space.shape, np.float32)
+    middle = env.unwrapped.episode_steps // 2
     try:
-        while True:
-            _, _, _, truncated, info = env.step(action)
+        for step in range(env.unwrapped.episode_steps):
+            info = env.step(action)[4]
             summary.update(info)
             t = summary.totals
             text = (f"t {info['time']:4.1f} s  food {t['food_eaten']:.0f}  catches "
                     f"{t['catches']:.0f}  matings {t['matings']:.0f}  obstacle hits "
                     f"{t['obstacle_collisions']:.0f}  fish hits {t['fish_collisions']:.0f}")
-            writer.write(_caption(env.render(), text)[:, :, ::-1])
-            if truncated:
-                break
+            picture = _caption(env.render(), text)[:, :, ::-1]
+            writer.write(picture)
+            if step == middle:
+                cv2.imwrite(str(out.with_suffix(".png")), picture)
     finally:
         writer.release()
     partial.replace(out)  # a finished video only under its own name

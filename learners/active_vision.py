@@ -23,7 +23,6 @@ prey) and turn only beyond 20 deg: chosen on seeds 100-109, never on the evaluat
 
 from __future__ import annotations
 
-import time
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -39,7 +38,7 @@ from animat.envs.render import Scene, fish_skin, posed
 from animat.envs.retina import RetinaParams, gaze_rotation, render_eye
 from animat.learners.agents import PolicyAgent
 from animat.learners.base import LearnResult, Scorer, typed_params
-from animat.learners.rollout import score_episode, spread
+from animat.learners.rollout import score_policy
 
 MODEL_VIEWS = tuple((distance, np.radians(yaw)) for distance in (0.7, 1.2)
                     for yaw in range(0, 360, 45))  # (m, rad): the prey's poses in memory
@@ -194,13 +193,6 @@ class ActiveVisionLearner(Scorer):
     def learn(self, budget_env_steps: int, checkpoint_dir: str | Path | None = None
               ) -> LearnResult:
         self.check_budget(budget_env_steps)
-        start = time.perf_counter()
         env = gym.make(self.env_id, **self.env_kwargs)
-        steps = env.unwrapped.episode_steps * self.own.episodes
-        self.log_hparams()
         policy = ActiveVisionPolicy(self.policy_params)
-        runs = [score_episode(env, policy, self.seed + k) for k in range(self.own.episodes)]
-        metrics = spread(runs)
-        self.logger.scalars(metrics, steps)
-        return LearnResult(env_steps=steps, wall_seconds=time.perf_counter() - start,
-                           metrics=metrics, artefacts={"episodes": runs})
+        return score_policy(self, env, policy, self.own.episodes)

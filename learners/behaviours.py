@@ -7,7 +7,6 @@ with ``_std`` beside each)."""
 
 from __future__ import annotations
 
-import time
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -16,7 +15,7 @@ import numpy as np
 
 from animat.learners.agents import PolicyAgent
 from animat.learners.base import LearnResult, Scorer, typed_params
-from animat.learners.rollout import START_STATES, score_episode, spread
+from animat.learners.rollout import START_STATES, score_policy
 
 
 @dataclass(frozen=True)
@@ -73,14 +72,9 @@ class BehavioursLearner(Scorer):
     def learn(self, budget_env_steps: int, checkpoint_dir: str | Path | None = None
               ) -> LearnResult:
         self.check_budget(budget_env_steps)
-        start = time.perf_counter()
         env = self._env()
-        steps = env.unwrapped.episode_steps * self.own.episodes
-        self.log_hparams()
-        policy = IdlePolicy(env.action_space.shape)
-        runs = [score_episode(env, policy, self.seed + k) for k in range(self.own.episodes)]
-        env.close()
-        metrics = spread(runs)
-        self.logger.scalars(metrics, steps)
-        return LearnResult(env_steps=steps, wall_seconds=time.perf_counter() - start,
-                           metrics=metrics, artefacts={"episodes": runs})
+        try:
+            return score_policy(self, env, IdlePolicy(env.action_space.shape),
+                                self.own.episodes)
+        finally:
+            env.close()

@@ -112,6 +112,25 @@ def score_episode(env: gym.Env, policy, seed: int) -> dict[str, float]:
             return {**summary.summary(), "return": total}
 
 
+def score_policy(learner, env: gym.Env, policy, episodes: int):
+    """A :class:`~animat.learners.base.LearnResult` of ``policy`` scored by ``learner`` (a
+    scorer: it learns nothing) on ``episodes`` seeded episodes of ``env`` (seeds from the
+    learner's on): its hyperparameters and the ``eval/`` figures logged at the env steps
+    played, the episodes' own figures kept as artefacts."""
+    import time
+
+    from animat.learners.base import LearnResult
+
+    start = time.perf_counter()
+    steps = env.unwrapped.episode_steps * episodes
+    learner.log_hparams()
+    runs = [score_episode(env, policy, learner.seed + k) for k in range(episodes)]
+    metrics = spread(runs)
+    learner.logger.scalars(metrics, steps)
+    return LearnResult(env_steps=steps, wall_seconds=time.perf_counter() - start,
+                       metrics=metrics, artefacts={"episodes": runs})
+
+
 def spread(runs: list[dict[str, float]]) -> dict[str, float]:
     """``eval/<key>`` means over episodes, with ``eval/<key>_std`` beside each. A figure that
     is undefined (NaN) in an episode (e.g. the vergence of a pursuit that never foveated) is

@@ -67,7 +67,7 @@ class WorldView:
         """(height, width, 3) uint8: the tank from above one corner."""
         tank = self.world.params.tank
         centre = np.array([0.0, 0.0, tank.seabed_z])
-        eye = np.array([-1.25, -1.25, 1.1]) * tank.half_size + [0.0, 0.0, tank.top_z]
+        eye = np.array([-1.0, -1.0, 0.75]) * tank.half_size + [0.0, 0.0, tank.top_z]
         camera = Camera(self.width, self.height, 0.9 * self.width, eye, look_at(eye, centre))
         return camera.render(self.scene())
 

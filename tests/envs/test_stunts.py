@@ -81,7 +81,33 @@ def test_the_somersault_counts_the_pitch_turned_above_the_surface():
         _, _, _, _, info = env.step(-np.ones(6, np.float32))
         assert core.state.x[0, :, 2].min() > 0.5  # in flight
     assert info["rotation_deg"] == pytest.approx(360.0 * 12 * env.dt, rel=0.02)
-    assert info["score"] == pytest.approx(info["rotation_deg"] / 360.0)
+    assert info["flight_rotation_deg"] == pytest.approx(info["rotation_deg"])
+    assert info["score"] == pytest.approx(info["flight_rotation_deg"] / 360.0)
+
+
+def test_a_somersault_is_one_flights_turn_not_the_sum_of_several_leaps():
+    """Two flights that each turn 0.3 of a circle score 0.3 turns, not 0.6: the memory
+    keeps each flight's rotation and the best of them."""
+    from animat.envs.bodies import make_body
+    from animat.envs.stunts import ROTATION, SomersaultTask, World
+
+    task, body = SomersaultTask(), make_body("dolphin")
+    memory = np.tile(task.initial_memory(), (1, 1))
+    turn, steps = 0.3 * 2.0 * np.pi, 10
+    flights = [(1.0, turn / steps)] * steps + [(-1.0, 0.0)] * 3 + [(1.0, turn / steps)] * steps
+    for height, angle in flights:
+        a = np.radians(0.0) + memory[0, ROTATION] + angle  # the heading pitched up by it
+        frames = np.array([[[np.cos(a), 0.0, np.sin(a)], [0.0, 1.0, 0.0],
+                            [-np.sin(a), 0.0, np.cos(a)]]])
+        position = np.array([[0.0, 0.0, height]])
+        world = World(com=position, com_vel=np.zeros((1, 3)), frames=frames, targets=None,
+                      length=2.5, position=position, x=None, v=None, splash=np.zeros(1),
+                      memory=memory, ball=None, touch=None, surface_z=0.0, body=body,
+                      dt=0.05)
+        _, metrics, memory = task.world_terms(world, np.zeros(1, bool))
+    assert metrics["rotation_deg"][0] == pytest.approx(216.0, rel=1e-6)
+    assert metrics["flight_rotation_deg"][0] == pytest.approx(108.0, rel=1e-6)
+    assert metrics["score"][0] == pytest.approx(0.3, rel=1e-6)
 
 
 def test_the_ball_stays_on_its_support_until_touched_then_knows_the_nose_hit_it():

@@ -9,6 +9,7 @@ import pytest
 
 from animat.envs.world.food import FoodParams
 from animat.envs.world.intention import FLEE, MATE
+from animat.envs.world.marine_env import GAZE_RANGE
 from animat.envs.world.mind import MentalState, MindParams, advance
 from animat.envs.world.oracle import Obstacles
 from animat.envs.world.world import ANGELFISH, MINNOW, SHARK, MarineWorld, WorldParams
@@ -150,3 +151,30 @@ def test_the_world_env_contract_and_bad_arguments():
         gym.make("Animat/MarineWorld-v0", control="navigation")
     with pytest.raises(ValueError, match="vision"):
         gym.make("Animat/MarineWorld-v0", vision=3)  # a minnow: not a predator
+
+
+def test_a_fish_with_eyes_hunts_by_active_vision_and_the_agent_takes_its_commands():
+    env = gym.make("Animat/MarineWorld-v0", species={"shark": 1, "minnow": 1}, food=0,
+                   obstacles=0, vision=0, duration=8.0).unwrapped
+    env.reset(seed=0)
+    world = env.world
+    world.mind.hunger[:] = [0.0, 0.0]  # by the oracle it would not hunt: it would wander off
+    world.place_fish(0, np.array([-0.6, 0.1, -0.3]), 0.0)
+    world.place_fish(1, np.array([0.0, 0.0, -0.3]), np.radians(90.0))
+    world.stage()
+    world.wander[0], world.wander_due[0] = [-1.0, 0.0, 0.0], np.inf
+    held = []
+    for _ in range(60):
+        env.step(np.zeros(3, np.float32))
+        positions, rotations = env.view.eye_poses(0, env.gaze.reshape(2, 2) * GAZE_RANGE)
+        to_prey = world.core.kinematics().com[1] - positions  # (2, 3) from each eye
+        cosines = np.einsum("ek,ek->e", to_prey, rotations[:, 2]) / np.linalg.norm(to_prey,
+                                                                                    axis=1)
+        held.append(bool(np.all(cosines > np.cos(np.radians(7.5)))))
+    assert np.mean(held) > 0.5, np.mean(held)  # both foveas on the prey: the eyes hunt it
+    agent = gym.make("Animat/MarineWorld-v0", agent=2, control="muscles", duration=2.0)
+    agent.reset(seed=0)
+    for _ in range(20):
+        agent.step(-np.ones(8, np.float32))  # relaxed muscles, level fins: it only drifts
+    speed = np.linalg.norm(agent.unwrapped.world.core.kinematics().com_vel, axis=1)
+    assert speed[2] < 0.01 and speed.max() > 0.05
