@@ -178,3 +178,13 @@ def test_a_fish_with_eyes_hunts_by_active_vision_and_the_agent_takes_its_command
         agent.step(-np.ones(8, np.float32))  # relaxed muscles, level fins: it only drifts
     speed = np.linalg.norm(agent.unwrapped.world.core.kinematics().com_vel, axis=1)
     assert speed[2] < 0.01 and speed.max() > 0.05
+
+
+def test_the_world_bench_measures_every_configuration_and_prints_the_ratios():
+    from animat.envs.world.bench import report, run
+
+    result = run(seconds=0.05, rounds=1)
+    assert set(result) >= {"10 fishes, oracle perception", "10 fishes, one with eyes"}
+    assert all(rate > 0 for rate in result.values())
+    text = report(result)
+    assert "x reference" in text and "4 frames/s" in text

@@ -26,6 +26,7 @@ TINY = {
          "params": {"nodes": 4, "period": None}}], "annealing": {"chains": 8}}, 1920),
     "macro": ({"chains": 8, "slots": 2}, 960),
     "active_vision": ({"episodes": 2}, 20),
+    "behaviours": ({"episodes": 2}, 20),
 }
 
 
@@ -55,6 +56,9 @@ def test_learner_runs_on_a_tiny_budget_and_logs_the_shared_tags(name, tmp_path,
     if name == "active_vision":
         env_id, tags = "Animat/FishPursuit-v0", ("eval/return", "eval/fovea_fraction",
                                                  "eval/distance_closed_bl")
+    if name == "behaviours":
+        env_id, tags = "Animat/MarineWorld-v0", ("eval/return", "eval/food_eaten",
+                                                 "eval/obstacle_collisions")
     sink = MemorySink()
     learner = make_learner(name, env_id, TINY_ENV, params, seed=0, logger=Logger([sink]))
     result = learner.learn(budget, checkpoint_dir=tmp_path)
