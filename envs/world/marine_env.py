@@ -8,9 +8,11 @@ mass-spring fish of :mod:`animat.envs.fish` on one batched physics, and lives by
 that forage, flee and court), its mind (hunger, libido, fear), the perceptual oracle (300 deg,
 1.5 m; food 2.5 m), its intention generator and its behaviour routines, which act only through
 its motor controllers. One fish, ``agent``, can be driven from outside instead (a learner);
-with ``vision`` one fish sees through its real eyes (two foveated retinas,
-:mod:`animat.envs.retina`) and pursues by the paper's active vision
-(:class:`animat.learners.active_vision.ActiveVisionPolicy`) in place of the oracle.
+with ``vision`` one predator sees through its real eyes (two foveated retinas,
+:mod:`animat.envs.retina`) and hunts by the paper's active vision
+(:class:`animat.learners.active_vision.ActiveVisionPolicy`, its colour model the reddish
+minnow) in place of the oracle; its reflexes (collision avoidance, flight) stay the
+oracle's.
 
 ## Action Space
 ``control="behaviour"`` (default): ``Box(-1, 1, (3,))``, ignored: every fish lives by its
