@@ -62,9 +62,9 @@ class IntentionGenerator:
         self._resume[:] = WANDER
 
     def _drives(self, p: Percepts, mind, eats_food, predator, schooling, mates, appetite=None):
-        """(F, 7) bool: which intentions are wanted, a drive already on using its stop
-        threshold."""
-        on = self.intention
+        """(F, 7) bool: which intentions are wanted, a drive already on (or interrupted by an
+        avoidance) using its stop threshold."""
+        on = np.where(self.intention == AVOID, self._resume, self.intention)
         q = self.params
         start = appetite if appetite is not None else q.hunger[0]
         hungry = mind.hunger > np.where((on == EAT) | (on == HUNT), q.hunger[1], start)
