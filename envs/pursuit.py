@@ -222,6 +222,7 @@ class FishPursuitEnv(gym.Env):
                              for name in ("eats_food", "predator", "schooling", "mates")}
         self.cruise = np.array([0.0, self.prey_speed, 1.0])
         self.intentions = IntentionGenerator(3)
+        self.oracle = OracleParams(field_deg=360.0)  # it feels the observer even right behind
 
     def _live_reset(self) -> None:
         self.mind = MentalState.start(np.zeros(3), np.zeros(3))
@@ -234,7 +235,7 @@ class FishPursuitEnv(gym.Env):
         heads, headings = self.core.state.x[:, 0], kinematics.frames[:, 0]
         percepts = perceive(heads, headings, kinematics.com, kinematics.com_vel,
                             np.zeros((0, 3)), np.zeros(0, bool), self.relations,
-                            Obstacles.none(), self.tank, OracleParams(), AvoidParams())
+                            Obstacles.none(), self.tank, self.oracle, AvoidParams())
         advance(self.mind, self.dt, np.zeros(3), np.zeros(3, bool),
                 percepts.predator_distance, self.mind_params)
         intention = self.intentions.decide(percepts, self.mind, self.habit_arrays, self._time)

@@ -87,7 +87,7 @@ def commands(intention: np.ndarray, focus_positions: np.ndarray, p: Percepts,
     seeking = np.isin(intention, (EAT, HUNT, MATE)) & np.isfinite(distance)
     direction[seeking] = to_focus[seeking]
     near = np.clip(distance / params.slow_within, 0.3, 1.0)
-    speed = np.where(intention == EAT, near, speed)
+    speed = np.where(intention == EAT, near * sprint, speed)
     speed = np.where(intention == HUNT, sprint, speed)
     away = heads - p.predator_position
     fleeing = (intention == FLEE) & np.isfinite(away[:, 0])
@@ -106,7 +106,7 @@ def commands(intention: np.ndarray, focus_positions: np.ndarray, p: Percepts,
     turn = np.where(intention == FLEE, turn, np.clip(turn, -params.max_turn, params.max_turn))
     courting = (intention == MATE) & (distance < params.court_distance)
     turn = np.where(courting, 0.3, turn)  # circle the partner
-    speed = np.where(courting, 0.3, np.where(intention == MATE, near, speed))
+    speed = np.where(courting, 0.3, np.where(intention == MATE, near * sprint, speed))
     avoiding = intention == AVOID
     turn = np.where(avoiding & (p.escape_turn != 0), params.avoid_turn * p.escape_turn, turn)
     pitch = np.where(avoiding & (p.escape_pitch != 0), p.escape_pitch, pitch)

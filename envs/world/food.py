@@ -40,12 +40,14 @@ def release(rng: np.random.Generator, count: int, tank: Tank, obstacles: Obstacl
                           tank.top_z - params.release_depth[0])
     out = np.empty((count, 3))
     for k in range(count):
-        while True:
+        for _ in range(10_000):
             point = np.array([*rng.uniform(-0.9, 0.9, 2) * tank.half_size,
                               rng.uniform(low, high)])
             if not len(obstacles.radii) or np.all(obstacles.clearance(point) > params.clearance):
                 out[k] = point
                 break
+        else:
+            raise ValueError(f"food: no place {params.clearance:g} m clear of the obstacles")
     return out
 
 

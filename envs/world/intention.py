@@ -57,14 +57,21 @@ class IntentionGenerator:
         self.since = np.zeros(count)
         self._resume = np.full(count, WANDER)  # the intention an avoidance interrupted
 
-    def reset(self) -> None:
-        self.intention[:], self.focus[:], self.since[:] = WANDER, -1, 0.0
-        self._resume[:] = WANDER
+    def reset(self, rows: np.ndarray | None = None) -> None:
+        """Forget the intentions of ``rows`` (default: every fish)."""
+        rows = slice(None) if rows is None else rows
+        self.intention[rows], self.focus[rows], self.since[rows] = WANDER, -1, 0.0
+        self._resume[rows] = WANDER
+
+    @property
+    def resumed(self) -> np.ndarray:
+        """(F,) the intention each fish is on, or will take up again after an avoidance."""
+        return np.where(self.intention == AVOID, self._resume, self.intention)
 
     def _drives(self, p: Percepts, mind, eats_food, predator, schooling, mates, appetite=None):
         """(F, 7) bool: which intentions are wanted, a drive already on (or interrupted by an
         avoidance) using its stop threshold."""
-        on = np.where(self.intention == AVOID, self._resume, self.intention)
+        on = self.resumed
         q = self.params
         start = appetite if appetite is not None else q.hunger[0]
         hungry = mind.hunger > np.where((on == EAT) | (on == HUNT), q.hunger[1], start)
@@ -85,7 +92,7 @@ class IntentionGenerator:
         wanted = self._drives(p, mind, h["eats_food"], h["predator"], h["schooling"],
                               h["mates"], h.get("appetite"))
         best = np.argmax(wanted, axis=1)  # the first wanted in priority order
-        current = np.where(self.intention == AVOID, self._resume, self.intention)
+        current = self.resumed
         rows = np.arange(len(best))
         holding = ((time - self.since < self.params.hold) & (current >= EAT)
                    & (current < WANDER) & wanted[rows, current] & (best > FLEE))

@@ -60,7 +60,6 @@ import numpy as np
 
 from animat.envs.fish_core import OBS_LIMIT
 from animat.envs.world.food import FoodParams
-from animat.envs.world.intention import HUNT
 from animat.envs.world.scene import WorldView
 from animat.envs.world.world import ANGELFISH, MINNOW, SHARK, MarineWorld, WorldParams
 
@@ -184,18 +183,16 @@ class MarineWorldEnv(gym.Env):
         self.gaze[:] = action[3:]
         return np.array([0.5 * (action[0] + 1.0), action[1], action[2]])
 
-    def _outside(self, action) -> tuple[dict, dict]:
-        """{fish: command} and {fish: actions} that replace behaviours this step."""
+    def _outside(self, action) -> tuple[dict, dict, dict]:
+        """{fish: command} and {fish: actions} that replace behaviours this step, and the
+        vision fish's {fish: command} (used where it hunts: :meth:`MarineWorld.step`)."""
         commands, actions = {}, {}
         if self.control == "navigation":
             commands[self.agent] = np.array([0.5 * (action[0] + 1.0), action[1], action[2]])
         elif self.control == "muscles":
             actions[self.agent] = action.astype(np.float32)
-        if self.vision is not None:
-            command = self._vision_command()
-            if self.world.intention[self.vision] >= HUNT:  # no reflex or flight pre-empts it
-                commands[self.vision] = command
-        return commands, actions
+        pursue = {} if self.vision is None else {self.vision: self._vision_command()}
+        return commands, actions, pursue
 
     def step(self, action):
         if not self._started:
@@ -204,14 +201,14 @@ class MarineWorldEnv(gym.Env):
         if action.shape != self.action_space.shape or not np.all(np.isfinite(action)):
             raise ValueError(f"action must be {self.action_space.shape[0]} finite numbers, got "
                              f"{action.tolist()}")
-        commands, actions = self._outside(np.clip(action, -1.0, 1.0))
-        events = self.world.step(commands, actions)
+        commands, actions, pursue = self._outside(np.clip(action, -1.0, 1.0))
+        events = self.world.step(commands, actions, pursue)
         me = self._me()
         terms = {"reward_food": float(events["meals"][me]),
                  "reward_catch": float(events["catches"][me]),
                  "reward_collisions": -float(events["obstacle_contacts"][me]
                                              + events["fish_contacts"][me])}
-        truncated = bool(self.world.core.truncated[me])
+        truncated = self.world.truncated
         return self._observe(), float(sum(terms.values())), False, truncated, self._info(
             events, terms)
 

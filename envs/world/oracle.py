@@ -3,7 +3,8 @@ each fish perceives, read from the world model rather than from rendered eyes.
 
 A fish perceives a thing when it is within range (``range`` m for fish and obstacles, the
 longer ``food_range`` m for food), inside its ``field_deg`` field of view about its heading
-(300 deg: all but a blind cone behind), and not hidden behind an obstacle. Obstacles are
+(300 deg: all but a blind cone behind) or within ``lateral_line`` m (a fish feels what moves
+close to it all round), and not hidden behind an obstacle. Obstacles are
 vertical cylinders standing on the seabed (:class:`Obstacles`); a line of sight is hidden when
 it passes through one below its top. All functions are batched: F observers, T targets.
 """
@@ -17,11 +18,13 @@ import numpy as np
 
 @dataclass(frozen=True)
 class OracleParams:
-    """range, food_range: m; field_deg: the field of view, deg, centred on the heading."""
+    """range, food_range: m; field_deg: the field of view, deg, centred on the heading;
+    lateral_line: m within which anything is perceived whatever its bearing."""
 
     range: float = 1.5
     food_range: float = 2.5
     field_deg: float = 300.0
+    lateral_line: float = 0.3
 
     def __post_init__(self) -> None:
         if not (self.range > 0 and self.food_range > 0 and 0 < self.field_deg <= 360):
@@ -73,7 +76,8 @@ def perceived(eyes: np.ndarray, headings: np.ndarray, targets: np.ndarray, reach
     offsets = targets[None] - eyes[:, None]
     distance = np.linalg.norm(offsets, axis=-1)
     cosine = np.einsum("ftk,fk->ft", offsets, headings) / np.maximum(distance, 1e-9)
-    in_field = cosine >= np.cos(np.radians(0.5 * params.field_deg))
+    in_field = (cosine >= np.cos(np.radians(0.5 * params.field_deg))) | (
+        distance < params.lateral_line)
     seen = (distance < reach) & in_field & ~hidden(eyes, targets, obstacles)
     return seen, distance
 

@@ -92,13 +92,14 @@ def _side(headings: np.ndarray, offsets: np.ndarray) -> np.ndarray:
 
 def collision_danger(heads, headings, com, obstacles: Obstacles, tank: Tank,
                      avoid: AvoidParams, bodies: np.ndarray | None = None,
-                     exempt: np.ndarray | None = None
+                     exempt: np.ndarray | None = None, feeding: np.ndarray | None = None
                      ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(F,) danger, escape_turn, escape_pitch for heads (F, 3) going along headings (F, 3),
     centres of mass com (F, 3): an obstacle within ``margin`` of the way ahead, or of the
     body's nodes ``bodies`` (F, N, 3) (one passing alongside), or another fish ahead within
     ``fish_distance``, except those ``exempt`` (F, F) (the prey it hunts, the partner it
-    courts: those it means to reach)."""
+    courts: those it means to reach); the seabed is no danger to a fish ``feeding`` (F,)
+    (food rests on it)."""
     f = len(heads)
     probes = heads[:, None] + np.linspace(0.0, avoid.look_ahead, 4)[None, :, None] * headings[
         :, None]  # (F, 4, 3)
@@ -114,7 +115,10 @@ def collision_danger(heads, headings, com, obstacles: Obstacles, tank: Tank,
     for axis in (0, 1):  # the tank's walls: turn towards its centre
         out = np.abs(ahead[:, axis]) > tank.half_size - avoid.margin
         turn = np.where(out & (turn == 0), _side(headings, -heads), turn)
-    pitch = np.where(probes[:, :, 2].min(axis=1) < tank.seabed_z + avoid.margin, 1.0, pitch)
+    low = probes[:, :, 2].min(axis=1) < tank.seabed_z + avoid.margin
+    if feeding is not None:
+        low &= ~feeding
+    pitch = np.where(low, 1.0, pitch)
     pitch = np.where(probes[:, :, 2].max(axis=1) > tank.top_z - avoid.margin, -1.0, pitch)
     offsets = com[None] - com[:, None]  # (F, F, 3): i to j
     gap = np.linalg.norm(offsets, axis=-1) + np.eye(f) * 1e9
@@ -131,12 +135,12 @@ def collision_danger(heads, headings, com, obstacles: Obstacles, tank: Tank,
 def perceive(heads, headings, com, com_vel, food, food_alive, relations: dict,
              obstacles: Obstacles, tank: Tank, oracle: OracleParams,
              avoid: AvoidParams, bodies: np.ndarray | None = None,
-             exempt: np.ndarray | None = None) -> Percepts:
+             exempt: np.ndarray | None = None, feeding: np.ndarray | None = None) -> Percepts:
     """Percepts of F fish: heads (F, 3) m (the eye point), unit headings (F, 3), com and
     com_vel (F, 3); food (M, 3) m with ``food_alive`` (M,) bool; ``relations`` the (F, F)
     matrices named in the module docstring; ``bodies`` (F, N, 3) the fish's nodes (their
     own sense of touch: an obstacle alongside); ``exempt`` (F, F) the fish each means to
-    reach (no collision danger)."""
+    reach (no collision danger); ``feeding`` (F,) those the seabed does not turn back."""
     seen_food, food_dist = perceived(heads, headings, food, oracle.food_range, obstacles, oracle)
     seen_food &= food_alive[None]
     food_index, food_d = nearest(seen_food, food_dist)
@@ -152,7 +156,7 @@ def perceive(heads, headings, com, com_vel, food, food_alive, relations: dict,
         heading = mates @ com_vel
         heading /= np.linalg.norm(heading, axis=1, keepdims=True)
     danger, turn, pitch = collision_danger(heads, headings, com, obstacles, tank, avoid,
-                                           bodies, exempt)
+                                           bodies, exempt, feeding)
     return Percepts(food_index, food_d, _positions(food_index, food), *pred, *prey, *mate,
                     np.where(count[:, None] > 0, centre, np.nan),
                     np.where(count[:, None] > 0, heading, np.nan), count, danger, turn, pitch,

@@ -50,6 +50,7 @@ MINNOW = Habits("minnow", (220, 50, 40), schooling=True, fears=("shark",), speed
 ANGELFISH = Habits("angelfish", (230, 210, 40), mates=True, fears=("shark",), speed=0.5,
                    sprint=0.8)
 PAPER_SPECIES = ((SHARK, 1), (MINNOW, 6), (ANGELFISH, 3))  # 10 fishes
+MAX_TRIES, NEAR_TRIES = 10_000, 200  # random draws for a start place before giving up
 
 
 @dataclass(frozen=True)
@@ -135,23 +136,29 @@ class MarineWorld:
     def _place_obstacles(self) -> None:
         p, tank = self.params, self.params.tank
         centres, radii = [], []
-        while len(centres) < p.obstacles:
+        for _ in range(MAX_TRIES):
+            if len(centres) == p.obstacles:
+                break
             c = self.rng.uniform(-0.6, 0.6, 2) * tank.half_size
             r = self.rng.uniform(*p.obstacle_radius)
             if all(np.linalg.norm(c - o) > r + q + 0.5 for o, q in zip(centres, radii)):
                 centres.append(c)
                 radii.append(r)
+        else:
+            raise ValueError(f"world: {p.obstacles} obstacles do not fit 0.5 m apart in the "
+                             f"middle of a {2 * tank.half_size:g} m tank")
         self.obstacles = Obstacles(np.array(centres).reshape(-1, 2), np.array(radii),
                                    np.full(len(radii), tank.top_z + 0.1))
 
     def _free_spot(self, taken: list[np.ndarray], edge: bool = False,
                    near: np.ndarray | None = None) -> np.ndarray:
         """A start point 0.3 m clear of obstacles and 0.45 m from those ``taken``: anywhere in
-        the tank, on its rim (``edge``), or within 0.8 m of ``near`` (3,)."""
+        the tank, on its rim (``edge``), or within 0.8 m of ``near`` (3,) (after
+        ``NEAR_TRIES`` draws that find none there, anywhere); ValueError if none is found."""
         tank = self.params.tank
-        while True:
+        for attempt in range(MAX_TRIES):
             xy = self.rng.uniform(-0.8, 0.8, 2) * tank.half_size
-            if near is not None:
+            if near is not None and attempt < NEAR_TRIES:
                 xy = np.clip(near[:2] + self.rng.uniform(-0.8, 0.8, 2), -0.8 * tank.half_size,
                              0.8 * tank.half_size)
             if edge:  # on the rim of the tank
@@ -162,6 +169,8 @@ class MarineWorld:
             if np.all(self.obstacles.clearance(point) > 0.3) and all(
                     np.linalg.norm(point - t) > 0.45 for t in taken):
                 return point
+        raise ValueError(f"world: no start 0.45 m from {len(taken)} fish and 0.3 m from the "
+                         f"obstacles in a {2 * tank.half_size:g} m tank: too many fish")
 
     def place_fish(self, row: int, position: np.ndarray, yaw: float) -> None:
         """Put fish ``row`` at rest with its head at ``position`` (3,) m, heading ``yaw`` rad
@@ -195,7 +204,8 @@ class MarineWorld:
         self.mind = MentalState.start(rng.uniform(0.3, 0.8, f), rng.uniform(0.0, 0.6, f))
         self.intentions.reset()
         self.navigator.reset(np.arange(f))
-        self.wander = np.zeros((f, 3))
+        self.wander = self.core.kinematics().frames[:, 0].copy()  # on as it faces
+        self.wander[:, 2] = 0.0
         self.wander_due = rng.uniform(0.0, p.behaviour.wander_change, f)
         self.courting = np.zeros((f, f))
         self.obstacle_contact = np.zeros((f, len(self.obstacles.radii)), bool)
@@ -203,7 +213,7 @@ class MarineWorld:
         self.apart = np.full((f, f), np.inf)
         self.apart_before = self.apart.copy()
         self.meals, self.mated = np.zeros(f), np.zeros(f, bool)
-        self.time = 0.0
+        self.time, self.steps = 0.0, 0
         self.percepts = self._perceive()
 
     def stage(self, obstacles: Obstacles | None = None, food: np.ndarray | None = None) -> None:
@@ -216,6 +226,7 @@ class MarineWorld:
             self.food = np.asarray(food, float).reshape(-1, 3).copy()
         self.core.state.origin[:] = self.core.kinematics().com
         self.obstacle_contact = np.zeros((self.num_fish, len(self.obstacles.radii)), bool)
+        self.intentions.focus[:] = -1  # the things it focused on may be gone
         self.percepts = self._perceive()
 
     # --- a step ------------------------------------------------------------------------
@@ -228,11 +239,12 @@ class MarineWorld:
         heads, headings, com, com_vel = self.kinematics()
         p = self.params
         exempt = np.zeros((self.num_fish, self.num_fish), bool)
-        seeking = np.isin(self.intentions.intention, (HUNT, MATE)) & (self.intentions.focus >= 0)
-        exempt[np.flatnonzero(seeking), self.intentions.focus[seeking]] = True
+        on, focus = self.intentions.resumed, self.intentions.focus
+        seeking = np.isin(on, (HUNT, MATE)) & (focus >= 0)
+        exempt[np.flatnonzero(seeking), focus[seeking]] = True
         return perceive(heads, headings, com, com_vel, self.food, np.ones(len(self.food), bool),
                         self.relations, self.obstacles, p.tank, p.oracle, p.avoid,
-                        self.core.state.x, exempt)
+                        self.core.state.x, exempt, feeding=on == EAT)
 
     def _focus_positions(self, intention: np.ndarray, com: np.ndarray) -> np.ndarray:
         focus = self.intentions.focus
@@ -262,12 +274,24 @@ class MarineWorld:
     def intention(self) -> np.ndarray:
         return self.intentions.intention
 
+    @property
+    def truncated(self) -> bool:
+        """The episode's ``duration`` is over (the world's clock: a fish that entered after a
+        catch does not restart it)."""
+        return self.steps >= self.core.episode_steps
+
     def step(self, commands: dict[int, np.ndarray] | None = None,
-             actions: dict[int, np.ndarray] | None = None) -> dict[str, np.ndarray]:
+             actions: dict[int, np.ndarray] | None = None,
+             pursue: dict[int, np.ndarray] | None = None) -> dict[str, np.ndarray]:
         """Advance one env step. ``commands`` {fish: (3,) navigation command} and ``actions``
-        {fish: (8,) fish-env action} replace those fish's behaviours. Returns the step's
+        {fish: (8,) fish-env action} replace those fish's behaviours; ``pursue`` {fish:
+        command} replaces them only where this step's intention is to hunt or less urgent
+        (an eye-driven hunter, whose reflexes and flight stay its own). Returns the step's
         events (see :meth:`_events`)."""
         wanted = self.behaviour_commands()
+        for row, command in (pursue or {}).items():
+            if self.intention[row] >= HUNT:
+                wanted[row] = command
         for row, command in (commands or {}).items():
             wanted[row] = command
         moves = self.navigator.actions(wanted, self.time, reflex=self.intention == AVOID)
@@ -275,6 +299,7 @@ class MarineWorld:
             moves[row] = action
         self.core.step(moves.astype(np.float64))
         self.time += self.dt
+        self.steps += 1
         self.food = food_mod.drift(self.food, self.current, self.dt, self.params.tank,
                                    self.obstacles, self.params.food)
         events = self._events()
@@ -285,9 +310,12 @@ class MarineWorld:
     def _eat(self, heads: np.ndarray) -> np.ndarray:
         p = self.params
         meals, gone = food_mod.eaten(heads, self.food, self.arrays["eats_food"], p.food)
-        if gone.any():  # the feeder replaces what was eaten
+        if gone.any():  # the feeder replaces what was eaten; no one goes on seeking it
             self.food[gone] = food_mod.release(self.rng, int(gone.sum()), p.tank,
                                                self.obstacles, p.food)
+            seeking = (self.intentions.resumed == EAT) & np.isin(self.intentions.focus,
+                                                                 np.flatnonzero(gone))
+            self.intentions.focus[seeking] = -1
         return meals
 
     def _catch(self, heads: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -295,10 +323,17 @@ class MarineWorld:
         new one of its species enters at the tank's edge."""
         x = self.core.state.x
         reach = np.linalg.norm(x[None] - heads[:, None, None], axis=-1).min(axis=2)  # (F, F)
-        caught_by = self.relations["hunts"] & (reach < self.params.catch_radius)
-        caught = caught_by.any(axis=0)
-        for row in np.flatnonzero(caught):
+        within = self.relations["hunts"] & (reach < self.params.catch_radius)
+        caught = within.any(axis=0)
+        caught_by = np.zeros_like(within)  # each prey to the nearest of its hunters
+        prey = np.flatnonzero(caught)
+        caught_by[np.argmin(np.where(within, reach, np.inf), axis=0)[prey], prey] = True
+        for row in prey:
             self.core.reset_rows(np.array([row]), [self.rng])
+            self.intentions.reset(np.array([row]))
+            for pairs, fresh in ((self.courting, 0.0), (self.fish_contact, False),
+                                 (self.apart, np.inf), (self.apart_before, np.inf)):
+                pairs[row, :] = pairs[:, row] = fresh  # a new fish: no past with the others
             spot = self._free_spot([heads[k] for k in range(self.num_fish) if k != row], True)
             self.place_fish(row, spot, np.arctan2(-spot[1], -spot[0]))
             self.core.state.origin[row] = self.core.kinematics().com[row]
