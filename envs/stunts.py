@@ -174,7 +174,8 @@ class DolphinTurnTask(Underwater, TurnTask):
 class DolphinArcTask(Underwater, Task):
     """Swim an arc (a turn of radius ``radius_bl`` taken at speed, the paper's "turns of
     different radii"): pitching ``direction`` (up or down) round a centre ``radius_bl`` body
-    lengths above or below the start's centre of mass. E_v = -u_arc, the centre of mass's
+    lengths from the start's centre of mass along the normal of the start heading (above or
+    below it for a level start). E_v = -u_arc, the centre of mass's
     speed along the circle (BL/s: the angular speed about the centre times the radius), so
     that the faster the dolphin swims round the arc the better, and a straight swim makes
     ever less of it. Metrics: ``arc_speed_bl_per_s``, ``pitch_deg``."""
