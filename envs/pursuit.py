@@ -66,10 +66,10 @@ from animat.envs.render import Camera, Scene, fish_skin, look_at, yaw_matrix
 from animat.envs.retina import RetinaParams, composite, eye_positions, gaze_rotation, render_eyes
 from animat.envs.scenery import SceneryParams, furnish, scatter
 from animat.envs.tasks import SwimTask
-from animat.envs.world import behaviours
 from animat.envs.world.behaviours import BehaviourParams
 from animat.envs.world.intention import IntentionGenerator
-from animat.envs.world.mind import MentalState, MindParams, advance
+from animat.envs.world.life import Lives
+from animat.envs.world.mind import MentalState, MindParams
 from animat.envs.world.oracle import Obstacles, OracleParams
 from animat.envs.world.percepts import AvoidParams, Tank, perceive
 
@@ -225,25 +225,23 @@ class FishPursuitEnv(gym.Env):
         self.oracle = OracleParams(field_deg=360.0)  # it feels the observer even right behind
 
     def _live_reset(self) -> None:
-        self.mind = MentalState.start(np.zeros(3), np.zeros(3))
+        wander = self.core.kinematics().frames[:, 0].copy()  # straight on
+        wander[:, 2] = 0.0
         self.intentions.reset()
-        self.wander = self.core.kinematics().frames[:, 0].copy()  # straight on
-        self.wander[:, 2] = 0.0
+        self.lives = Lives(MentalState.start(np.zeros(3), np.zeros(3)), self.intentions, wander,
+                           np.full(3, np.inf), self.habit_arrays, self.cruise, self.cruise,
+                           self.mind_params, BehaviourParams(), self.tank)
 
     def _behaviours(self, kinematics) -> np.ndarray:
         """(2, 3) commands of the prey and the passer, from their minds and behaviours."""
         heads, headings = self.core.state.x[:, 0], kinematics.frames[:, 0]
         percepts = perceive(heads, headings, kinematics.com, kinematics.com_vel,
-                            np.zeros((0, 3)), np.zeros(0, bool), self.relations,
+                            np.zeros((0, 3)), self.relations,
                             Obstacles.none(), self.tank, self.oracle, AvoidParams())
-        advance(self.mind, self.dt, np.zeros(3), np.zeros(3, bool),
-                percepts.predator_distance, self.mind_params)
-        intention = self.intentions.decide(percepts, self.mind, self.habit_arrays, self._time)
-        self.wander = behaviours.wander_directions(
-            self.np_random, heads, self.wander, np.zeros(3, bool), self.tank, BehaviourParams())
-        return behaviours.commands(intention, np.full((3, 3), np.nan), percepts, heads,
-                                   headings, kinematics.com, self.wander, self.cruise,
-                                   self.cruise, BehaviourParams())[[PREY, PASSER]]
+        no_focus = np.full((3, 3), np.nan)
+        return self.lives.commands(percepts, heads, headings, kinematics.com, self._time,
+                                   self.dt, np.zeros(3), np.zeros(3, bool), self.np_random,
+                                   lambda intention: no_focus)[[PREY, PASSER]]
 
     def step(self, action):
         if not self._started:

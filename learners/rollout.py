@@ -11,11 +11,14 @@ is scored by this protocol.
 
 from __future__ import annotations
 
+import time
+
 import gymnasium as gym
 import numpy as np
 
 import animat  # noqa: F401  (registers Animat/*)
 from animat.envs.tasks import EpisodeSummary
+from animat.learners.base import LearnResult
 
 START_STATES = 4  # start states every candidate and every final result is scored over
 
@@ -117,10 +120,6 @@ def score_policy(learner, env: gym.Env, policy, episodes: int):
     scorer: it learns nothing) on ``episodes`` seeded episodes of ``env`` (seeds from the
     learner's on): its hyperparameters and the ``eval/`` figures logged at the env steps
     played, the episodes' own figures kept as artefacts."""
-    import time
-
-    from animat.learners.base import LearnResult
-
     start = time.perf_counter()
     steps = env.unwrapped.episode_steps * episodes
     learner.log_hparams()

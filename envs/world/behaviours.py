@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from animat.envs.world.intention import AVOID, EAT, FLEE, HUNT, MATE, SCHOOL, WANDER
+from animat.envs.world.intention import AVOID, EAT, FLEE, HUNT, MATE, SCHOOL
 from animat.envs.world.percepts import Percepts, Tank
 
 
@@ -79,7 +79,6 @@ def commands(intention: np.ndarray, focus_positions: np.ndarray, p: Percepts,
     """(F, 3) navigation commands for F fish: ``intention`` (F,), the focus's position (F, 3)
     (nan: none), percepts, heads/headings/com (F, 3), wander directions (F, 3) and each
     species' cruise and sprint speeds (F,)."""
-    f = len(intention)
     direction = wander.copy()
     speed = cruise.copy()
     to_focus = focus_positions - heads
@@ -111,9 +110,5 @@ def commands(intention: np.ndarray, focus_positions: np.ndarray, p: Percepts,
     turn = np.where(avoiding & (p.escape_turn != 0), params.avoid_turn * p.escape_turn, turn)
     pitch = np.where(avoiding & (p.escape_pitch != 0), p.escape_pitch, pitch)
     speed = np.where(avoiding, params.avoid_speed, speed)
-    assert turn.shape == (f,)
     return np.stack([np.clip(speed, 0.0, 1.0), turn, pitch], axis=1)
 
-
-__all__ = ["BehaviourParams", "commands", "heading_error", "steer", "wander_directions",
-           "WANDER"]

@@ -221,7 +221,8 @@ class MarineWorldEnv(gym.Env):
                 if events else 0.0,
                 "fish_collisions": float(events["fish_contacts"].sum()) / 2.0
                 if events else 0.0,
-                "school_cohesion_bl": world.school_cohesion(world.core.kinematics().com),
+                "school_cohesion_bl": events["school_cohesion_bl"] if events
+                else world.school_cohesion(world.core.kinematics().com),
                 "intentions": world.intention.copy(), "hunger": world.mind.hunger.copy(),
                 "libido": world.mind.libido.copy(), "fear": world.mind.fear.copy(),
                 "time": world.time}

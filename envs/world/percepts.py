@@ -132,17 +132,17 @@ def collision_danger(heads, headings, com, obstacles: Obstacles, tank: Tank,
     return (turn != 0) | (pitch != 0), turn, pitch
 
 
-def perceive(heads, headings, com, com_vel, food, food_alive, relations: dict,
+def perceive(heads, headings, com, com_vel, food, relations: dict,
              obstacles: Obstacles, tank: Tank, oracle: OracleParams,
              avoid: AvoidParams, bodies: np.ndarray | None = None,
              exempt: np.ndarray | None = None, feeding: np.ndarray | None = None) -> Percepts:
     """Percepts of F fish: heads (F, 3) m (the eye point), unit headings (F, 3), com and
-    com_vel (F, 3); food (M, 3) m with ``food_alive`` (M,) bool; ``relations`` the (F, F)
+    com_vel (F, 3); food (M, 3) m (every particle there is, eaten ones already replaced);
+    ``relations`` the (F, F)
     matrices named in the module docstring; ``bodies`` (F, N, 3) the fish's nodes (their
     own sense of touch: an obstacle alongside); ``exempt`` (F, F) the fish each means to
     reach (no collision danger); ``feeding`` (F,) those the seabed does not turn back."""
     seen_food, food_dist = perceived(heads, headings, food, oracle.food_range, obstacles, oracle)
-    seen_food &= food_alive[None]
     food_index, food_d = nearest(seen_food, food_dist)
     seen, dist = perceived(heads, headings, com, oracle.range, obstacles, oracle)
     seen &= ~np.eye(len(com), dtype=bool)

@@ -26,7 +26,6 @@ from animat.envs.fish_core import FishBatch
 from animat.envs.navigation import Navigator
 from animat.envs.render import yaw_matrix
 from animat.envs.tasks import SwimTask
-from animat.envs.world import behaviours
 from animat.envs.world import food as food_mod
 from animat.envs.world.behaviours import BehaviourParams
 from animat.envs.world.food import FoodParams
@@ -39,7 +38,8 @@ from animat.envs.world.intention import (
     IntentionGenerator,
     IntentionParams,
 )
-from animat.envs.world.mind import Habits, MentalState, MindParams, advance
+from animat.envs.world.life import Lives
+from animat.envs.world.mind import Habits, MentalState, MindParams
 from animat.envs.world.oracle import Obstacles, OracleParams
 from animat.envs.world.percepts import AvoidParams, Tank, perceive
 
@@ -201,12 +201,14 @@ class MarineWorld:
         angle = rng.uniform(-np.pi, np.pi)
         self.current = p.food.drift * rng.uniform(0, 1) * np.array([np.cos(angle),
                                                                    np.sin(angle), 0.0])
-        self.mind = MentalState.start(rng.uniform(0.3, 0.8, f), rng.uniform(0.0, 0.6, f))
+        mind = MentalState.start(rng.uniform(0.3, 0.8, f), rng.uniform(0.0, 0.6, f))
         self.intentions.reset()
         self.navigator.reset(np.arange(f))
-        self.wander = self.core.kinematics().frames[:, 0].copy()  # on as it faces
-        self.wander[:, 2] = 0.0
-        self.wander_due = rng.uniform(0.0, p.behaviour.wander_change, f)
+        wander = self.core.kinematics().frames[:, 0].copy()  # on as it faces
+        wander[:, 2] = 0.0
+        self.lives = Lives(mind, self.intentions, wander,
+                           rng.uniform(0.0, p.behaviour.wander_change, f), self.arrays,
+                           self.cruise, self.sprint, p.mind, p.behaviour, p.tank)
         self.courting = np.zeros((f, f))
         self.obstacle_contact = np.zeros((f, len(self.obstacles.radii)), bool)
         self.fish_contact = np.zeros((f, f), bool)
@@ -242,9 +244,9 @@ class MarineWorld:
         on, focus = self.intentions.resumed, self.intentions.focus
         seeking = np.isin(on, (HUNT, MATE)) & (focus >= 0)
         exempt[np.flatnonzero(seeking), focus[seeking]] = True
-        return perceive(heads, headings, com, com_vel, self.food, np.ones(len(self.food), bool),
-                        self.relations, self.obstacles, p.tank, p.oracle, p.avoid,
-                        self.core.state.x, exempt, feeding=on == EAT)
+        return perceive(heads, headings, com, com_vel, self.food, self.relations,
+                        self.obstacles, p.tank, p.oracle, p.avoid, self.core.state.x, exempt,
+                        feeding=on == EAT)
 
     def _focus_positions(self, intention: np.ndarray, com: np.ndarray) -> np.ndarray:
         focus = self.intentions.focus
@@ -258,17 +260,24 @@ class MarineWorld:
     def behaviour_commands(self) -> np.ndarray:
         """(F, 3) this step's navigation commands from every fish's mind and behaviours (and
         the intention each is acting on: :attr:`intention`)."""
-        p, percepts = self.params, self.percepts
         heads, headings, com, _ = self.kinematics()
-        advance(self.mind, self.dt, self.meals, self.mated, percepts.predator_distance, p.mind)
-        intention = self.intentions.decide(percepts, self.mind, self.arrays, self.time)
-        due = self.time >= self.wander_due
-        self.wander = behaviours.wander_directions(self.rng, heads, self.wander, due, p.tank,
-                                                   p.behaviour)
-        self.wander_due = np.where(due, self.time + p.behaviour.wander_change, self.wander_due)
-        focus = self._focus_positions(intention, com)
-        return behaviours.commands(intention, focus, percepts, heads, headings, com,
-                                   self.wander, self.cruise, self.sprint, p.behaviour)
+        return self.lives.commands(self.percepts, heads, headings, com, self.time, self.dt,
+                                   self.meals, self.mated, self.rng,
+                                   lambda intention: self._focus_positions(intention, com))
+
+    @property
+    def mind(self) -> MentalState:
+        return self.lives.mind
+
+    @property
+    def wander(self) -> np.ndarray:
+        """(F, 3) each wanderer's heading (set its rows to stage a scene)."""
+        return self.lives.wander
+
+    @property
+    def wander_due(self) -> np.ndarray:
+        """(F,) s when each wanderer's heading is renewed."""
+        return self.lives.wander_due
 
     @property
     def intention(self) -> np.ndarray:
@@ -395,15 +404,16 @@ class MarineWorld:
         (prey caught), ``caught`` (taken by a predator), ``mated``, ``obstacle_contacts`` and
         ``fish_contacts`` (contacts begun), ``intention`` (its code); and
         ``school_cohesion_bl`` (a float)."""
-        heads, _, com, _ = self.kinematics()
+        heads = self.core.state.x[:, 0]
         self.meals = self._eat(heads)
         catches, caught = self._catch(heads)
+        com = self.core.kinematics().com  # after a caught fish was replaced
         self.mated = self._mate(com)
         obstacle, fish = self._contacts()
         return {"meals": self.meals.copy(), "catches": catches, "caught": caught,
                 "mated": self.mated.copy(), "obstacle_contacts": obstacle,
                 "fish_contacts": fish, "intention": self.intention.copy(),
-                "school_cohesion_bl": self.school_cohesion(self.kinematics()[2])}
+                "school_cohesion_bl": self.school_cohesion(com)}
 
 
 INTENTION_NAMES = NAMES
