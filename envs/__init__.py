@@ -6,7 +6,8 @@ batched vector env (``gym.make_vec(id, num_envs=256)``), ``Animat/FishPursuit-v0
 (vision-guided pursuit; :mod:`animat.envs.pursuit`) and ``Animat/MarineWorld-v0`` (the living
 world of 10 fishes; :mod:`animat.envs.world`); and the dolphin's tasks
 (:mod:`animat.envs.stunts`): ``Animat/DolphinForward-v0``, ``Animat/DolphinTurn-v0`` (up, down,
-left, right), ``Animat/DolphinArc-v0`` (a turn taken at speed), ``Animat/DolphinLeap-v0``,
+left, right), ``Animat/DolphinArc-v0`` (a turn taken at speed), ``Animat/DolphinSpin-v0`` (a
+pitch spin), ``Animat/DolphinLeap-v0``,
 ``Animat/DolphinNoseBall-v0``,
 ``Animat/DolphinTailBall-v0``, ``Animat/DolphinSomersault-v0``, ``Animat/DolphinBellyFlop-v0``,
 each with a native vector env.
@@ -30,6 +31,7 @@ DOLPHIN_ENVS = {
     "Animat/DolphinForward-v0": {"task": "dolphin_forward"},
     "Animat/DolphinTurn-v0": {"task": "dolphin_turn"},
     "Animat/DolphinArc-v0": {"task": "dolphin_arc"},
+    "Animat/DolphinSpin-v0": {"task": "dolphin_spin"},
     "Animat/DolphinLeap-v0": {"task": "leap", "reward_weights": STUNT_WEIGHTS},
     "Animat/DolphinNoseBall-v0": {"task": "ball", "part": "nose",
                                   "reward_weights": STUNT_WEIGHTS},

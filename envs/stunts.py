@@ -1,12 +1,8 @@
-"""The dolphin's tasks (the paper's Section 4.2): 5 basic motor tasks and the SeaWorld stunts.
+"""The dolphin's SeaWorld stunts (the paper's Section 4.2), and the registry of all its tasks
+(the basic ones are :mod:`animat.envs.dolphin_tasks`).
 
-Every dolphin task starts the body at rest ``start_depth`` m under the surface (z = 0),
-heading +x, pitched by ``start_pitch_deg``. Shapes and units as in :mod:`animat.envs.tasks`.
-
-Basic tasks (basic training learns each into the repertoire):
-``dolphin_forward`` (move-forward: E_v = -u, the speed along the start heading, BL/s) and
-``dolphin_turn`` (``direction`` up, down, left or right by ``angle_deg``: E_v is the squared
-pitch or yaw error, rad^2).
+Every stunt starts as the basic tasks do (:class:`animat.envs.dolphin_tasks.Underwater`).
+Shapes and units as in :mod:`animat.envs.tasks`.
 
 Stunts, each a score S that the reward pays out as it grows (``E_v = -(S_t - S_t-1) / dt``
 from the second step on, so the task part of an episode's return is ``mu2`` times S at its
@@ -41,175 +37,19 @@ from dataclasses import dataclass
 import numpy as np
 
 from animat.envs.dolphin import LEFT_TIP, RIGHT_TIP
-from animat.envs.dolphin_motor import dolphin_swim_mc, dolphin_turn_mc
-from animat.envs.physics.ball import NOSE_PART, TAIL_PART, BallParams
-from animat.envs.tasks import (
-    TASKS,
-    SwimTask,
-    Task,
-    TurnTask,
-    World,
-    heading_yaw,
-    world_to_body,
-    wrap_angle,
+from animat.envs.dolphin_tasks import (
+    DolphinArcTask,
+    DolphinForwardTask,
+    DolphinSpinTask,
+    DolphinTurnTask,
+    Underwater,
+    pitch_of,
 )
+from animat.envs.physics.ball import NOSE_PART, TAIL_PART, BallParams
+from animat.envs.tasks import TASKS, Task, World, world_to_body
 
 NOSE_NODES = (0,)
 TAIL_NODES = (17, 18, 19, 20, LEFT_TIP, RIGHT_TIP)
-
-
-def placed(body, depth: float, pitch_deg: float) -> np.ndarray:
-    """(N, 3) the rest shape pitched nose-up by ``pitch_deg`` about its centre of mass, with
-    the centre of mass ``depth`` m under z = 0."""
-    rest = body.rest_positions
-    com = body.masses @ rest / body.total_mass
-    a = np.radians(pitch_deg)
-    rotation = np.array([[np.cos(a), 0.0, -np.sin(a)], [0.0, 1.0, 0.0],
-                         [np.sin(a), 0.0, np.cos(a)]])
-    return (rest - com) @ rotation.T + np.array([0.0, 0.0, -depth])
-
-
-def pitch_of(frames: np.ndarray) -> np.ndarray:
-    """(B,) pitch of the forward vector above the horizontal, rad (positive: nose up)."""
-    return np.arcsin(np.clip(frames[:, 0, 2], -1.0, 1.0))
-
-
-class Underwater:
-    """A dolphin task's start: ``start_depth`` m (negative: above the surface),
-    ``start_pitch_deg`` and ``start_speed`` m/s, the velocity of every node along the pitched
-    heading (0: at rest; a glide at speed, the start of a turn learned while swimming), the
-    task's dataclass fields."""
-
-    start_depth: float
-    start_pitch_deg: float
-    start_speed: float
-
-    def check_start(self) -> None:
-        if not np.isfinite(self.start_depth):
-            raise ValueError(f"start_depth must be a number of metres (negative: above the "
-                             f"surface), got {self.start_depth!r}")
-        if not -90.0 <= self.start_pitch_deg <= 90.0:
-            raise ValueError(f"start_pitch_deg must be in [-90, 90], got "
-                             f"{self.start_pitch_deg!r}")
-        if not (np.isfinite(self.start_speed) and self.start_speed >= 0.0):
-            raise ValueError(f"start_speed must be a speed >= 0 m/s, got {self.start_speed!r}")
-
-    def place(self, body):
-        return placed(body, self.start_depth, self.start_pitch_deg)
-
-    def start_velocity(self, body):
-        a = np.radians(self.start_pitch_deg)
-        heading = np.array([np.cos(a), 0.0, np.sin(a)])
-        return np.broadcast_to(self.start_speed * heading, body.rest_positions.shape).copy()
-
-
-@dataclass
-class DolphinForwardTask(Underwater, SwimTask):
-    """Move forward (the fish's swim task, started under water)."""
-
-    start_depth: float = 3.0
-    start_pitch_deg: float = 0.0
-    start_speed: float = 0.0
-    name = "dolphin_forward"
-    default_duration = 4.0
-
-    def __post_init__(self) -> None:
-        super().__post_init__()
-        self.check_start()
-
-    def hand_controller(self, speed: float = 1.0):
-        return lambda t: dolphin_swim_mc(speed, t)
-
-
-@dataclass
-class DolphinTurnTask(Underwater, TurnTask):
-    """Turn ``direction`` (up, down, left, right) by ``angle_deg``: E_v the squared error of
-    the pitch (up, down) or of the yaw (left, right), rad^2; observation: its sine and
-    cosine (the fish's turn task, in both planes)."""
-
-    angle_deg: float = 45.0
-    direction: str = "up"
-    start_depth: float = 3.0
-    start_pitch_deg: float = 0.0
-    start_speed: float = 0.0
-    name = "dolphin_turn"
-    default_duration = 4.0
-
-    def __post_init__(self) -> None:
-        if self.direction not in ("up", "down", "left", "right"):
-            raise ValueError(f"direction must be up, down, left or right, got "
-                             f"{self.direction!r}")
-        limit = 180.0
-        if self.direction in ("up", "down"):  # a pitch beyond +-90 deg is not a pitch
-            sign = 1.0 if self.direction == "up" else -1.0
-            limit = 90.0 - sign * float(self.start_pitch_deg)
-        if not 0.0 < float(self.angle_deg) <= limit:
-            raise ValueError(f"angle_deg must be in (0, {limit:g}] for {self.direction} from "
-                             f"start_pitch_deg {self.start_pitch_deg:g}, got {self.angle_deg!r}")
-        self.check_start()
-
-    def _error(self, frames):
-        sign = 1.0 if self.direction in ("up", "left") else -1.0
-        target = sign * np.radians(float(self.angle_deg))
-        if self.direction in ("up", "down"):
-            return pitch_of(frames) - (np.radians(self.start_pitch_deg) + target)
-        return wrap_angle(heading_yaw(frames) - target)
-
-    def terms(self, com, com_vel, frames, targets, length, last):
-        error = self._error(frames)
-        return error**2, {"pitch_deg": np.degrees(pitch_of(frames)),
-                          "heading_deg": np.degrees(heading_yaw(frames)),
-                          "turn_error_deg": np.degrees(error)}
-
-    def final_metrics(self, last):
-        """``final_turn_error_deg``: the absolute pitch or yaw error at the end."""
-        return {"final_turn_error_deg": np.abs(last["turn_error_deg"])}
-
-    def hand_controller(self, speed: float = 1.0):
-        angle = np.radians(float(self.angle_deg))
-        return lambda t: dolphin_turn_mc(self.direction, angle, t)
-
-
-@dataclass
-class DolphinArcTask(Underwater, Task):
-    """Swim an arc (a turn of radius ``radius_bl`` taken at speed, the paper's "turns of
-    different radii"): pitching ``direction`` (up or down) round a centre ``radius_bl`` body
-    lengths from the start's centre of mass along the normal of the start heading (above or
-    below it for a level start). E_v = -u_arc, the centre of mass's
-    speed along the circle (BL/s: the angular speed about the centre times the radius), so
-    that the faster the dolphin swims round the arc the better, and a straight swim makes
-    ever less of it. Metrics: ``arc_speed_bl_per_s``, ``pitch_deg``."""
-
-    direction: str = "down"
-    radius_bl: float = 2.0
-    start_depth: float = 3.0
-    start_pitch_deg: float = 0.0
-    start_speed: float = 0.0
-    name = "dolphin_arc"
-    default_duration = 4.0
-    mean_metrics = ("arc_speed_bl_per_s",)
-
-    def __post_init__(self) -> None:
-        if self.direction not in ("up", "down"):
-            raise ValueError(f"direction must be up or down, got {self.direction!r}")
-        if not (np.isfinite(self.radius_bl) and self.radius_bl > 0.0):
-            raise ValueError(f"radius_bl must be a length > 0 BL, got {self.radius_bl!r}")
-        self.check_start()
-
-    def terms(self, com, com_vel, frames, targets, length, last):
-        a = np.radians(self.start_pitch_deg)
-        heading, normal = np.array([np.cos(a), np.sin(a)]), np.array([-np.sin(a), np.cos(a)])
-        sign = -1.0 if self.direction == "down" else 1.0  # the centre: below or above
-        r = com[:, [0, 2]] - sign * self.radius_bl * length * normal  # (B, 2) from the centre
-        v = com_vel[:, [0, 2]]
-        tangent = -sign * (r @ normal[:, None] * heading - r @ heading[:, None] * normal)
-        u_arc = np.einsum("bk,bk->b", tangent, v) / np.maximum(np.linalg.norm(r, axis=1),
-                                                              1e-9)
-        return -u_arc / length, {"arc_speed_bl_per_s": u_arc / length,
-                                 "pitch_deg": np.degrees(pitch_of(frames))}
-
-    def hand_controller(self, speed: float = 1.0):
-        return lambda t: dolphin_swim_mc(speed, t)
 
 
 # Episode memory of a stunt, by column.
@@ -420,7 +260,7 @@ class BellyFlopTask(StuntTask):
 
 DOLPHIN_TASKS: dict[str, type[Task]] = {
     "dolphin_forward": DolphinForwardTask, "dolphin_turn": DolphinTurnTask,
-    "dolphin_arc": DolphinArcTask, "leap": LeapTask,
+    "dolphin_arc": DolphinArcTask, "dolphin_spin": DolphinSpinTask, "leap": LeapTask,
     "ball": BallTask, "somersault": SomersaultTask, "belly_flop": BellyFlopTask,
 }
 TASKS.update(DOLPHIN_TASKS)

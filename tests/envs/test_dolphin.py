@@ -8,12 +8,13 @@ import numpy as np
 from animat.envs import DOLPHIN_KWARGS
 from animat.envs.dolphin import ACTUATOR_NAMES, LEFT_TIP, RIGHT_TIP, dolphin_body
 from animat.envs.dolphin_motor import dolphin_swim_mc
+from animat.envs.dolphin_tasks import DolphinForwardTask
 from animat.envs.fish_core import FishBatch
 from animat.envs.motor import to_action
 from animat.envs.physics.integrator import step_batch
 from animat.envs.physics.observe import momenta
 from animat.envs.physics.system import System, Water, stable_step
-from animat.envs.stunts import DolphinForwardTask, LeapTask
+from animat.envs.stunts import LeapTask
 
 G = 9.81
 BODY = dolphin_body()

@@ -159,7 +159,7 @@ def test_a_start_at_speed_glides_along_the_pitched_heading_and_bad_speeds_are_re
 def test_the_arc_pays_the_speed_round_its_circle():
     """E_v = -u_arc: the full speed on the circle's tangent, none moving along the radius,
     and a straight swim from the circle's top makes ever less of its speed."""
-    from animat.envs.stunts import DolphinArcTask
+    from animat.envs.dolphin_tasks import DolphinArcTask
 
     length, radius = 2.5, 2.0 * 2.5
     frames = np.tile(np.eye(3), (3, 1, 1))
@@ -182,3 +182,29 @@ def test_the_arc_pays_the_speed_round_its_circle():
         DolphinArcTask(radius_bl=0.0)
     with pytest.raises(ValueError, match="direction"):
         DolphinArcTask(direction="left")
+
+
+def test_the_spin_pays_the_bodys_pitch_rate_whatever_it_moves_along():
+    """A body turning rigidly nose-up at w rad/s about its centre of mass, and gliding, has a
+    pitch rate of w (signed by the direction asked for); a glide alone has none."""
+    from animat.envs.bodies import make_body
+    from animat.envs.dolphin_tasks import DolphinSpinTask
+    from animat.envs.stunts import World
+
+    body = make_body("dolphin")
+    x = body.rest_positions - body.masses @ body.rest_positions / body.total_mass
+    w = 2.0  # rad/s nose up: about -y (forward +x, left +y)
+    spin = np.cross(np.array([0.0, -w, 0.0]), x)
+    glide = np.array([1.5, 0.0, -0.5])
+    v = np.stack([spin + glide, np.broadcast_to(glide, x.shape)])
+    world = World(com=None, com_vel=None, frames=np.tile(np.eye(3), (2, 1, 1)), targets=None,
+                  length=2.5, position=None, x=np.stack([x, x]) + [0.0, 0.0, -3.0], v=v,
+                  splash=np.zeros(2), memory=np.zeros((2, 0)), ball=None, touch=None,
+                  surface_z=0.0, body=body, dt=0.05)
+    for direction, sign in (("up", 1.0), ("down", -1.0)):
+        e_v, metrics, _ = DolphinSpinTask(direction=direction).world_terms(world, None)
+        assert e_v == pytest.approx([-sign * w, 0.0], abs=1e-12)
+        assert metrics["spin_deg_per_s"] == pytest.approx([sign * np.degrees(w), 0.0],
+                                                          abs=1e-9)
+    with pytest.raises(ValueError, match="direction"):
+        DolphinSpinTask(direction="left")

@@ -1,0 +1,226 @@
+"""The dolphin's basic motor tasks (the paper's Section 4.2), which basic training learns into
+its repertoire, and the start under water that they and the stunts (:mod:`animat.envs.stunts`)
+share. Shapes and units as in :mod:`animat.envs.tasks`.
+
+Every dolphin task starts the body ``start_depth`` m under the surface (z = 0), heading +x,
+pitched by ``start_pitch_deg``, at ``start_speed`` (0: at rest).
+
+* ``dolphin_forward`` (move-forward): E_v = -u, the speed along the start heading, BL/s.
+* ``dolphin_turn``: ``direction`` up, down, left or right by ``angle_deg``; E_v is the squared
+  pitch or yaw error, rad^2.
+* ``dolphin_arc``: a turn of radius ``radius_bl`` swum round at speed; E_v = -the speed along
+  the circle, BL/s.
+* ``dolphin_spin``: a pitch spin (a turn of no radius); E_v = -the body's pitch rate in the
+  ``direction`` (its angular momentum about the lateral axis over its inertia), rad/s.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from animat.envs.dolphin_motor import dolphin_swim_mc, dolphin_turn_mc
+from animat.envs.tasks import SwimTask, Task, TurnTask, World, heading_yaw, wrap_angle
+
+
+def placed(body, depth: float, pitch_deg: float) -> np.ndarray:
+    """(N, 3) the rest shape pitched nose-up by ``pitch_deg`` about its centre of mass, with
+    the centre of mass ``depth`` m under z = 0."""
+    rest = body.rest_positions
+    com = body.masses @ rest / body.total_mass
+    a = np.radians(pitch_deg)
+    rotation = np.array([[np.cos(a), 0.0, -np.sin(a)], [0.0, 1.0, 0.0],
+                         [np.sin(a), 0.0, np.cos(a)]])
+    return (rest - com) @ rotation.T + np.array([0.0, 0.0, -depth])
+
+
+def pitch_of(frames: np.ndarray) -> np.ndarray:
+    """(B,) pitch of the forward vector above the horizontal, rad (positive: nose up)."""
+    return np.arcsin(np.clip(frames[:, 0, 2], -1.0, 1.0))
+
+
+class Underwater:
+    """A dolphin task's start: ``start_depth`` m (negative: above the surface),
+    ``start_pitch_deg`` and ``start_speed`` m/s, the velocity of every node along the pitched
+    heading (0: at rest; a glide at speed, the start of a turn learned while swimming), the
+    task's dataclass fields."""
+
+    start_depth: float
+    start_pitch_deg: float
+    start_speed: float
+
+    def check_start(self) -> None:
+        if not np.isfinite(self.start_depth):
+            raise ValueError(f"start_depth must be a number of metres (negative: above the "
+                             f"surface), got {self.start_depth!r}")
+        if not -90.0 <= self.start_pitch_deg <= 90.0:
+            raise ValueError(f"start_pitch_deg must be in [-90, 90], got "
+                             f"{self.start_pitch_deg!r}")
+        if not (np.isfinite(self.start_speed) and self.start_speed >= 0.0):
+            raise ValueError(f"start_speed must be a speed >= 0 m/s, got {self.start_speed!r}")
+
+    def place(self, body):
+        return placed(body, self.start_depth, self.start_pitch_deg)
+
+    def start_velocity(self, body):
+        a = np.radians(self.start_pitch_deg)
+        heading = np.array([np.cos(a), 0.0, np.sin(a)])
+        return np.broadcast_to(self.start_speed * heading, body.rest_positions.shape).copy()
+
+
+@dataclass
+class DolphinForwardTask(Underwater, SwimTask):
+    """Move forward (the fish's swim task, started under water)."""
+
+    start_depth: float = 3.0
+    start_pitch_deg: float = 0.0
+    start_speed: float = 0.0
+    name = "dolphin_forward"
+    default_duration = 4.0
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        self.check_start()
+
+    def hand_controller(self, speed: float = 1.0):
+        return lambda t: dolphin_swim_mc(speed, t)
+
+
+@dataclass
+class DolphinTurnTask(Underwater, TurnTask):
+    """Turn ``direction`` (up, down, left, right) by ``angle_deg``: E_v the squared error of
+    the pitch (up, down) or of the yaw (left, right), rad^2; observation: its sine and
+    cosine (the fish's turn task, in both planes)."""
+
+    angle_deg: float = 45.0
+    direction: str = "up"
+    start_depth: float = 3.0
+    start_pitch_deg: float = 0.0
+    start_speed: float = 0.0
+    name = "dolphin_turn"
+    default_duration = 4.0
+
+    def __post_init__(self) -> None:
+        if self.direction not in ("up", "down", "left", "right"):
+            raise ValueError(f"direction must be up, down, left or right, got "
+                             f"{self.direction!r}")
+        limit = 180.0
+        if self.direction in ("up", "down"):  # a pitch beyond +-90 deg is not a pitch
+            sign = 1.0 if self.direction == "up" else -1.0
+            limit = 90.0 - sign * float(self.start_pitch_deg)
+        if not 0.0 < float(self.angle_deg) <= limit:
+            raise ValueError(f"angle_deg must be in (0, {limit:g}] for {self.direction} from "
+                             f"start_pitch_deg {self.start_pitch_deg:g}, got {self.angle_deg!r}")
+        self.check_start()
+
+    def _error(self, frames):
+        sign = 1.0 if self.direction in ("up", "left") else -1.0
+        target = sign * np.radians(float(self.angle_deg))
+        if self.direction in ("up", "down"):
+            return pitch_of(frames) - (np.radians(self.start_pitch_deg) + target)
+        return wrap_angle(heading_yaw(frames) - target)
+
+    def terms(self, com, com_vel, frames, targets, length, last):
+        error = self._error(frames)
+        return error**2, {"pitch_deg": np.degrees(pitch_of(frames)),
+                          "heading_deg": np.degrees(heading_yaw(frames)),
+                          "turn_error_deg": np.degrees(error)}
+
+    def final_metrics(self, last):
+        """``final_turn_error_deg``: the absolute pitch or yaw error at the end."""
+        return {"final_turn_error_deg": np.abs(last["turn_error_deg"])}
+
+    def hand_controller(self, speed: float = 1.0):
+        angle = np.radians(float(self.angle_deg))
+        return lambda t: dolphin_turn_mc(self.direction, angle, t)
+
+
+@dataclass
+class DolphinArcTask(Underwater, Task):
+    """Swim an arc (a turn of radius ``radius_bl`` taken at speed, the paper's "turns of
+    different radii"): pitching ``direction`` (up or down) round a centre ``radius_bl`` body
+    lengths from the start's centre of mass along the normal of the start heading (above or
+    below it for a level start). E_v = -u_arc, the centre of mass's
+    speed along the circle (BL/s: the angular speed about the centre times the radius), so
+    that the faster the dolphin swims round the arc the better, and a straight swim makes
+    ever less of it. Metrics: ``arc_speed_bl_per_s``, ``pitch_deg``."""
+
+    direction: str = "down"
+    radius_bl: float = 2.0
+    start_depth: float = 3.0
+    start_pitch_deg: float = 0.0
+    start_speed: float = 0.0
+    name = "dolphin_arc"
+    default_duration = 4.0
+    mean_metrics = ("arc_speed_bl_per_s",)
+
+    def __post_init__(self) -> None:
+        if self.direction not in ("up", "down"):
+            raise ValueError(f"direction must be up or down, got {self.direction!r}")
+        if not (np.isfinite(self.radius_bl) and self.radius_bl > 0.0):
+            raise ValueError(f"radius_bl must be a length > 0 BL, got {self.radius_bl!r}")
+        self.check_start()
+
+    def terms(self, com, com_vel, frames, targets, length, last):
+        a = np.radians(self.start_pitch_deg)
+        heading, normal = np.array([np.cos(a), np.sin(a)]), np.array([-np.sin(a), np.cos(a)])
+        sign = -1.0 if self.direction == "down" else 1.0  # the centre: below or above
+        r = com[:, [0, 2]] - sign * self.radius_bl * length * normal  # (B, 2) from the centre
+        v = com_vel[:, [0, 2]]
+        tangent = -sign * (r @ normal[:, None] * heading - r @ heading[:, None] * normal)
+        u_arc = np.einsum("bk,bk->b", tangent, v) / np.maximum(np.linalg.norm(r, axis=1),
+                                                              1e-9)
+        return -u_arc / length, {"arc_speed_bl_per_s": u_arc / length,
+                                 "pitch_deg": np.degrees(pitch_of(frames))}
+
+    def hand_controller(self, speed: float = 1.0):
+        return lambda t: dolphin_swim_mc(speed, t)
+
+
+def pitch_rate(world: World) -> np.ndarray:
+    """(B,) the body's nose-up pitch rate, rad/s: its angular momentum about its centre of
+    mass, along the lateral axis, over its moment of inertia about that axis (the spin that a
+    flight keeps, whatever the body's shape does)."""
+    masses = world.body.masses
+    com = np.einsum("n,bnk->bk", masses, world.x) / masses.sum()
+    vcom = np.einsum("n,bnk->bk", masses, world.v) / masses.sum()
+    r, v = world.x - com[:, None], world.v - vcom[:, None]
+    left = world.frames[:, 1]
+    momentum = np.einsum("n,bnk->bk", masses, np.cross(r, v))
+    along = np.einsum("bnk,bk->bn", r, left)
+    inertia = np.einsum("n,bn->b", masses, np.einsum("bnk,bnk->bn", r, r) - along**2)
+    return -np.einsum("bk,bk->b", momentum, left) / inertia  # about +left is nose down
+
+
+@dataclass
+class DolphinSpinTask(Underwater, Task):
+    """Spin: pitch ``direction`` (up or down) as fast as the body can, about its centre of
+    mass (a turn of no radius, the way a somersault turns). E_v = -the pitch rate in the
+    ``direction`` (:func:`pitch_rate`), rad/s. Metrics: ``spin_deg_per_s`` (its episode mean),
+    ``pitch_deg``."""
+
+    direction: str = "down"
+    start_depth: float = 3.0
+    start_pitch_deg: float = 0.0
+    start_speed: float = 0.0
+    name = "dolphin_spin"
+    default_duration = 4.0
+    mean_metrics = ("spin_deg_per_s",)
+
+    def __post_init__(self) -> None:
+        if self.direction not in ("up", "down"):
+            raise ValueError(f"direction must be up or down, got {self.direction!r}")
+        self.check_start()
+
+    def world_terms(self, world: World, last: np.ndarray):
+        sign = 1.0 if self.direction == "up" else -1.0
+        spin = sign * pitch_rate(world)
+        return -spin, {"spin_deg_per_s": np.degrees(spin),
+                       "pitch_deg": np.degrees(pitch_of(world.frames))}, world.memory
+
+    def terms(self, com, com_vel, frames, targets, length, last):
+        raise TypeError(f"the {self.name} task needs the world: use world_terms")
+
+    def hand_controller(self, speed: float = 1.0):
+        return lambda t: dolphin_turn_mc(self.direction, np.pi / 2, t)
