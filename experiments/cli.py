@@ -119,6 +119,9 @@ def _parser() -> argparse.ArgumentParser:
     evaluation.add_argument("--seeds", help="these seeds instead, e.g. 0-4 or 1,3,5")
     evaluation.add_argument("--video", type=Path, metavar="DIR",
                             help="film every episode into DIR (mp4, Gymnasium's RecordVideo)")
+    evaluation.add_argument("--refine", type=int, default=1, metavar="K",
+                            help="play at the physics step divided by K (frame_skip times K; "
+                                 "the env step unchanged): is the figure the solver's?")
     bench = sub.add_parser("bench", help="simulator benchmark against Swimmer-v5")
     bench.add_argument("--seconds", type=float, default=6.0, help="wall seconds measured")
     bench.add_argument("--num-envs", type=int, default=256, help="the batch's size")
@@ -209,7 +212,7 @@ def cmd_tune(args) -> int:
 
 
 def cmd_eval(args) -> int:
-    from animat.experiments.evaluate import evaluate, report
+    from animat.experiments.evaluate import evaluate, report, result_name
     from animat.experiments.sweep import parse_seeds
 
     if args.episodes is not None and args.episodes < 1:
@@ -218,10 +221,10 @@ def cmd_eval(args) -> int:
         seeds = parse_seeds(args.seeds) if args.seeds else None
     except ValueError as error:
         raise RunError(str(error)) from None
-    result = evaluate(args.run_dir, seeds, args.episodes, args.video)
+    result = evaluate(args.run_dir, seeds, args.episodes, args.video, args.refine)
     print(report(result))
-    print(f"written: {args.run_dir / 'eval.json'}" + (f"; videos in {args.video}"
-                                                       if args.video else ""))
+    print(f"written: {args.run_dir / result_name(args.refine)}" + (
+        f"; videos in {args.video}" if args.video else ""))
     return 0
 
 

@@ -15,7 +15,10 @@ SB3's ``predict(obs)``, ``reset()``, ``env_id`` and ``env_kwargs``::
 
 :func:`evaluate` plays it over seeded start states (by default the run's own: seeds ``seed``
 .. ``seed + episodes - 1``), optionally filming each episode with Gymnasium's ``RecordVideo``,
-and writes ``eval.json`` into the run folder.
+and writes ``eval.json`` into the run folder. With ``refine`` k > 1 it plays the agent with
+the physics step divided by k (``frame_skip`` times k: the env step, and so what the agent
+sees and does, unchanged) and writes ``eval_step_over_<k>.json``: a learned figure that moves
+when the solver is refined is the solver's, not the animal's.
 """
 
 from __future__ import annotations
@@ -73,28 +76,56 @@ def _episodes(agent, seeds: list[int], video: Path | None, prefix: str) -> list[
         env.close()
 
 
+def refined(agent, refine: int):
+    """``agent`` playing in its env with the physics step divided by ``refine`` (frame_skip
+    times ``refine``); a RunError for an env without a physics step."""
+    if refine == 1:
+        return agent
+    env = gym.make(agent.env_id, **agent.env_kwargs)
+    try:
+        core = getattr(env.unwrapped, "core", None)
+        if core is None or not hasattr(core, "frame_skip"):
+            raise RunError(f"--refine: {agent.env_id} has no physics_dt/frame_skip to refine")
+        physics_dt, frame_skip = core.system.dt, core.frame_skip
+    finally:
+        env.close()
+    agent.env_kwargs = {**agent.env_kwargs, "physics_dt": physics_dt / refine,
+                        "frame_skip": frame_skip * refine}
+    return agent
+
+
 def evaluate(run_dir: str | Path, seeds: list[int] | None = None, episodes: int | None = None,
-             video: str | Path | None = None) -> dict:
+             video: str | Path | None = None, refine: int = 1) -> dict:
     """Play the run's agent on ``seeds`` (default: ``episodes`` start states from the run's
     seed on, by default as many as the run's own scores are over); returns and writes
     ``eval.json``: the seeds, every episode's figures, and ``metrics`` (``eval/<figure>``
-    means with ``_std``) - per skill for a repertoire."""
+    means with ``_std``) - per skill for a repertoire; with ``refine`` k > 1, at the physics
+    step over k, into ``eval_step_over_<k>.json``."""
     folder = Path(run_dir)
     config = load_config(folder / "config.yaml", build=False)
     if not seeds:
         count = episodes or _learner(folder, config).scored_episodes()
         seeds = [config.seed + k for k in range(count)]
+    if refine < 1:
+        raise RunError(f"--refine must be at least 1, got {refine}")
     agent = load(folder)
     video = Path(video) if video else None
     if isinstance(agent, SkillSet):
-        runs = {name: _episodes(skill, seeds, video, name) for name, skill in agent.agents.items()}
+        runs = {name: _episodes(refined(skill, refine), seeds, video, name)
+                for name, skill in agent.agents.items()}
         metrics = {name: spread([_figures(r) for r in rows]) for name, rows in runs.items()}
     else:
-        runs = _episodes(agent, seeds, video, config.learner.display_name)
+        runs = _episodes(refined(agent, refine), seeds, video, config.learner.display_name)
         metrics = spread([_figures(r) for r in runs])
-    result = {"seeds": seeds, "metric": config.eval.metric, "episodes": runs, "metrics": metrics}
-    write_json(folder / "eval.json", result)
+    result = {"seeds": seeds, "metric": config.eval.metric, "episodes": runs, "metrics": metrics,
+              "physics_step_over": refine}
+    write_json(folder / result_name(refine), result)
     return result
+
+
+def result_name(refine: int) -> str:
+    """The file :func:`evaluate` writes into the run folder."""
+    return "eval.json" if refine == 1 else f"eval_step_over_{refine}.json"
 
 
 def _figures(row: dict) -> dict:
@@ -109,6 +140,8 @@ def report(result: dict) -> str:
     if "eval/return" in tables:  # one agent
         tables = {"": tables}
     lines = []
+    step = result.get("physics_step_over", 1)
+    at = f" at the physics step / {step}" if step > 1 else ""
     for name, metrics in tables.items():
         key = metric if metric in metrics else "eval/return"
         rows = result["episodes"][name] if name else result["episodes"]
@@ -116,5 +149,5 @@ def report(result: dict) -> str:
         label = f"{name}: " if name else ""
         lines.append(f"{label}{key} {metrics[key]:.4g} ± {metrics[key + '_std']:.2g} over "
                      f"{len(seeds)} start states (seeds {', '.join(map(str, seeds))}; min "
-                     f"{values.min():.4g}, max {values.max():.4g})")
+                     f"{values.min():.4g}, max {values.max():.4g}){at}")
     return "\n".join(lines)

@@ -83,6 +83,22 @@ def test_eval_prints_the_metric_and_films_every_episode(tmp_path):
     assert len(films) == 2 and all(f.stat().st_size > 1000 for f in films)
 
 
+def test_eval_at_a_finer_physics_step_plays_the_same_agent_beside_eval_json(tmp_path):
+    folder = _run(tmp_path, "handmc")
+    default = evaluate(folder)["metrics"]["eval/speed_bl_per_s"]
+    out = animat("eval", folder, "--refine", "2")
+    assert "at the physics step / 2" in out.stdout.splitlines()[0]
+    assert "eval_step_over_2.json" in out.stdout
+    finer = json.loads((folder / "eval_step_over_2.json").read_text())
+    assert finer["physics_step_over"] == 2
+    speed = finer["metrics"]["eval/speed_bl_per_s"]
+    assert speed != default  # a finer solver ran
+    assert speed == pytest.approx(default, rel=0.1, abs=1e-3)  # and agrees: converged
+    assert json.loads((folder / "eval.json").read_text())["metrics"][
+        "eval/speed_bl_per_s"] == default
+    assert animat("eval", folder, "--refine", "0", check=False).returncode == 2
+
+
 def test_a_repertoire_run_loads_as_one_agent_per_skill(tmp_path):
     regimen = [{"name": "swim_slow", "env_id": "Animat/FishSwim-v0",
                 "env_kwargs": {"duration": 0.5}, "params": {"nodes": 4, "period": 0.5}},
