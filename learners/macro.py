@@ -11,7 +11,6 @@ blends (:mod:`animat.learners.concatenation`); after the sequence the muscles re
 from __future__ import annotations
 
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 
@@ -19,7 +18,7 @@ from animat.learners import annealing
 from animat.learners.blackbox import BlackBoxLearner
 from animat.learners.concatenation import concatenate
 from animat.learners.controller import play
-from animat.learners.repertoire import Repertoire
+from animat.learners.repertoire import Repertoire, kept_in_run
 from animat.learners.rollout import START_STATES
 
 
@@ -52,6 +51,26 @@ class MacroParams:
                     for s in self.start_from):
                 raise ValueError(f"start_from must be a list of at most slots ({self.slots}) "
                                  "{skill, duration} entries")
+
+
+def check_sequence(sequence, repertoire: Repertoire, field: str) -> list[tuple[str, float]]:
+    """[(skill, duration s)] of a config's sequence [{skill, duration}]; a ValueError naming
+    ``field`` for anything else, a skill the repertoire lacks or a duration that is not > 0."""
+    if not isinstance(sequence, list) or not sequence or any(
+            not isinstance(s, dict) or set(s) != {"skill", "duration"} for s in sequence):
+        raise ValueError(f"{field} must be a non-empty list of {{skill, duration}} entries, "
+                         f"got {sequence!r}")
+    steps = []
+    for step in sequence:
+        if step["skill"] not in repertoire.skills:
+            raise ValueError(f"{field}: no skill {step['skill']!r} in the repertoire; it has "
+                             f"{repertoire.names}")
+        duration = step["duration"]
+        if type(duration) not in (int, float) or not np.isfinite(duration) or duration <= 0:
+            raise ValueError(f"{field}: the duration of {step['skill']!r} must be > 0 s, got "
+                             f"{duration!r}")
+        steps.append((step["skill"], float(duration)))
+    return steps
 
 
 class MacroSequence:
@@ -144,15 +163,9 @@ class MacroLearner(BlackBoxLearner):
                 "parameters": int(x.size)}
 
     def learn(self, budget_env_steps: int, checkpoint_dir=None):
-        """As every black-box learner, keeping a copy of the repertoire it composes from in
-        the run folder (``checkpoint_dir``), so that a resumed run and a play-back use it
-        whatever happens to the repertoire file later."""
-        if checkpoint_dir:
-            copy = Path(checkpoint_dir) / "repertoire.json"
-            if copy.exists():  # resuming: compose from what the run began with
-                self.repertoire = Repertoire.load(copy)
-            else:
-                self.repertoire.save(copy)
+        """As every black-box learner, composing from the run folder's own copy of the
+        repertoire (:func:`animat.learners.repertoire.kept_in_run`)."""
+        self.repertoire = kept_in_run(self.repertoire, checkpoint_dir)
         return super().learn(budget_env_steps, checkpoint_dir)
 
     def _player(self, artefacts: dict) -> MacroSequence:

@@ -11,11 +11,12 @@ from animat.learners.logger import Logger
 from animat.learners.macro import MacroLearner
 from animat.learners.ppo import PPOLearner
 from animat.learners.repertoire import BasicTrainingLearner
+from animat.learners.stroke import StrokeCMAESLearner, StrokeLearner
 
 LEARNERS: dict[str, type[Learner]] = {
     cls.name: cls for cls in (AnnealingLearner, CMAESLearner, PPOLearner, HandMCLearner,
                               BasicTrainingLearner, MacroLearner, ActiveVisionLearner,
-                              BehavioursLearner)
+                              BehavioursLearner, StrokeLearner, StrokeCMAESLearner)
 }
 
 

@@ -112,6 +112,19 @@ class Repertoire:
                           s["metadata"]) for s in data["skills"]])
 
 
+def kept_in_run(repertoire: Repertoire, checkpoint_dir: str | Path | None) -> Repertoire:
+    """The repertoire a run composes from: on its first start ``repertoire``, saved into the
+    run folder (``checkpoint_dir/repertoire.json``); resumed, the copy it began with, so that
+    a resumed run and a play-back use it whatever happens to the repertoire file later."""
+    if not checkpoint_dir:
+        return repertoire
+    copy = Path(checkpoint_dir) / "repertoire.json"
+    if copy.exists():
+        return Repertoire.load(copy)
+    repertoire.save(copy)
+    return repertoire
+
+
 def learn_skill(spec: dict, env_steps: int, seed: int, threshold: float | None,
                 annealing: dict, logger: Logger, checkpoint_dir: Path | None) -> Skill:
     """Anneal one skill's controller, abstract it, and measure what abstraction cost."""

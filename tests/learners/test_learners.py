@@ -1,5 +1,7 @@
 """Every registered learner on a tiny budget; annealing reproducibility and resume."""
 
+from pathlib import Path
+
 import gymnasium as gym
 import numpy as np
 import pytest
@@ -27,7 +29,11 @@ TINY = {
     "macro": ({"chains": 8, "slots": 2}, 960),
     "active_vision": ({"episodes": 2}, 20),
     "behaviours": ({"episodes": 2}, 20),
+    "stroke": ({"chains": 8, "prefix": [{"skill": "move_forward", "duration": 0.2}]}, 960),
+    "stroke_cmaes": ({"popsize": 8, "prefix": [{"skill": "move_forward", "duration": 0.2}]},
+                     960),
 }
+DOLPHIN_REPERTOIRE = str(Path(__file__).resolve().parents[2] / "repertoires" / "dolphin.json")
 
 
 @pytest.fixture(scope="module")
@@ -53,6 +59,10 @@ def test_learner_runs_on_a_tiny_budget_and_logs_the_shared_tags(name, tmp_path,
         env_id, tags = "Animat/FishReach-v0", ("eval/return", "eval/final_distance_bl")
     if name == "basic_training":
         tags = ("eval/return",)
+    if name.startswith("stroke"):
+        params = {**params, "repertoire": DOLPHIN_REPERTOIRE}
+        env_id, tags = "Animat/DolphinSomersault-v0", ("eval/return",
+                                                        "eval/flight_rotation_deg")
     if name == "active_vision":
         env_id, tags = "Animat/FishPursuit-v0", ("eval/return", "eval/fovea_fraction",
                                                  "eval/distance_closed_bl")

@@ -1,0 +1,231 @@
+"""The exit-stroke learner: the dolphin learns to control the angular momentum of its body as
+it leaves the water (the paper's Section 4.2: "... so that it can perform aerial spins and
+somersaults"), on top of a macro sequence that carries it there.
+
+In the air nothing the body does changes its angular momentum, so a somersault's spin must be
+taken from the water in the last strokes before the exit. A candidate here is a macro
+sequence from the repertoire (``prefix``: a learned leap, fixed) followed, from a time ``t0``
+in ``start_window``, by a parametric fluke stroke (:class:`StrokeParameters`) that replaces
+its actuation: the dorsal and ventral muscles of the middle and back segments beat at
+``frequency`` with an ``amplitude`` round a dorsal/ventral ``bias`` per segment (the back
+lagging the middle by ``lag`` of a cycle), for ``hold`` s; then the body holds a ``pose``
+through the flight. Its 14 numbers, each scaled to [0, 1] between its bounds, are what the
+black-box loop of :mod:`animat.learners.blackbox` searches: simulated annealing (``stroke``,
+the paper's optimiser) or CMA-ES (``stroke_cmaes``), with its budget, checkpoints, start
+states and logging.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import gymnasium as gym
+import numpy as np
+
+from animat.envs.dolphin import (
+    ACTUATOR_NAMES,
+    DORSAL_BACK,
+    DORSAL_MIDDLE,
+    VENTRAL_BACK,
+    VENTRAL_MIDDLE,
+)
+from animat.learners import annealing, cmaes
+from animat.learners.blackbox import BlackBoxLearner
+from animat.learners.controller import play
+from animat.learners.macro import MacroSequence, check_sequence
+from animat.learners.repertoire import Repertoire, kept_in_run
+from animat.learners.rollout import START_STATES
+
+NUM_ACTUATORS = 6
+# The stroke's numbers, in the order of a candidate's genes, with their bounds.
+STROKE_NAMES = ("t0", "hold", "frequency", "phase", "amplitude", "bias_middle", "bias_back",
+                "lag")
+POSE_NAMES = tuple(f"pose_{k}" for k in range(NUM_ACTUATORS))
+
+
+@dataclass(frozen=True)
+class StrokeParameters:
+    """One exit stroke. ``t0`` s (episode time it starts), ``hold`` s (how long it beats),
+    ``frequency`` Hz, ``phase`` (cycles), ``amplitude`` (0: no beat, 1: a full beat),
+    ``bias_middle``/``bias_back`` in [-1, 1] (> 0 dorsal, < 0 ventral: the bend it beats
+    round), ``lag`` (cycles the back segment lags the middle), ``pose`` (6,) the activations
+    u in [0, 1] held from ``t0 + hold`` on (through the flight)."""
+
+    t0: float
+    hold: float
+    frequency: float
+    phase: float
+    amplitude: float
+    bias_middle: float
+    bias_back: float
+    lag: float
+    pose: tuple
+
+    def to_dict(self) -> dict:
+        return {**{name: float(getattr(self, name)) for name in STROKE_NAMES},
+                "pose": [float(u) for u in self.pose]}
+
+    @classmethod
+    def from_dict(cls, data: dict) -> StrokeParameters:
+        return cls(**{name: float(data[name]) for name in STROKE_NAMES},
+                   pose=tuple(float(u) for u in data["pose"]))
+
+
+def segment_stroke(cycles: np.ndarray, bias: float, amplitude: float
+                   ) -> tuple[np.ndarray, np.ndarray]:
+    """(dorsal, ventral) activations u in [0, 1] of one segment at stroke phases ``cycles``
+    (T,): the bend s = clip(bias + 2 amplitude sin(2 pi cycles), -1, 1) contracts the dorsal
+    muscles where s > 0 and the ventral ones where s < 0, never both."""
+    s = np.clip(bias + 2.0 * amplitude * np.sin(2.0 * np.pi * cycles), -1.0, 1.0)
+    return np.maximum(s, 0.0), np.maximum(-s, 0.0)
+
+
+class ExitStroke:
+    """The prefix macro sequence, then the stroke from ``stroke.t0``: ``u(t)`` (..., 6)."""
+
+    def __init__(self, prefix: MacroSequence, stroke: StrokeParameters) -> None:
+        self.prefix, self.stroke = prefix, stroke
+
+    def __call__(self, t: np.ndarray | float) -> np.ndarray:
+        shape = np.shape(t)
+        t = np.asarray(t, dtype=float).reshape(-1)
+        s = self.stroke
+        u = np.array(self.prefix(t), dtype=float)
+        after, beating = t >= s.t0, (t >= s.t0) & (t < s.t0 + s.hold)
+        u[after] = np.asarray(s.pose)
+        cycles = s.frequency * (t[beating] - s.t0) + s.phase
+        u[beating] = 0.0
+        u[beating, DORSAL_MIDDLE], u[beating, VENTRAL_MIDDLE] = segment_stroke(
+            cycles, s.bias_middle, s.amplitude)
+        u[beating, DORSAL_BACK], u[beating, VENTRAL_BACK] = segment_stroke(
+            cycles - s.lag, s.bias_back, s.amplitude)
+        return u.reshape(shape + (NUM_ACTUATORS,))
+
+    def actions(self, dt: float, steps: int) -> np.ndarray:
+        return play(self, dt, steps)
+
+
+@dataclass(frozen=True)
+class StrokeLearnerParams:
+    """repertoire: path of a repertoire JSON (required); prefix: the macro sequence
+    [{skill, duration}] played first (required; e.g. a leap learned by the macro learner);
+    overlap: its blends' share; start_window: [earliest, latest] t0, s (None: the whole
+    episode); max_hold: s; max_frequency: Hz; checkpoint_every: rounds; start_states: seeded
+    starts each candidate is scored over."""
+
+    repertoire: str | None = None
+    prefix: list | None = None
+    overlap: float = 0.05
+    start_window: list | None = None
+    max_hold: float = 1.5
+    max_frequency: float = 6.0
+    checkpoint_every: int = 10
+    start_states: int = START_STATES
+
+    def __post_init__(self) -> None:
+        if self.repertoire is None or self.prefix is None:
+            raise ValueError("needs params.repertoire (a repertoire file) and params.prefix "
+                             "(the [{skill, duration}] sequence the stroke follows)")
+        if self.start_window is not None and not (
+                len(self.start_window) == 2 and all(type(v) in (int, float)
+                                                    for v in self.start_window)
+                and 0.0 <= self.start_window[0] < self.start_window[1]):
+            raise ValueError(f"start_window must be [earliest, latest] s with 0 <= earliest < "
+                             f"latest, got {self.start_window!r}")
+        if not (self.max_hold > 0.05 and self.max_frequency > 1.0):
+            raise ValueError("need max_hold > 0.05 s and max_frequency > 1 Hz")
+        if self.checkpoint_every < 1 or self.start_states < 1:
+            raise ValueError("checkpoint_every and start_states must be >= 1")
+
+
+def _dolphin_episode(env_id: str, env_kwargs: dict, learner: str) -> float:
+    """The episode's duration, s, of a dolphin env; a ValueError naming ``learner`` for a
+    body whose actuators are not the dolphin's (the stroke drives its dorsal and ventral
+    muscles by name)."""
+    env = gym.make(env_id, **env_kwargs)
+    try:
+        core = getattr(env.unwrapped, "core", None)
+        names = tuple(getattr(getattr(core, "body", None), "actuator_names", ()) or ())
+        if names != ACTUATOR_NAMES:
+            raise ValueError(f"learner {learner!r}: the exit stroke drives the dolphin's "
+                             f"actuators {ACTUATOR_NAMES}; {env_id} has {names or 'others'}")
+        return float(env.unwrapped.dt) * int(env.unwrapped.episode_steps)
+    finally:
+        env.close()
+
+
+class StrokeLearner(BlackBoxLearner):
+    """Params: ``repertoire``, ``prefix`` (required), ``start_window``, ``max_hold``,
+    ``max_frequency``, ``overlap`` (:class:`StrokeLearnerParams`), plus the annealing
+    parameters. A candidate is the stroke's 14 numbers scaled to [0, 1]
+    (:meth:`bounds`); the search starts at the middle of every range."""
+
+    name = "stroke"
+    optimizer = annealing
+    params_class = annealing.AnnealingParams
+    own_params = StrokeLearnerParams
+
+    def _configure(self) -> None:
+        own = self.own
+        self.repertoire = Repertoire.load(own.repertoire)
+        try:
+            self.steps = check_sequence(own.prefix, self.repertoire, "prefix")
+        except ValueError as error:
+            raise ValueError(f"learner {self.name!r}: {error}") from None
+        self.overlap = own.overlap
+        duration = _dolphin_episode(self.env_id, self.env_kwargs, self.name)
+        window = own.start_window if own.start_window is not None else [0.0, duration]
+        if window[1] > duration:
+            raise ValueError(f"learner {self.name!r}: start_window {window} ends after the "
+                             f"episode ({duration:g} s)")
+        self.window = (float(window[0]), float(window[1]))
+
+    def _fit_encoding(self, opt_params: dict) -> dict:
+        return opt_params  # 14 numbers, not blocks of nodal values
+
+    def bounds(self) -> tuple[np.ndarray, np.ndarray]:
+        """(14,) lower and upper bounds of the stroke's numbers, in gene order
+        (:data:`STROKE_NAMES`, then the pose)."""
+        own = self.own
+        low = [self.window[0], 0.05, 1.0, 0.0, 0.0, -1.0, -1.0, 0.0] + [0.0] * NUM_ACTUATORS
+        high = [self.window[1], own.max_hold, own.max_frequency, 1.0, 1.0, 1.0, 1.0, 1.0] + [
+            1.0] * NUM_ACTUATORS
+        return np.array(low), np.array(high)
+
+    def _x0(self, num_actuators: int) -> np.ndarray:
+        return np.full(len(STROKE_NAMES) + NUM_ACTUATORS, 0.5)
+
+    def decode(self, vector: np.ndarray) -> StrokeParameters:
+        """The stroke of genes ``vector`` (14,) in [0, 1] (clipped)."""
+        low, high = self.bounds()
+        values = low + np.clip(np.asarray(vector, dtype=float), 0.0, 1.0) * (high - low)
+        named = dict(zip(STROKE_NAMES, values[:len(STROKE_NAMES)]))
+        return StrokeParameters(**named, pose=tuple(values[len(STROKE_NAMES):]))
+
+    def controller(self, vector: np.ndarray, duration: float) -> ExitStroke:
+        return ExitStroke(MacroSequence(self.repertoire, self.steps, self.overlap),
+                          self.decode(vector))
+
+    def _artefacts(self, x: np.ndarray, duration: float, evaluator) -> dict:
+        return {"prefix": [{"skill": name, "duration": float(d)} for name, d in self.steps],
+                "stroke": self.decode(x).to_dict(), "genes": [float(v) for v in x],
+                "parameters": int(x.size)}
+
+    def _player(self, artefacts: dict) -> ExitStroke:
+        steps = [(step["skill"], float(step["duration"])) for step in artefacts["prefix"]]
+        return ExitStroke(MacroSequence(self.repertoire, steps, self.overlap),
+                          StrokeParameters.from_dict(artefacts["stroke"]))
+
+    def learn(self, budget_env_steps: int, checkpoint_dir=None):
+        """As every black-box learner, composing from the run folder's own copy of the
+        repertoire (:func:`animat.learners.repertoire.kept_in_run`)."""
+        self.repertoire = kept_in_run(self.repertoire, checkpoint_dir)
+        return super().learn(budget_env_steps, checkpoint_dir)
+
+
+class StrokeCMAESLearner(StrokeLearner):
+    """The exit stroke searched by CMA-ES (the baseline optimiser) instead of annealing."""
+
+    name = "stroke_cmaes"
+    optimizer = cmaes
+    params_class = cmaes.CMAESParams
