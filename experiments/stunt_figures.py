@@ -154,7 +154,7 @@ def make_stunt_figures(out: str | Path, leap: str | Path, nose_ball=None, tail_b
               "leap_steps": float(len(steps))}
     for run, which, caption, key in ((nose_ball, "touch", "(b) nose hits the ball", "nose"),
                                      (tail_ball, "touch", "(c) tail hits the ball", "tail"),
-                                     (somersault, "spin", "(c') somersault run, in the air",
+                                     (somersault, "spin", "(c') mid-somersault",
                                       "somersault"),
                                      (belly_flop, "splash", "(d) belly flop", "belly_flop")):
         if run is None:
