@@ -5,12 +5,11 @@ Importing ``animat`` (or ``animat.envs``) registers the Gymnasium environments u
 batched vector env (``gym.make_vec(id, num_envs=256)``), ``Animat/FishPursuit-v0``
 (vision-guided pursuit; :mod:`animat.envs.pursuit`) and ``Animat/MarineWorld-v0`` (the living
 world of 10 fishes; :mod:`animat.envs.world`); and the dolphin's tasks
-(:mod:`animat.envs.stunts`): ``Animat/DolphinForward-v0``, ``Animat/DolphinTurn-v0`` (up, down,
-left, right), ``Animat/DolphinArc-v0`` (a turn taken at speed), ``Animat/DolphinSpin-v0`` (a
-pitch spin), ``Animat/DolphinLeap-v0``,
-``Animat/DolphinNoseBall-v0``,
-``Animat/DolphinTailBall-v0``, ``Animat/DolphinSomersault-v0``, ``Animat/DolphinBellyFlop-v0``,
-each with a native vector env.
+(:mod:`animat.envs.dolphin_tasks`, :mod:`animat.envs.stunts`): ``Animat/DolphinForward-v0``,
+``Animat/DolphinTurn-v0`` (up, down, left, right), ``Animat/DolphinArc-v0`` (a turn taken at
+speed), ``Animat/DolphinSpin-v0`` (a pitch spin), ``Animat/DolphinLeap-v0``,
+``Animat/DolphinNoseBall-v0``, ``Animat/DolphinTailBall-v0``, ``Animat/DolphinSomersault-v0``,
+``Animat/DolphinBellyFlop-v0``, each with a native vector env.
 """
 
 from __future__ import annotations

@@ -169,10 +169,23 @@ def validate(data: Any, source: str) -> ExperimentConfig:
         raise ConfigError(source, path, message) from None
 
 
-def check_buildable(config: ExperimentConfig, source: str) -> None:
+def learner_params(folder: Path, config) -> dict:
+    """The run's learner params; a repertoire it composes from is the run folder's own copy
+    (``checkpoints/repertoire.json``) where it kept one (a resumed run, a finished one), so
+    that neither the current directory nor a later rewrite of the repertoire file changes
+    what the run is."""
+    params = dict(config.learner.params)
+    copy = Path(folder) / "checkpoints" / "repertoire.json"
+    if "repertoire" in params and copy.exists():
+        params["repertoire"] = str(copy)
+    return params
+
+
+def check_buildable(config: ExperimentConfig, source: str, params: dict | None = None) -> None:
     """Build the env and the learner once (cheap: no learning, no files written) so that an env
     keyword, a learner parameter or a budget that cannot be used stops the run before any
-    work, as ConfigError on ``env.kwargs``, ``learner.params`` or ``budget.env_steps``."""
+    work, as ConfigError on ``env.kwargs``, ``learner.params`` or ``budget.env_steps``.
+    ``params``: the learner params to build with (default the config's)."""
     import gymnasium as gym
 
     from animat.learners.base import BudgetError
@@ -184,7 +197,8 @@ def check_buildable(config: ExperimentConfig, source: str) -> None:
         raise ConfigError(source, "env.kwargs", str(error)) from None
     try:
         make_learner(config.learner.name, config.env.id, config.env.kwargs,
-                     config.learner.params, config.seed).check_budget(config.budget.env_steps)
+                     config.learner.params if params is None else params,
+                     config.seed).check_budget(config.budget.env_steps)
     except BudgetError as error:
         raise ConfigError(source, "budget.env_steps", str(error)) from None
     except (ValueError, TypeError, KeyError, OSError) as error:
@@ -223,8 +237,8 @@ def load_config(path: str | Path, overrides: list[str] | None = None, build: boo
             break
         apply_override(data, override, source)
     config = validate(data, source)
-    if build:
-        check_buildable(config, source)
+    if build:  # a run folder's config.yaml builds with its own copy of a repertoire
+        check_buildable(config, source, learner_params(Path(path).parent, config))
     return config
 
 

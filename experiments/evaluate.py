@@ -23,6 +23,7 @@ when the solver is refined is the solver's, not the animal's.
 
 from __future__ import annotations
 
+import copy
 import json
 from pathlib import Path
 
@@ -30,7 +31,7 @@ import gymnasium as gym
 import numpy as np
 
 import animat  # noqa: F401
-from animat.experiments.config import load_config
+from animat.experiments.config import learner_params, load_config
 from animat.experiments.runs import RunError, read_status, write_json
 from animat.learners.agents import SkillSet
 from animat.learners.registry import make_learner
@@ -50,15 +51,10 @@ def load(run_dir: str | Path):
 
 
 def _learner(folder: Path, config):
-    """The run's learner, built from its config; a repertoire it composed from is the run
-    folder's own copy (``checkpoints/repertoire.json``) where it kept one, so that neither the
-    current directory nor a later rewrite of the repertoire file changes what is loaded."""
-    params = dict(config.learner.params)
-    copy = folder / "checkpoints" / "repertoire.json"
-    if "repertoire" in params and copy.exists():
-        params["repertoire"] = str(copy)
-    return make_learner(config.learner.name, config.env.id, config.env.kwargs, params,
-                        config.seed)
+    """The run's learner, built from its config and its own copy of a repertoire
+    (:func:`animat.experiments.config.learner_params`)."""
+    return make_learner(config.learner.name, config.env.id, config.env.kwargs,
+                        learner_params(folder, config), config.seed)
 
 
 def _episodes(agent, seeds: list[int], video: Path | None, prefix: str) -> list[dict]:
@@ -77,8 +73,8 @@ def _episodes(agent, seeds: list[int], video: Path | None, prefix: str) -> list[
 
 
 def refined(agent, refine: int):
-    """``agent`` playing in its env with the physics step divided by ``refine`` (frame_skip
-    times ``refine``); a RunError for an env without a physics step."""
+    """A copy of ``agent`` playing in its env with the physics step divided by ``refine``
+    (frame_skip times ``refine``); a RunError for an env without a physics step to refine."""
     if refine == 1:
         return agent
     env = gym.make(agent.env_id, **agent.env_kwargs)
@@ -89,9 +85,15 @@ def refined(agent, refine: int):
         physics_dt, frame_skip = core.system.dt, core.frame_skip
     finally:
         env.close()
-    agent.env_kwargs = {**agent.env_kwargs, "physics_dt": physics_dt / refine,
+    finer = copy.copy(agent)
+    finer.env_kwargs = {**agent.env_kwargs, "physics_dt": physics_dt / refine,
                         "frame_skip": frame_skip * refine}
-    return agent
+    try:
+        gym.make(finer.env_id, **finer.env_kwargs).close()
+    except TypeError as error:
+        raise RunError(f"--refine: {agent.env_id} does not take physics_dt and frame_skip "
+                       f"({error})") from None
+    return finer
 
 
 def evaluate(run_dir: str | Path, seeds: list[int] | None = None, episodes: int | None = None,

@@ -23,7 +23,7 @@ import traceback
 from importlib import metadata
 from pathlib import Path
 
-from animat.experiments.config import ExperimentConfig, load_config, to_yaml
+from animat.experiments.config import ExperimentConfig, learner_params, load_config, to_yaml
 from animat.learners.base import LearnResult, atomic_write
 from animat.learners.logger import CsvSink, Logger, TensorBoardSink
 from animat.learners.registry import make_learner
@@ -167,7 +167,7 @@ def execute(folder: Path, progress=None, threads: int | None = None) -> dict:
     logger = Logger(sinks)
     try:
         learner = make_learner(config.learner.name, config.env.id, config.env.kwargs,
-                               config.learner.params, config.seed, logger)
+                               learner_params(folder, config), config.seed, logger)
         result = learner.learn(config.budget.env_steps, folder / "checkpoints")
     except BaseException as error:
         logger.close()

@@ -1,9 +1,9 @@
-"""The paper's dolphin figures, re-made from finished macro-learner runs.
+"""The paper's dolphin figures, re-made from finished stunt runs.
 
 ``animat stunt-figures --out DIR --leap RUN [--nose-ball RUN] [--tail-ball RUN]
 [--somersault RUN] [--belly-flop RUN]`` plays each finished run's agent (a macro controller
 on its own repertoire copy; the leap's must be one: Fig. 10 draws it; the others may be PPO
-runs), seed = the run's seed, and writes:
+or exit-stroke runs), seed = the run's seed, and writes:
 
 * ``fig10_macro_controller.png``: the leap's macro controller (Fig. 10): on top the basic
   abstracted controllers it uses, each over the duration it was learned for; below, which of

@@ -62,7 +62,7 @@ def check_sequence(sequence, repertoire: Repertoire, field: str) -> list[tuple[s
                          f"got {sequence!r}")
     steps = []
     for step in sequence:
-        if step["skill"] not in repertoire.skills:
+        if not isinstance(step["skill"], str) or step["skill"] not in repertoire.skills:
             raise ValueError(f"{field}: no skill {step['skill']!r} in the repertoire; it has "
                              f"{repertoire.names}")
         duration = step["duration"]

@@ -40,7 +40,6 @@ NUM_ACTUATORS = 6
 # The stroke's numbers, in the order of a candidate's genes, with their bounds.
 STROKE_NAMES = ("t0", "hold", "frequency", "phase", "amplitude", "bias_middle", "bias_back",
                 "lag")
-POSE_NAMES = tuple(f"pose_{k}" for k in range(NUM_ACTUATORS))
 
 
 @dataclass(frozen=True)
@@ -110,7 +109,8 @@ class StrokeLearnerParams:
     """repertoire: path of a repertoire JSON (required); prefix: the macro sequence
     [{skill, duration}] played first (required; e.g. a leap learned by the macro learner);
     overlap: its blends' share; start_window: [earliest, latest] t0, s (None: the whole
-    episode); max_hold: s; max_frequency: Hz; checkpoint_every: rounds; start_states: seeded
+    episode); max_hold: s (at most the episode's length); max_frequency: Hz (at most half the
+    env step's rate); checkpoint_every: rounds; start_states: seeded
     starts each candidate is scored over."""
 
     repertoire: str | None = None
@@ -132,14 +132,18 @@ class StrokeLearnerParams:
                 and 0.0 <= self.start_window[0] < self.start_window[1]):
             raise ValueError(f"start_window must be [earliest, latest] s with 0 <= earliest < "
                              f"latest, got {self.start_window!r}")
-        if not (self.max_hold > 0.05 and self.max_frequency > 1.0):
-            raise ValueError("need max_hold > 0.05 s and max_frequency > 1 Hz")
+        if not (np.isfinite(self.max_hold) and self.max_hold > 0.05
+                and np.isfinite(self.max_frequency) and self.max_frequency > 1.0):
+            raise ValueError(f"need max_hold > 0.05 s and max_frequency > 1 Hz, finite; got "
+                             f"{self.max_hold!r}, {self.max_frequency!r}")
+        if not 0.0 <= self.overlap < 0.5:
+            raise ValueError(f"overlap must be in [0, 0.5), got {self.overlap!r}")
         if self.checkpoint_every < 1 or self.start_states < 1:
             raise ValueError("checkpoint_every and start_states must be >= 1")
 
 
-def _dolphin_episode(env_id: str, env_kwargs: dict, learner: str) -> float:
-    """The episode's duration, s, of a dolphin env; a ValueError naming ``learner`` for a
+def _dolphin_episode(env_id: str, env_kwargs: dict, learner: str) -> tuple[float, float]:
+    """(env step, episode duration), s, of a dolphin env; a ValueError naming ``learner`` for a
     body whose actuators are not the dolphin's (the stroke drives its dorsal and ventral
     muscles by name)."""
     env = gym.make(env_id, **env_kwargs)
@@ -149,7 +153,8 @@ def _dolphin_episode(env_id: str, env_kwargs: dict, learner: str) -> float:
         if names != ACTUATOR_NAMES:
             raise ValueError(f"learner {learner!r}: the exit stroke drives the dolphin's "
                              f"actuators {ACTUATOR_NAMES}; {env_id} has {names or 'others'}")
-        return float(env.unwrapped.dt) * int(env.unwrapped.episode_steps)
+        dt = float(env.unwrapped.dt)
+        return dt, dt * int(env.unwrapped.episode_steps)
     finally:
         env.close()
 
@@ -173,22 +178,33 @@ class StrokeLearner(BlackBoxLearner):
         except ValueError as error:
             raise ValueError(f"learner {self.name!r}: {error}") from None
         self.overlap = own.overlap
-        duration = _dolphin_episode(self.env_id, self.env_kwargs, self.name)
+        dt, duration = _dolphin_episode(self.env_id, self.env_kwargs, self.name)
         window = own.start_window if own.start_window is not None else [0.0, duration]
-        if window[1] > duration:
-            raise ValueError(f"learner {self.name!r}: start_window {window} ends after the "
-                             f"episode ({duration:g} s)")
+        checks = [(window[1] <= duration, f"start_window {window} ends after the episode "
+                                          f"({duration:g} s)"),
+                  (own.max_frequency <= 0.5 / dt, f"max_frequency {own.max_frequency:g} Hz is "
+                   f"above what the env step ({dt:g} s) can play ({0.5 / dt:g} Hz)")]
+        for ok, message in checks:
+            if not ok:
+                raise ValueError(f"learner {self.name!r}: {message}")
         self.window = (float(window[0]), float(window[1]))
+        self.max_hold = min(own.max_hold, duration)  # a longer one beats to the end alike
 
     def _fit_encoding(self, opt_params: dict) -> dict:
-        return opt_params  # 14 numbers, not blocks of nodal values
+        """The genes are 14 numbers in [0, 1], not blocks of nodal values: their box and
+        smoothing along blocks are not the user's to set."""
+        fixed = sorted(set(opt_params) & {"lower", "upper", "smoothing", "block"})
+        if fixed:
+            raise ValueError(f"learner {self.name!r}: {fixed} cannot be set: the stroke's "
+                             "genes are its 14 numbers scaled to [0, 1]")
+        return opt_params
 
     def bounds(self) -> tuple[np.ndarray, np.ndarray]:
         """(14,) lower and upper bounds of the stroke's numbers, in gene order
         (:data:`STROKE_NAMES`, then the pose)."""
         own = self.own
         low = [self.window[0], 0.05, 1.0, 0.0, 0.0, -1.0, -1.0, 0.0] + [0.0] * NUM_ACTUATORS
-        high = [self.window[1], own.max_hold, own.max_frequency, 1.0, 1.0, 1.0, 1.0, 1.0] + [
+        high = [self.window[1], self.max_hold, own.max_frequency, 1.0, 1.0, 1.0, 1.0, 1.0] + [
             1.0] * NUM_ACTUATORS
         return np.array(low), np.array(high)
 

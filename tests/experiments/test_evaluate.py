@@ -63,10 +63,17 @@ def test_macro_and_active_vision_runs_load_and_act(tmp_path):
     repertoire.write_text("overwritten by a later basic training")  # the run kept its copy
     reported = json.loads((macro / "result.json").read_text())["metrics"]
     assert evaluate(macro)["metrics"]["eval/return"] == pytest.approx(reported["eval/return"])
+    status = json.loads((macro / "result.json").read_text())  # as if it had been killed
+    (macro / "result.json").write_text(json.dumps({**status, "status": "failed"}))
+    animat("run", "--resume", macro, "--quiet")  # from its own copy of the repertoire
+    resumed = json.loads((macro / "result.json").read_text())
+    assert resumed["status"] == "done" and resumed["metrics"] == reported
     pursuit = {"id": "Animat/FishPursuit-v0", "kwargs": {"duration": 1.0}}
     vision = _run(tmp_path, "vision", env=pursuit, learner="active_vision",
                   params={"episodes": 2}, budget=40, metric="eval/fovea_fraction")
     assert isinstance(load(vision), PolicyAgent)
+    with pytest.raises(RunError, match="does not take physics_dt and frame_skip"):
+        evaluate(vision, refine=2)
     reported = json.loads((vision / "result.json").read_text())["metrics"]
     result = evaluate(vision)  # as many start states as the run scored: its 2 episodes
     assert result["seeds"] == [0, 1]

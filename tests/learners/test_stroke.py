@@ -57,6 +57,16 @@ def test_config_errors_name_the_field():
         make(start_window=[1.0, 0.5])
     with pytest.raises(ValueError, match="ends after the episode"):
         make(start_window=[1.0, 3.0])
+    with pytest.raises(ValueError, match="learner 'stroke': prefix: no skill"):
+        make(prefix=[{"skill": ["turn_up"], "duration": 1.0}])
+    with pytest.raises(ValueError, match="above what the env step"):
+        make(max_frequency=20.0)
+    with pytest.raises(ValueError, match="finite"):
+        make(max_frequency=float("inf"))
+    with pytest.raises(ValueError, match="overlap must be in"):
+        make(overlap=0.9)
+    with pytest.raises(ValueError, match=r"\['lower'\] cannot be set"):
+        make(lower=-1.0)
     with pytest.raises(ValueError, match="needs params.repertoire"):
         make_learner("stroke", ENV, KWARGS, {"repertoire": REPERTOIRE})
     with pytest.raises(ValueError, match="drives the dolphin's actuators"):
