@@ -21,6 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from animat.envs.dolphin_motor import dolphin_swim_mc, dolphin_turn_mc
+from animat.envs.physics.observe import momenta
 from animat.envs.tasks import SwimTask, Task, TurnTask, World, heading_yaw, wrap_angle
 
 
@@ -183,11 +184,8 @@ def pitch_rate(world: World) -> np.ndarray:
     mass, along the lateral axis, over its moment of inertia about that axis (the spin that a
     flight keeps, whatever the body's shape does)."""
     masses = world.body.masses
-    com = np.einsum("n,bnk->bk", masses, world.x) / masses.sum()
-    vcom = np.einsum("n,bnk->bk", masses, world.v) / masses.sum()
-    r, v = world.x - com[:, None], world.v - vcom[:, None]
-    left = world.frames[:, 1]
-    momentum = np.einsum("n,bnk->bk", masses, np.cross(r, v))
+    _, momentum = momenta(world.x, world.v, masses, world.position)
+    r, left = world.x - world.position[:, None], world.frames[:, 1]
     along = np.einsum("bnk,bk->bn", r, left)
     inertia = np.einsum("n,bn->b", masses, np.einsum("bnk,bnk->bn", r, r) - along**2)
     return -np.einsum("bk,bk->b", momentum, left) / inertia  # about +left is nose down

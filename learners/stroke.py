@@ -178,6 +178,7 @@ class StrokeLearner(BlackBoxLearner):
         except ValueError as error:
             raise ValueError(f"learner {self.name!r}: {error}") from None
         self.overlap = own.overlap
+        self.prefix = MacroSequence(self.repertoire, self.steps, self.overlap)
         dt, duration = _dolphin_episode(self.env_id, self.env_kwargs, self.name)
         window = own.start_window if own.start_window is not None else [0.0, duration]
         checks = [(window[1] <= duration, f"start_window {window} ends after the episode "
@@ -219,8 +220,7 @@ class StrokeLearner(BlackBoxLearner):
         return StrokeParameters(**named, pose=tuple(values[len(STROKE_NAMES):]))
 
     def controller(self, vector: np.ndarray, duration: float) -> ExitStroke:
-        return ExitStroke(MacroSequence(self.repertoire, self.steps, self.overlap),
-                          self.decode(vector))
+        return ExitStroke(self.prefix, self.decode(vector))
 
     def _artefacts(self, x: np.ndarray, duration: float, evaluator) -> dict:
         return {"prefix": [{"skill": name, "duration": float(d)} for name, d in self.steps],
@@ -236,6 +236,7 @@ class StrokeLearner(BlackBoxLearner):
         """As every black-box learner, composing from the run folder's own copy of the
         repertoire (:func:`animat.learners.repertoire.kept_in_run`)."""
         self.repertoire = kept_in_run(self.repertoire, checkpoint_dir)
+        self.prefix = MacroSequence(self.repertoire, self.steps, self.overlap)
         return super().learn(budget_env_steps, checkpoint_dir)
 
 

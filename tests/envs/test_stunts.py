@@ -198,7 +198,8 @@ def test_the_spin_pays_the_bodys_pitch_rate_whatever_it_moves_along():
     glide = np.array([1.5, 0.0, -0.5])
     v = np.stack([spin + glide, np.broadcast_to(glide, x.shape)])
     world = World(com=None, com_vel=None, frames=np.tile(np.eye(3), (2, 1, 1)), targets=None,
-                  length=2.5, position=None, x=np.stack([x, x]) + [0.0, 0.0, -3.0], v=v,
+                  length=2.5, position=np.array([[0.0, 0.0, -3.0]] * 2),
+                  x=np.stack([x, x]) + [0.0, 0.0, -3.0], v=v,
                   splash=np.zeros(2), memory=np.zeros((2, 0)), ball=None, touch=None,
                   surface_z=0.0, body=body, dt=0.05)
     for direction, sign in (("up", 1.0), ("down", -1.0)):
