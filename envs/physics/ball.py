@@ -77,15 +77,22 @@ class BallParams:
 
 
 @njit(cache=True, inline="always")
+def _dot3(a, b) -> float:
+    """a . b of two (3,) vectors, written out: Numba's ``@`` calls BLAS (SciPy's), and for three
+    numbers the call costs more than the sum."""
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+@njit(cache=True, inline="always")
 def _closest_on_triangle(p, a, b, c):
     """Barycentric weights (wa, wb, wc) of the point of triangle abc closest to p (Ericson,
     Real-Time Collision Detection, 5.1.5)."""
     ab, ac, ap = b - a, c - a, p - a
-    d1, d2 = ab @ ap, ac @ ap
+    d1, d2 = _dot3(ab, ap), _dot3(ac, ap)
     if d1 <= 0.0 and d2 <= 0.0:
         return 1.0, 0.0, 0.0
     bp = p - b
-    d3, d4 = ab @ bp, ac @ bp
+    d3, d4 = _dot3(ab, bp), _dot3(ac, bp)
     if d3 >= 0.0 and d4 <= d3:
         return 0.0, 1.0, 0.0
     vc = d1 * d4 - d3 * d2
@@ -93,7 +100,7 @@ def _closest_on_triangle(p, a, b, c):
         t = d1 / (d1 - d3)
         return 1.0 - t, t, 0.0
     cp = p - c
-    d5, d6 = ab @ cp, ac @ cp
+    d5, d6 = _dot3(ab, cp), _dot3(ac, cp)
     if d6 >= 0.0 and d5 <= d6:
         return 0.0, 0.0, 1.0
     vb = d5 * d2 - d1 * d6
@@ -127,7 +134,7 @@ def _deepest_contact(x, faces, centre, radius):
             wa, wb, wc = _closest_on_triangle(centre, x[corners[0]], x[corners[1]],
                                               x[corners[2]])
             gap = centre - (wa * x[corners[0]] + wb * x[corners[1]] + wc * x[corners[2]])
-            distance = np.sqrt(gap @ gap)
+            distance = np.sqrt(_dot3(gap, gap))
             if 1e-9 < distance < best:
                 best, best_face = distance, k
                 best_corners[:] = corners
@@ -144,10 +151,10 @@ def _contact_force(x, v, masses, corners, weights, centre, velocity, radius, sti
     wa, wb, wc = weights[0], weights[1], weights[2]
     point = wa * x[corners[0]] + wb * x[corners[1]] + wc * x[corners[2]]
     gap = centre - point
-    distance = np.sqrt(gap @ gap)
+    distance = np.sqrt(_dot3(gap, gap))
     normal = gap / distance
     surface_velocity = wa * v[corners[0]] + wb * v[corners[1]] + wc * v[corners[2]]
-    approach = -((velocity - surface_velocity) @ normal)
+    approach = -_dot3(velocity - surface_velocity, normal)
     magnitude = stiffness * (radius - distance) + damping * max(approach, 0.0)
     force = magnitude * normal
     for corner, weight in ((corners[0], wa), (corners[1], wb), (corners[2], wc)):
@@ -180,14 +187,14 @@ def ball_substep(x, v, masses, faces, face_parts, ball, touch, params, water, dt
                 force = _contact_force(x[b], v[b], masses, corners, weights, centre,
                                        velocity, radius, stiffness, damping, dt)
                 total += force
-                touch[b, face_parts[face]] += dt * np.sqrt(force @ force)
+                touch[b, face_parts[face]] += dt * np.sqrt(_dot3(force, force))
         horizontal = np.hypot(centre[0] - sx, centre[1] - sy)
         sink = sz + radius - centre[2]
         if horizontal < support_radius and 0.0 < sink < radius:
             total[2] += stiffness * sink + damping * max(-velocity[2], 0.0)
         wet = sphere_submerged(centre[2], radius, surface_z)
         rho = 1.2 + (density - 1.2) * wet
-        speed = np.sqrt(velocity @ velocity)
+        speed = np.sqrt(_dot3(velocity, velocity))
         drag = 0.5 * rho * cd * np.pi * radius * radius * speed
         effective = mass + 0.5 * density * volume * wet
         total[2] += gravity * (density * volume * wet - mass)
