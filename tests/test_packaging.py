@@ -1,0 +1,76 @@
+"""What the package declares is what its code needs: every folder of code is a package the
+build finds, and every third-party import is a declared dependency (an optional one only in
+an extra, and only where its absence is handled)."""
+
+import ast
+import importlib
+import sys
+import tomllib
+from importlib import metadata
+from pathlib import Path
+
+import animat
+
+ROOT = Path(__file__).resolve().parents[1]
+CODE = {"animat": "animat", "animat.envs": "envs", "animat.learners": "learners",
+        "animat.experiments": "experiments"}
+# the imports that an extra provides, and the modules that import them (each handles its
+# absence: the benchmark runs without Swimmer-v5, the sweep says to install the extra)
+OPTIONAL = {"mujoco": ("bench", {"envs/bench.py"}), "ray": ("ray", {"experiments/sweep.py"})}
+
+
+def _requirement_name(requirement: str) -> str:
+    return requirement.split(";")[0].split("[")[0].split("<")[0].split(">")[0].split("=")[0] \
+        .split("~")[0].split("!")[0].strip().lower().replace("_", "-")
+
+
+def _third_party_imports() -> dict[str, set[str]]:
+    """{top-level module: files importing it} over the package's code."""
+    found: dict[str, set[str]] = {}
+    for folder in CODE.values():
+        for path in (ROOT / folder).rglob("*.py"):
+            for node in ast.walk(ast.parse(path.read_text())):
+                names = ([a.name for a in node.names] if isinstance(node, ast.Import) else
+                         [node.module] if isinstance(node, ast.ImportFrom) and node.level == 0
+                         else [])
+                for name in names:
+                    top = name.split(".")[0]
+                    if top not in sys.stdlib_module_names and top != "animat":
+                        found.setdefault(top, set()).add(path.relative_to(ROOT).as_posix())
+    return found
+
+
+def test_every_third_party_import_is_a_declared_dependency():
+    project = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]
+    required = {_requirement_name(r) for r in project["dependencies"]}
+    extras = {name: {_requirement_name(r) for r in reqs}
+              for name, reqs in project["optional-dependencies"].items()}
+    distributions = metadata.packages_distributions()
+    for module, files in _third_party_imports().items():
+        names = {d.lower().replace("_", "-") for d in distributions.get(module, [])}
+        assert names, f"{module} (imported by {sorted(files)}) is not installed"
+        if module in OPTIONAL:
+            extra, allowed = OPTIONAL[module]
+            assert names & extras[extra], f"{module} is not in the {extra!r} extra"
+            assert files <= allowed, f"optional {module} imported by {sorted(files - allowed)}"
+        else:
+            assert names & required, f"{module} (imported by {sorted(files)}) is not declared"
+
+
+def module_names() -> dict[str, Path]:
+    """{dotted name under animat: its file} for every module of the code folders."""
+    found = {}
+    for name, folder in CODE.items():
+        for path in sorted((ROOT / folder).rglob("*.py")):
+            parts = path.relative_to(ROOT / folder).with_suffix("").parts
+            parts = parts[:-1] if parts[-1] == "__init__" else parts
+            if parts[-1:] != ("__main__",):
+                found[".".join((name, *parts))] = path
+    return found
+
+
+def test_every_module_of_the_tree_imports_under_animat_from_its_own_file():
+    modules = module_names()
+    for name, path in modules.items():
+        assert Path(importlib.import_module(name).__file__).resolve() == path.resolve(), name
+    assert len(modules) > 60 and (Path(animat.__file__).parent / "py.typed").is_file()
