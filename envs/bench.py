@@ -21,7 +21,7 @@ import numpy as np
 
 import animat  # noqa: F401  (registers Animat/*)
 from animat.envs.physics import forces
-from animat.envs.physics.integrator import CHUNK, kick_drift, ramp_rest_lengths, step_chunk
+from animat.envs.physics.integrator import CHUNK, NO_BALL, kick_drift, ramp_rest_lengths, step_chunk
 
 
 def sim_seconds_per_second(env, dt: float, num_envs: int, seconds: float, seed: int = 0) -> float:
@@ -126,13 +126,14 @@ def breakdown(lanes: int, reps: int = 2000) -> dict[str, float]:
     out = {name: 1e9 * _timed(fn, reps) / lanes for name, fn in parts.items()}
     steps = 40
     out["fused step (all of it)"] = 1e9 * _timed(
-        lambda: step_chunk(xb, vb, u, u, np.zeros((lanes, 2)), steps, c),
+        lambda: step_chunk(xb, vb, u, u, np.zeros((lanes, 2)), steps, c, np.zeros(lanes),
+                           *NO_BALL),
         max(1, reps // steps)) / lanes / steps
     return out
 
 
-def report_breakdown() -> str:
-    one, wide = breakdown(1), breakdown(CHUNK)
+def report_breakdown(reps: int = 2000) -> str:
+    one, wide = breakdown(1, reps), breakdown(CHUNK, reps)
     lines = [f"{'part of a step':<26} {'1 body':>10} {f'chunk of {CHUNK}':>14}  (ns per body-step)"]
     lines += [f"{name:<26} {one[name]:>10.0f} {wide[name]:>14.0f}" for name in one]
     return "\n".join(lines)
