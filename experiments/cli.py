@@ -1,6 +1,7 @@
 """The ``animat`` command (also ``python -m animat.experiments``).
 
-    animat run CONFIG [--set key.path=value ...] [--out DIR] [--threads N]
+    animat [--debug] COMMAND ...
+    animat run CONFIG [--set key.path=value ...] [--out DIR] [--threads N] [--force]
     animat run --resume DIR [--threads N]
     animat sweep CONFIG --seeds 0-4 [--set ...] [--executor local|ray] [--jobs N]
                  [--address ADDR] [--out PARENT]
@@ -14,8 +15,11 @@
     animat list
     animat --version
 
-A bad config or override stops before any work with one line naming the file, the field path
-and what is wrong, and exit status 2.
+CONFIG is a YAML file, or a shipped config by name (``quickstart``, ``tune/fish_swim_ppo``;
+``animat list`` names them all), from any directory. A bad config or override stops before any
+work with one line naming the file, the field path and what is wrong, and exit status 2. Any
+other failure is one line too, exit status 1 (a run's traceback is in its folder's
+``error.log``; ``--debug`` shows it instead).
 """
 
 from __future__ import annotations
@@ -26,12 +30,11 @@ import sys
 from pathlib import Path
 
 from animat.experiments.config import ConfigError, load_config
-from animat.experiments.runs import RunError, create_run, execute, resume
-
-CONFIG_DIR = Path(__file__).resolve().parent.parent / "configs"  # in a source checkout
-
+from animat.experiments.runs import ERROR_LOG, RunError, create_run, execute, one_line, resume
+from animat.experiments.shipped import find_config, shipped_configs
 
 EXAMPLES = """examples:
+  animat run quickstart                                    # a shipped config, from anywhere
   animat run configs/quickstart.yaml                       # one run, folder under runs/
   animat run configs/fish_swim_ppo.yaml --set seed=3 --set budget.env_steps=20000 --out runs/try
   animat run --resume runs/try                             # continue a killed or failed run
@@ -66,11 +69,14 @@ def _parser() -> argparse.ArgumentParser:
         formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--version", action="version",
                         version=f"animat (artificial-animals) {_version()}")
+    parser.add_argument("--debug", action="store_true",
+                        help="on a failure, the full traceback instead of one line")
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     run = sub.add_parser("run", help="run one experiment (or --resume one)",
                          description="Run one experiment from a YAML config into a new run "
                          "folder, or continue an unfinished one.")
-    run.add_argument("config", nargs="?", help="YAML config (not with --resume)")
+    run.add_argument("config", nargs="?", help="YAML config, or a shipped config's name "
+                     "(animat list); not with --resume")
     _add_overrides(run)
     run.add_argument("--out", type=Path, help="the run folder, exactly (default: "
                      "runs/<env>/<learner>/seed<k>-<time>/); never overwritten")
@@ -79,10 +85,13 @@ def _parser() -> argparse.ArgumentParser:
     run.add_argument("--threads", type=int, metavar="N",
                      help="Numba threads for the run (default: every CPU this process may use)")
     run.add_argument("--quiet", action="store_true", help="no progress bar")
+    run.add_argument("--force", action="store_true",
+                     help="let learner.params.output replace a file that exists (a run never "
+                          "overwrites one otherwise)")
     sweep = sub.add_parser("sweep", help="one run per seed",
                            description="One run folder per seed, run here (one after another "
                            "or --jobs at once) or as Ray tasks; ends with a table.")
-    sweep.add_argument("config", help="YAML config")
+    sweep.add_argument("config", help="YAML config, or a shipped config's name")
     sweep.add_argument("--seeds", required=True, help="e.g. 0-4 or 1,3,5")
     _add_overrides(sweep)
     sweep.add_argument("--executor", choices=("local", "ray"), default="local",
@@ -105,7 +114,7 @@ def _parser() -> argparse.ArgumentParser:
                           description="Optuna over the config's tune.space: every trial a run "
                           "folder under OUT, the study in OUT/study.db (run again with the "
                           "same --out to continue), the best config in OUT/best.yaml.")
-    tune.add_argument("config", help="YAML config with a tune.space")
+    tune.add_argument("config", help="YAML config with a tune.space, or a shipped one's name")
     tune.add_argument("--trials", type=int, required=True, help="finished trials wanted")
     _add_overrides(tune)
     tune.add_argument("--out", type=Path, help="the study's folder (default: runs/tune/...)")
@@ -159,13 +168,32 @@ def _progress(args, config):
     return ProgressSink.if_terminal(config.budget.env_steps, config.eval.metric)
 
 
+def _config_path(name: str) -> Path:
+    """The config file a user names (a path, or a shipped config's name); RunError if none."""
+    path = find_config(name)
+    if not path.is_file():
+        raise RunError(f"{name}: no such file, nor a shipped config (animat list names them)")
+    return path
+
+
+def _forced(config_path: Path, overrides: list[str]) -> list[str]:
+    """``--force``: the overrides that let the config's learner.params.output replace a file;
+    RunError if the config writes nothing outside its run folder."""
+    config = load_config(config_path, overrides, build=False)
+    if not config.learner.params.get("output"):
+        raise RunError("--force: this config writes nothing outside its run folder (no "
+                       "learner.params.output)")
+    return [*overrides, "learner.params.force=true"]
+
+
 def cmd_run(args) -> int:
     if args.threads is not None and args.threads < 1:
         raise RunError(f"--threads must be at least 1, got {args.threads}")
     if args.resume:
         folder = args.resume
         ignored = ([f"CONFIG {args.config}"] if args.config else []) + (
-            [f"--set {o}" for o in args.overrides] + ([f"--out {args.out}"] if args.out else []))
+            [f"--set {o}" for o in args.overrides] + ([f"--out {args.out}"] if args.out else [])
+            + (["--force"] if args.force else []))
         if ignored:
             raise RunError(f"--resume continues {folder} with its own config.yaml; drop "
                            f"{', '.join(ignored)} (they would be ignored)")
@@ -176,7 +204,9 @@ def cmd_run(args) -> int:
     else:
         if not args.config:
             raise RunError("give a CONFIG to run, or --resume DIR")
-        config = load_config(args.config, args.overrides)
+        path = _config_path(args.config)
+        overrides = _forced(path, args.overrides) if args.force else args.overrides
+        config = load_config(path, overrides)
         folder = create_run(config, args.out, ["animat", *args.argv])
         print(f"run folder: {folder}")
         result = execute(folder, _progress(args, config), args.threads)
@@ -191,7 +221,7 @@ def cmd_sweep(args) -> int:
         seeds = parse_seeds(args.seeds)
     except ValueError as error:
         raise RunError(str(error)) from None
-    config = load_config(args.config, args.overrides)
+    config = load_config(_config_path(args.config), args.overrides)
     folders = prepare(config, seeds, args.out, ["animat", *args.argv])
     if args.executor == "ray":
         results = run_ray(folders, args.address)
@@ -206,7 +236,7 @@ def cmd_tune(args) -> int:
 
     if args.trials < 1:
         raise RunError(f"--trials must be at least 1, got {args.trials}")
-    summary = tune(args.config, args.trials, args.out, args.overrides)
+    summary = tune(_config_path(args.config), args.trials, args.out, args.overrides)
     print(table(summary))
     return 0 if summary["best"] is not None else 1
 
@@ -241,15 +271,16 @@ def cmd_compare(args) -> int:
 def cmd_list(args) -> int:
     import gymnasium as gym
 
-    import animat
+    import animat  # noqa: F401  (registers Animat/*)
     from animat.learners.registry import LEARNERS
 
-    print("envs:     " + ", ".join(animat.envs.ENV_IDS))
-    print("learners: " + ", ".join(sorted(LEARNERS)))
-    folder = CONFIG_DIR if CONFIG_DIR.exists() else Path("configs")  # else: here
-    configs = sorted(p.name for p in folder.glob("*.yaml")) if folder.exists() else []
-    print("configs:  " + (", ".join(configs) if configs else "(none)"))
-    return 0 if all(e in gym.registry for e in animat.envs.ENV_IDS) else 1
+    envs = sorted(k for k in gym.registry if k.startswith("Animat/"))
+    configs = shipped_configs()
+    print(f"envs ({len(envs)}):\n  " + "\n  ".join(envs))
+    print(f"learners ({len(LEARNERS)}): " + ", ".join(sorted(LEARNERS)))
+    print(f"shipped configs ({len(configs)}; animat run NAME):\n  "
+          + ("\n  ".join(configs) if configs else "(none)"))
+    return 0 if envs and configs else 1
 
 
 def cmd_stunt_figures(args) -> int:
@@ -310,9 +341,24 @@ def main(argv: list[str] | None = None) -> int:
                 "world-video": cmd_world_video}
     try:
         return handlers[args.command](args)
-    except (ConfigError, RunError, FileNotFoundError) as error:
+    except (ConfigError, RunError, FileNotFoundError) as error:  # what the user gave
+        if args.debug:
+            raise
         print(f"animat: error: {error}", file=sys.stderr)
         return 2
+    except KeyboardInterrupt:
+        if args.debug:
+            raise
+        print("animat: interrupted", file=sys.stderr)
+        return 130
+    except Exception as error:  # a failure while working: one line, the traceback kept
+        if args.debug:
+            raise
+        folder = getattr(error, "run_folder", None)
+        where = (f" (traceback in {Path(folder) / ERROR_LOG})" if folder else
+                 " (animat --debug ... shows the traceback)")
+        print(f"animat: error: {one_line(error)}{where}", file=sys.stderr)
+        return 1
 
 
 if __name__ == "__main__":

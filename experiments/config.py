@@ -216,10 +216,26 @@ def migrate(data: dict) -> None:
         refine["share"] = refine.pop("env_steps") / budget
 
 
+def resolve_paths(data: dict, base: Path) -> None:
+    """Make the learner's file params (its ``path_params``: a repertoire, an output) absolute
+    in place, a relative one taken from ``base``; other fields are left for validation."""
+    from animat.learners.registry import LEARNERS
+
+    learner = data.get("learner")
+    if not isinstance(learner, dict) or learner.get("name") not in LEARNERS:
+        return
+    params = learner.get("params")
+    for name in LEARNERS[learner["name"]].path_params if isinstance(params, dict) else ():
+        value = params.get(name)
+        if isinstance(value, str) and value and not Path(value).is_absolute():
+            params[name] = str((base / value).resolve())
+
+
 def load_config(path: str | Path, overrides: list[str] | None = None, build: bool = True
                 ) -> ExperimentConfig:
     """Read, override and validate a YAML config file; with ``build``, also build its env and
-    learner once (:func:`check_buildable`)."""
+    learner once (:func:`check_buildable`). A relative file path in the learner's params is
+    relative to the config file's folder, in an override to the current directory."""
     source = str(path)
     try:
         text = Path(path).read_text()
@@ -232,10 +248,13 @@ def load_config(path: str | Path, overrides: list[str] | None = None, build: boo
     data = copy.deepcopy(data) if isinstance(data, dict) else data
     if isinstance(data, dict):
         migrate(data)
+        resolve_paths(data, Path(path).resolve().parent)
     for override in overrides or []:
         if not isinstance(data, dict):
             break
         apply_override(data, override, source)
+    if isinstance(data, dict):
+        resolve_paths(data, Path.cwd())  # what the overrides named, from the shell
     config = validate(data, source)
     if build:  # a run folder's config.yaml builds with its own copy of a repertoire
         check_buildable(config, source, learner_params(Path(path).parent, config))

@@ -4,6 +4,7 @@
 ``config.yaml`` (resolved), ``command.txt``, ``versions.json``, TensorBoard events in ``tb/``,
 ``scalars.csv``, ``checkpoints/`` and ``result.json``, written atomically:
 ``{"status": "running"|"done"|"failed", "env_steps", "wall_seconds", "metrics", ...}``
+(a failed run's ``error`` is one line; its traceback is in ``error.log``)
 (``pending`` for a folder a sweep has prepared but not started).
 A run folder is never overwritten. A run that died without saying so (``running`` with a dead
 process) is reported as ``killed``; ``animat run --resume DIR`` continues any unfinished run
@@ -34,6 +35,17 @@ PACKAGES = ("artificial-animals", "numpy", "numba", "gymnasium", "stable-baselin
 
 class RunError(RuntimeError):
     """A run-folder problem (exists already, nothing to resume, ...)."""
+
+
+ERROR_LOG = "error.log"
+
+
+def one_line(error: BaseException) -> str:
+    """``Type: the first line of the message`` (at most 300 characters): what a failed run's
+    result.json and the CLI say of an error."""
+    lines = [line.strip() for line in str(error).splitlines() if line.strip()]
+    line = f"{type(error).__name__}: {lines[0]}" if lines else type(error).__name__
+    return line if len(line) <= 300 else line[:297] + "..."
 
 
 def write_json(path: Path, data: dict) -> None:
@@ -71,8 +83,11 @@ def set_threads(threads: int | None) -> int:
 
 def source_revision() -> dict[str, object]:
     """The git commit of the code that runs, and whether it has uncommitted changes
-    (``{}`` outside a git checkout)."""
+    (``{}`` outside a git checkout: an installed wheel, even in a venv inside some
+    repository, has no commit of its own)."""
     root = Path(__file__).resolve().parents[1]
+    if not (root / ".git").exists():
+        return {}
     try:
         commit = subprocess.run(["git", "-C", str(root), "rev-parse", "HEAD"], check=True,
                                 capture_output=True, text=True, timeout=10).stdout.strip()
@@ -171,9 +186,11 @@ def execute(folder: Path, progress=None, threads: int | None = None) -> dict:
         result = learner.learn(config.budget.env_steps, folder / "checkpoints")
     except BaseException as error:
         logger.close()
-        write_json(folder / "result.json", _status(
-            "failed", folder, error=f"{type(error).__name__}: {error}",
-            traceback=traceback.format_exc(), threads=threads))
+        trace = traceback.format_exc()
+        (folder / ERROR_LOG).write_text(trace)
+        write_json(folder / "result.json", _status("failed", folder, error=one_line(error),
+                                                   traceback=trace, threads=threads))
+        error.run_folder = folder  # the CLI points at its error.log
         raise
     write_json(folder / "artefacts.json", dict(result.artefacts))
     final = _status("done", folder, result, threads=threads)

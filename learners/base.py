@@ -71,9 +71,14 @@ class Learner(ABC):
         params: the learner's own parameters (validated by the subclass).
         seed: the run's seed; everything random derives from it.
         logger: where scalars go.
+
+    ``path_params`` names the params that are file paths (:func:`animat.experiments.config.
+    load_config` resolves them against the config file's folder).
     """
 
     name: ClassVar[str] = "learner"
+    # params that name files: a config's relative paths there are relative to its own folder
+    path_params: ClassVar[tuple[str, ...]] = ()
 
     def __init__(self, env_id: str, env_kwargs: dict | None = None, params: dict | None = None,
                  seed: int = 0, logger: Logger | None = None) -> None:
@@ -113,9 +118,10 @@ class Learner(ABC):
                                                indent=1, default=str))
 
 
-def atomic_write(path: str | Path, write, binary: bool = False) -> None:
+def atomic_write(path: str | Path, write, binary: bool = False, replace: bool = True) -> None:
     """Write a file atomically: ``write(file)`` fills a temporary file beside ``path``, which
-    then replaces it, so a reader (or a crash) never sees half a file."""
+    then replaces it, so a reader (or a crash) never sees half a file. With ``replace`` False
+    an existing ``path`` is left as it is (FileExistsError), even one made meanwhile."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     handle, tmp = tempfile.mkstemp(dir=path.parent, prefix=path.name, suffix=".tmp")
@@ -124,7 +130,13 @@ def atomic_write(path: str | Path, write, binary: bool = False) -> None:
         file.flush()
         os.fsync(file.fileno())
     os.chmod(tmp, 0o644)
-    os.replace(tmp, path)
+    if replace:
+        os.replace(tmp, path)
+        return
+    try:
+        os.link(tmp, path)  # fails if path exists: no check-then-write race
+    finally:
+        os.unlink(tmp)
 
 
 def save_checkpoint(path: str | Path, payload: Any) -> None:

@@ -103,6 +103,7 @@ class MacroLearner(BlackBoxLearner):
     ``start_from`` (a sequence to start from), plus the annealing parameters."""
 
     name = "macro"
+    path_params = ("repertoire",)
     optimizer = annealing
     params_class = annealing.AnnealingParams
     own_params = MacroParams

@@ -95,13 +95,13 @@ class Repertoire:
     def add(self, skill: Skill) -> None:
         self.skills[skill.name] = skill
 
-    def save(self, path: str | Path) -> None:
-        """Write atomically as JSON."""
+    def save(self, path: str | Path, replace: bool = True) -> None:
+        """Write atomically as JSON (``replace`` False: FileExistsError if ``path`` exists)."""
         data = {"format": "artificial-animals repertoire 1",
                 "skills": [{"name": s.name, "metadata": s.metadata,
                             "controller": s.controller.to_dict()}
                            for s in (self.skills[n] for n in self.names)]}
-        atomic_write(path, lambda file: json.dump(data, file, indent=1))
+        atomic_write(path, lambda file: json.dump(data, file, indent=1), replace=replace)
 
     @classmethod
     def load(cls, path: str | Path) -> Repertoire:
@@ -175,25 +175,30 @@ class BasicTrainingParams:
     """regimen: [{name, env_id, env_kwargs, params}], or the name of a shipped one
     (:data:`REGIMENS`: ``fish``, ``dolphin``; None: the fish's); threshold: the FFT
     threshold (None: the most compact abstraction within 10%); annealing: annealing params
-    shared by all skills; output: the repertoire's path (None: in the run folder)."""
+    shared by all skills; output: a path the repertoire is also written to (None: only the
+    run folder's ``checkpoints/repertoire.json``), refused if it exists unless ``force``."""
 
     regimen: list | str | None = None
     threshold: float | None = None
     annealing: dict = field(default_factory=lambda: {"chains": 64})
     output: str | None = None
+    force: bool = False
 
 
 class BasicTrainingLearner(Learner):
     """Learns every skill of ``regimen`` (default: the fish's) with an equal share of the
-    budget and writes ``repertoire.json`` into the checkpoint folder (or ``output``).
+    budget and writes ``repertoire.json`` into the checkpoint folder (and, asked, to
+    ``output``: never over a file that exists unless ``force``).
 
     Params: ``regimen`` (list of {name, env_id, env_kwargs, params}, or ``"fish"`` /
     ``"dolphin"``), ``threshold`` (FFT;
     default: the most compact abstraction within 10% of the learned objective),
-    ``annealing`` (annealing parameters shared by all skills), ``output`` (repertoire path).
+    ``annealing`` (annealing parameters shared by all skills), ``output`` (a second copy's
+    path, relative to the config's folder), ``force`` (let ``output`` replace a file).
     The env id it is given is not used: each skill names its own."""
 
     name = "basic_training"
+    path_params = ("output",)
 
     def __init__(self, *args, **kwargs) -> None:
         super().__init__(*args, **kwargs)
@@ -205,7 +210,7 @@ class BasicTrainingLearner(Learner):
         self.regimen = REGIMENS[regimen] if isinstance(regimen, str) else regimen
         self.threshold = None if own.threshold is None else float(own.threshold)
         self.annealing = dict(own.annealing)
-        self.output = own.output
+        self.output, self.force = own.output, bool(own.force)
         # every skill's settings are checked before any learning
         self._skill_learners = [AnnealingLearner(spec["env_id"], spec.get("env_kwargs", {}),
                                                  {**self.annealing, **spec.get("params", {})},
@@ -227,7 +232,11 @@ class BasicTrainingLearner(Learner):
         return SkillSet(agents)
 
     def check_budget(self, budget_env_steps: int) -> None:
-        """Each skill gets an equal share; its learner must be able to use it."""
+        """Each skill gets an equal share; its learner must be able to use it. An ``output``
+        that exists is refused here, before any learning, unless ``force``."""
+        if self.output and not self.force and Path(self.output).exists():
+            raise ValueError(f"output {self.output} exists; a run does not overwrite it "
+                             f"(choose another path, or force: true, i.e. animat run --force)")
         for learner in self._skill_learners:
             learner.check_budget(budget_env_steps // len(self.regimen))
 
@@ -246,11 +255,16 @@ class BasicTrainingLearner(Learner):
             repertoire.add(skill)
             used += skill.metadata["env_steps"]
             self.logger.scalar("eval/return", -skill.metadata["abstracted_E"], used)
+        if folder:
+            repertoire.save(folder / "repertoire.json")  # the run's own copy, always
+        if self.output:
+            try:
+                repertoire.save(self.output, replace=self.force)
+            except FileExistsError:
+                kept = f"; the run's copy is {folder / 'repertoire.json'}" if folder else ""
+                raise ValueError(f"output {self.output} was made while the run learned, and "
+                                 f"is left as it is{kept}") from None
         output = self.output or (folder / "repertoire.json" if folder else None)
-        if output:
-            repertoire.save(output)
-        if folder and Path(output) != folder / "repertoire.json":
-            repertoire.save(folder / "repertoire.json")  # the run folder keeps its own copy
         metrics = {"eval/return": float(np.mean([-s.metadata["abstracted_E"]
                                                  for s in repertoire.skills.values()]))}
         return LearnResult(env_steps=used, wall_seconds=time.perf_counter() - start,

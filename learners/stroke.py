@@ -166,6 +166,7 @@ class StrokeLearner(BlackBoxLearner):
     (:meth:`bounds`); the search starts at the middle of every range."""
 
     name = "stroke"
+    path_params = ("repertoire",)
     optimizer = annealing
     params_class = annealing.AnnealingParams
     own_params = StrokeLearnerParams

@@ -28,15 +28,21 @@ def test_every_shipped_config_validates_at_small_and_large_budgets(budget):
         assert load_config(path, [f"budget.env_steps={budget}"]).budget.env_steps == budget
 
 
+def shipped_files() -> dict[str, bytes]:
+    """Every shipped config and repertoire, by path: what no run may change."""
+    return {p.relative_to(ROOT).as_posix(): p.read_bytes()
+            for folder in ("configs", "repertoires") for p in sorted((ROOT / folder).rglob("*"))
+            if p.is_file()}
+
+
 @pytest.mark.parametrize("name", CHEAP)
-def test_cheap_shipped_configs_run_at_20k_env_steps(tmp_path, name):
-    out = tmp_path / "run"
-    overrides = ["--set", "budget.env_steps=20000"]
-    if name.endswith("basic_training.yaml"):  # not over the shipped repertoire
-        overrides += ["--set", f"learner.params.output={tmp_path / 'repertoire.json'}"]
-    animat("run", ROOT / "configs" / name, "--out", out, "--quiet", *overrides)
+def test_cheap_shipped_configs_run_at_20k_env_steps_and_change_no_shipped_file(tmp_path, name):
+    out, before = tmp_path / "run", shipped_files()
+    animat("run", ROOT / "configs" / name, "--out", out, "--quiet", "--set",
+           "budget.env_steps=20000")
     result = json.loads((out / "result.json").read_text())
     assert result["status"] == "done" and 0 < result["env_steps"] <= 20_000
+    assert shipped_files() == before
 
 
 def test_a_budget_below_one_round_is_refused_in_one_line_with_no_folder(tmp_path):

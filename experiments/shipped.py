@@ -1,0 +1,39 @@
+"""What the package ships beside its code: the configs and the learned repertoires.
+
+In a source checkout they are the top-level folders ``configs/`` and ``repertoires/``; in an
+installed wheel, the package data ``animat/configs/`` and ``animat/repertoires/``. Either way
+they sit beside the ``experiments`` package's own folder, so one rule finds them, and a shipped
+config's relative paths (``../repertoires/fish.json``) resolve against its folder in both.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent  # the checkout, or the installed animat/ folder
+CONFIGS = ROOT / "configs"
+REPERTOIRES = ROOT / "repertoires"
+
+
+def shipped_configs() -> list[str]:
+    """Every shipped config's name: its path under the configs folder without ``.yaml``
+    (``quickstart``, ``tune/fish_swim_ppo``), sorted."""
+    if not CONFIGS.is_dir():
+        return []
+    return sorted(p.relative_to(CONFIGS).with_suffix("").as_posix()
+                  for p in CONFIGS.rglob("*.yaml"))
+
+
+def find_config(name: str | Path) -> Path:
+    """The config a user names: a file that exists (relative to the current directory), else
+    the shipped config of that name (``quickstart`` or ``quickstart.yaml``,
+    ``tune/fish_swim_ppo``). A name that is neither is returned as given, for the reader to
+    refuse with the file's name."""
+    path = Path(name)
+    if path.is_file():
+        return path
+    relative = path.as_posix().removeprefix("configs/")
+    for candidate in (CONFIGS / relative, CONFIGS / f"{relative}.yaml"):
+        if not path.is_absolute() and candidate.is_file():
+            return candidate
+    return path

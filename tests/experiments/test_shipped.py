@@ -1,0 +1,124 @@
+"""Shipped data, reached from anywhere: a shipped config runs by name from any directory, a
+config's relative paths are relative to its own folder, ``animat list`` names every registered
+env and every shipped config, nothing a run does overwrites a file it did not make, and a
+failure while working is one line with the traceback kept in the run folder."""
+
+import hashlib
+import json
+import shutil
+from pathlib import Path
+
+import gymnasium as gym
+import pytest
+import yaml
+
+from animat.experiments import cli
+from animat.experiments.config import load_config
+from animat.experiments.shipped import CONFIGS, find_config, shipped_configs
+from tests.experiments.test_cli import TINY, animat, write_config
+
+ROOT = Path(__file__).resolve().parents[2]
+# one skill of the fish's regimen, short: basic training in seconds
+ONE_SKILL = {
+    "env": {"id": "Animat/FishSwim-v0"},
+    "learner": {"name": "basic_training", "params": {
+        "regimen": [{"name": "swim", "env_id": "Animat/FishSwim-v0",
+                     "env_kwargs": {"duration": 0.5}, "params": {"nodes": 4, "period": 0.5}}],
+        "annealing": {"chains": 8}}},
+    "budget": {"env_steps": 3200},
+}
+
+
+def digest(folder: Path) -> dict[str, str]:
+    return {p.relative_to(folder).as_posix(): hashlib.sha256(p.read_bytes()).hexdigest()
+            for p in sorted(folder.rglob("*")) if p.is_file()}
+
+
+def test_shipped_configs_are_found_by_name_or_checkout_path_from_anywhere(tmp_path,
+                                                                           monkeypatch):
+    monkeypatch.chdir(tmp_path)  # outside the checkout
+    names = shipped_configs()
+    assert "quickstart" in names and "tune/fish_swim_ppo" in names and "tuned/fish_swim_cmaes" \
+        in names and len(names) == len(list((ROOT / "configs").rglob("*.yaml")))
+    for name in ("quickstart", "quickstart.yaml", "configs/quickstart.yaml"):
+        assert find_config(name) == CONFIGS / "quickstart.yaml"
+    assert find_config("tune/fish_swim_ppo") == CONFIGS / "tune" / "fish_swim_ppo.yaml"
+    assert find_config("nope") == Path("nope")
+    animat("run", "quickstart", "--set", "budget.env_steps=20000", "--out", tmp_path / "q",
+           "--quiet", cwd=tmp_path)
+    assert json.loads((tmp_path / "q" / "result.json").read_text())["status"] == "done"
+    missing = animat("run", "nope", cwd=tmp_path, check=False)
+    assert missing.returncode == 2 and "no such file, nor a shipped config" in missing.stderr
+
+
+def test_relative_paths_are_the_config_folders_and_an_overrides_the_current_directorys(
+        tmp_path, monkeypatch):
+    (tmp_path / "mine" / "configs").mkdir(parents=True)
+    (tmp_path / "mine" / "reps").mkdir()
+    shutil.copyfile(ROOT / "repertoires" / "fish.json", tmp_path / "mine" / "reps" / "fish.json")
+    data = yaml.safe_load((CONFIGS / "fish_reach_macro.yaml").read_text())
+    data["learner"]["params"]["repertoire"] = "../reps/fish.json"
+    config = write_config(tmp_path / "mine" / "configs" / "reach.yaml", data)
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir()
+    monkeypatch.chdir(elsewhere)
+    loaded = load_config(config)
+    assert loaded.learner.params["repertoire"] == str(tmp_path / "mine" / "reps" / "fish.json")
+    shutil.copyfile(ROOT / "repertoires" / "fish.json", elsewhere / "here.json")
+    overridden = load_config(config, ["learner.params.repertoire=here.json"])
+    assert overridden.learner.params["repertoire"] == str(elsewhere / "here.json")
+    shipped = load_config(CONFIGS / "fish_reach_macro.yaml")  # ../repertoires from configs/
+    assert shipped.learner.params["repertoire"] == str(ROOT / "repertoires" / "fish.json")
+
+
+def test_list_names_every_registered_env_and_every_shipped_config():
+    out = animat("list", cwd=Path("/")).stdout
+    envs = sorted(k for k in gym.registry if k.startswith("Animat/"))
+    assert len(envs) == 14 and f"envs ({len(envs)}):" in out
+    assert all(f"  {e}\n" in out for e in envs)
+    assert all(f"  {name}\n" in out + "\n" for name in shipped_configs())
+
+
+def test_basic_training_writes_into_its_run_folder_and_never_over_a_file(tmp_path):
+    shipped = digest(ROOT / "repertoires")
+    config = write_config(tmp_path / "one.yaml", ONE_SKILL)
+    animat("run", config, "--out", tmp_path / "run", "--quiet")
+    kept = tmp_path / "run" / "checkpoints" / "repertoire.json"
+    assert json.loads(kept.read_text())["skills"][0]["name"] == "swim"
+    target = tmp_path / "mine.json"
+    target.write_text("mine")
+    refused = animat("run", config, "--set", f"learner.params.output={target}", "--out",
+                     tmp_path / "refused", check=False)
+    assert refused.returncode == 2 and len(refused.stderr.strip().splitlines()) == 1
+    assert f"output {target} exists" in refused.stderr and "--force" in refused.stderr
+    assert target.read_text() == "mine" and not (tmp_path / "refused").exists()
+    animat("run", config, "--set", f"learner.params.output={target}", "--force", "--out",
+           tmp_path / "forced", "--quiet")
+    assert json.loads(target.read_text())["skills"][0]["name"] == "swim"
+    needless = animat("run", config, "--force", "--out", tmp_path / "x", check=False)
+    assert needless.returncode == 2 and "writes nothing outside its run folder" in \
+        needless.stderr
+    assert digest(ROOT / "repertoires") == shipped
+
+
+def test_a_failure_while_running_is_one_line_and_the_run_folder_keeps_the_traceback(
+        tmp_path, monkeypatch):
+    from animat.learners.blackbox import AnnealingLearner
+
+    def broken(self, budget, checkpoint_dir=None):
+        raise RuntimeError("the simulator blew up\nsecond line of detail")
+
+    monkeypatch.setattr(AnnealingLearner, "learn", broken)
+    config = write_config(tmp_path / "tiny.yaml", TINY)
+    folder = tmp_path / "run"
+    failed = animat("run", config, "--out", folder, "--quiet", check=False)
+    lines = failed.stderr.strip().splitlines()
+    assert failed.returncode == 1 and len(lines) == 1, failed.stderr
+    assert lines[0] == (f"animat: error: RuntimeError: the simulator blew up (traceback in "
+                        f"{folder / 'error.log'})")
+    assert "Traceback" in (folder / "error.log").read_text()
+    result = json.loads((folder / "result.json").read_text())
+    assert result["status"] == "failed"
+    assert result["error"] == "RuntimeError: the simulator blew up"
+    with pytest.raises(RuntimeError, match="blew up"):
+        cli.main(["--debug", "run", str(config), "--out", str(tmp_path / "debug"), "--quiet"])
