@@ -1,0 +1,47 @@
+"""The README's examples run as written: every ``python`` block, in a fresh interpreter, from a
+directory outside the checkout (the second block loads ``runs/try``, made first by a small
+run); and its Quick start is the two one-line commands that ``.ci/run`` runs."""
+
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import yaml
+
+from tests.experiments.test_cli import TINY, animat
+
+ROOT = Path(__file__).resolve().parents[1]
+README = (ROOT / "README.md").read_text()
+
+
+def blocks(language: str) -> list[str]:
+    return re.findall(rf"^```{language}\n(.*?)^```", README, flags=re.S | re.M)
+
+
+def quick_start() -> list[str]:
+    """The Quick start's command lines (the first block under its heading)."""
+    section = README.split("## Quick start", 1)[1]
+    return re.search(r"```bash\n(.*?)```", section, flags=re.S).group(1).strip().splitlines()
+
+
+def test_the_quick_start_is_clone_cd_then_two_commands_ci_runs():
+    lines = quick_start()
+    assert len(lines) == 3 and lines[0].startswith("git clone") and "&& cd " in lines[0]
+    install = 'pip install "torch==2.13.*" && pip install -e ".[test,bench,ray]"'
+    assert all(install in line for line in lines[1:])
+    assert lines[1].endswith("animat run quickstart") and lines[2].endswith("python -m pytest -q")
+    ci = (ROOT / ".ci" / "run").read_text()  # it reads the lines out of the README, as written
+    assert "## Quick start" in ci and "README.md" in ci and "pip install" not in ci
+
+
+def test_every_python_example_runs_from_outside_the_checkout(tmp_path):
+    config = tmp_path / "tiny.yaml"
+    config.write_text(yaml.safe_dump(TINY))
+    animat("run", config, "--out", tmp_path / "runs" / "try", "--quiet", cwd=tmp_path)
+    examples = blocks("python")
+    assert len(examples) >= 2
+    for code in examples:
+        done = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, capture_output=True,
+                              text=True, timeout=600)
+        assert done.returncode == 0, f"{code}\n{done.stderr[-2000:]}"
