@@ -186,6 +186,13 @@ def _forced(config_path: Path, overrides: list[str]) -> list[str]:
     return [*overrides, "learner.params.force=true"]
 
 
+def _single_output(config, runs: int, what: str) -> None:
+    """RunError if ``runs`` runs of ``what`` would all write one learner.params.output."""
+    if runs > 1 and config.learner.params.get("output"):
+        raise RunError(f"learner.params.output: the {runs} runs of {what} would all write "
+                       f"{config.learner.params['output']}; give an output to one animat run")
+
+
 def cmd_run(args) -> int:
     if args.threads is not None and args.threads < 1:
         raise RunError(f"--threads must be at least 1, got {args.threads}")
@@ -199,7 +206,7 @@ def cmd_run(args) -> int:
                            f"{', '.join(ignored)} (they would be ignored)")
         if not (folder / "config.yaml").exists():
             raise RunError(f"{folder}: no config.yaml: not a run folder")
-        config = load_config(folder / "config.yaml")
+        config = load_config(folder / "config.yaml", build=False)  # built by the run
         result = resume(folder, _progress(args, config), args.threads)
     else:
         if not args.config:
@@ -222,6 +229,7 @@ def cmd_sweep(args) -> int:
     except ValueError as error:
         raise RunError(str(error)) from None
     config = load_config(_config_path(args.config), args.overrides)
+    _single_output(config, len(seeds), "the sweep")
     folders = prepare(config, seeds, args.out, ["animat", *args.argv])
     if args.executor == "ray":
         results = run_ray(folders, args.address)
@@ -236,7 +244,9 @@ def cmd_tune(args) -> int:
 
     if args.trials < 1:
         raise RunError(f"--trials must be at least 1, got {args.trials}")
-    summary = tune(_config_path(args.config), args.trials, args.out, args.overrides)
+    path = _config_path(args.config)
+    _single_output(load_config(path, args.overrides, build=False), args.trials, "the study")
+    summary = tune(path, args.trials, args.out, args.overrides)
     print(table(summary))
     return 0 if summary["best"] is not None else 1
 
@@ -341,25 +351,22 @@ def main(argv: list[str] | None = None) -> int:
                 "world-video": cmd_world_video}
     try:
         return handlers[args.command](args)
-    except (ConfigError, RunError, FileNotFoundError) as error:  # what the user gave
-        if args.debug:
-            raise
-        print(f"animat: error: {error}", file=sys.stderr)
-        return 2
     except KeyboardInterrupt:
         if args.debug:
             raise
         print("animat: interrupted", file=sys.stderr)
         return 130
-    except Exception as error:  # a failure while working: one line, the traceback kept
+    except Exception as error:
         if args.debug:
             raise
         folder = getattr(error, "run_folder", None)
+        if folder is None and isinstance(error, ConfigError | RunError | FileNotFoundError):
+            print(f"animat: error: {error}", file=sys.stderr)  # what the user gave
+            return 2
         where = (f" (traceback in {Path(folder) / ERROR_LOG})" if folder else
                  " (animat --debug ... shows the traceback)")
-        print(f"animat: error: {one_line(error)}{where}", file=sys.stderr)
+        print(f"animat: error: {one_line(error)}{where}", file=sys.stderr)  # while working
         return 1
-
 
 if __name__ == "__main__":
     sys.exit(main())

@@ -13,6 +13,7 @@ from its last checkpoint.
 
 from __future__ import annotations
 
+import fcntl
 import json
 import os
 import shlex
@@ -21,6 +22,7 @@ import subprocess
 import sys
 import time
 import traceback
+from contextlib import contextmanager
 from importlib import metadata
 from pathlib import Path
 
@@ -109,16 +111,46 @@ def versions() -> dict[str, str]:
     return found
 
 
+LOCK_NAME = ".lock"
+
+
+@contextmanager
+def run_lock(folder: Path):
+    """Hold the run folder's exclusive lock for the ``with`` block: ``fcntl.flock`` on its
+    ``.lock`` file, taken without waiting (RunError in one line if another process holds it)
+    and released by the kernel when this process ends however it ends, so a killed run leaves
+    no stale lock. Held while a folder is made and while it runs: one run per folder."""
+    handle = os.open(Path(folder) / LOCK_NAME, os.O_RDWR | os.O_CREAT, 0o644)
+    try:
+        try:
+            fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            raise RunError(f"{folder}: another process is making or running this run (one run "
+                           f"per folder)") from None
+        os.ftruncate(handle, 0)
+        os.write(handle, f"{os.getpid()}\n".encode())  # who holds it, for a person to read
+        yield
+    finally:
+        os.close(handle)  # the only descriptor: closing it releases the lock
+
+
 def create_run(config: ExperimentConfig, out: Path | None, command: list[str]) -> Path:
-    """Make a new run folder (``out`` exactly, or the default under ``runs/``)."""
+    """Make a new run folder (``out`` exactly, or the default under ``runs/``), under its lock
+    (:func:`run_lock`): of two processes making one folder, one makes it and the other is
+    refused. The lock is let go once it is made and taken again to run it, so a ``--resume``
+    in between may be the one that runs it (still one run)."""
     folder = Path(out) if out else default_run_dir(config)
-    if folder.exists() and any(folder.iterdir()):
+    if folder.exists() and any(p.name != LOCK_NAME for p in folder.iterdir()):
         raise RunError(f"{folder}: exists and is not empty; a run folder is never overwritten")
     folder.mkdir(parents=True, exist_ok=True)
-    (folder / "config.yaml").write_text(to_yaml(config))
-    (folder / "command.txt").write_text(shlex.join(command) + "\n")
-    write_json(folder / "versions.json", versions())
-    write_json(folder / "result.json", _status("pending", folder))
+    with run_lock(folder):
+        if any(p.name != LOCK_NAME for p in folder.iterdir()):  # made meanwhile
+            raise RunError(f"{folder}: exists and is not empty; a run folder is never "
+                           f"overwritten")
+        (folder / "config.yaml").write_text(to_yaml(config))
+        (folder / "command.txt").write_text(shlex.join(command) + "\n")
+        write_json(folder / "versions.json", versions())
+        write_json(folder / "result.json", _status("pending", folder))
     return folder
 
 
@@ -167,9 +199,35 @@ def flat_hparams(config: ExperimentConfig) -> dict[str, object]:
 
 def execute(folder: Path, progress=None, threads: int | None = None) -> dict:
     """Run (or continue) the experiment of a run folder with ``threads`` Numba threads (the
-    CPUs it was given; default all this process may use); returns the final result.json."""
+    CPUs it was given; default all this process may use), holding the folder's lock; returns
+    the final result.json. RunError if another process holds the lock or the run is done."""
     folder = Path(folder)
-    config = load_config(folder / "config.yaml")
+    with run_lock(folder):
+        if read_status(folder)["status"] == "done":  # finished by whoever held the lock
+            raise RunError(f"{folder}: the run is done; nothing to resume")
+        return _execute_locked(folder, progress, threads)
+
+
+def _failed(folder: Path, error: BaseException, threads: int | None) -> None:
+    """Mark the run failed with the error's one line, its traceback in ``error.log``, and tag
+    the error with the folder (the CLI points at the log)."""
+    trace = traceback.format_exc()
+    (folder / ERROR_LOG).write_text(trace)
+    write_json(folder / "result.json", _status("failed", folder, error=one_line(error),
+                                               traceback=trace, threads=threads))
+    try:
+        error.run_folder = folder
+    except AttributeError:  # an exception type that takes no attributes
+        pass
+
+
+def _execute_locked(folder: Path, progress, threads: int | None) -> dict:
+    (folder / ERROR_LOG).unlink(missing_ok=True)  # an earlier attempt's
+    try:  # a config its folder can no longer build (a file it needs gone) fails the run too
+        config = load_config(folder / "config.yaml")
+    except Exception as error:
+        _failed(folder, error, threads)
+        raise
     threads = set_threads(threads)
     write_json(folder / "result.json", _status("running", folder, threads=threads))
     sinks = []
@@ -186,11 +244,7 @@ def execute(folder: Path, progress=None, threads: int | None = None) -> dict:
         result = learner.learn(config.budget.env_steps, folder / "checkpoints")
     except BaseException as error:
         logger.close()
-        trace = traceback.format_exc()
-        (folder / ERROR_LOG).write_text(trace)
-        write_json(folder / "result.json", _status("failed", folder, error=one_line(error),
-                                                   traceback=trace, threads=threads))
-        error.run_folder = folder  # the CLI points at its error.log
+        _failed(folder, error, threads)
         raise
     write_json(folder / "artefacts.json", dict(result.artefacts))
     final = _status("done", folder, result, threads=threads)

@@ -120,23 +120,37 @@ class Learner(ABC):
 
 def atomic_write(path: str | Path, write, binary: bool = False, replace: bool = True) -> None:
     """Write a file atomically: ``write(file)`` fills a temporary file beside ``path``, which
-    then replaces it, so a reader (or a crash) never sees half a file. With ``replace`` False
-    an existing ``path`` is left as it is (FileExistsError), even one made meanwhile."""
+    then replaces it, so a reader (or a crash) never sees half a file, and a failure (a full
+    disk) leaves no temporary file behind. With ``replace`` False an existing ``path`` is left
+    as it is (FileExistsError), even one made meanwhile."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     handle, tmp = tempfile.mkstemp(dir=path.parent, prefix=path.name, suffix=".tmp")
-    with os.fdopen(handle, "wb" if binary else "w") as file:
-        write(file)
-        file.flush()
-        os.fsync(file.fileno())
-    os.chmod(tmp, 0o644)
-    if replace:
-        os.replace(tmp, path)
-        return
+    try:
+        with os.fdopen(handle, "wb" if binary else "w") as file:
+            write(file)
+            file.flush()
+            os.fsync(file.fileno())
+        os.chmod(tmp, 0o644)
+        if replace:
+            os.replace(tmp, path)
+        else:
+            _place_new(tmp, path)
+    finally:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+
+
+def _place_new(tmp: str, path: Path) -> None:
+    """Give the complete file ``tmp`` the name ``path`` only if no file has it (FileExistsError
+    otherwise): a hard link where the file system has them, else claim the name, then fill it."""
     try:
         os.link(tmp, path)  # fails if path exists: no check-then-write race
-    finally:
-        os.unlink(tmp)
+    except FileExistsError:
+        raise
+    except OSError:
+        os.close(os.open(path, os.O_CREAT | os.O_EXCL | os.O_WRONLY, 0o644))
+        os.replace(tmp, path)
 
 
 def save_checkpoint(path: str | Path, payload: Any) -> None:

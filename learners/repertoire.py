@@ -236,7 +236,8 @@ class BasicTrainingLearner(Learner):
         that exists is refused here, before any learning, unless ``force``."""
         if self.output and not self.force and Path(self.output).exists():
             raise ValueError(f"output {self.output} exists; a run does not overwrite it "
-                             f"(choose another path, or force: true, i.e. animat run --force)")
+                             f"(choose another path, or let it: animat run --force, i.e. "
+                             f"learner.params.force: true)")
         for learner in self._skill_learners:
             learner.check_budget(budget_env_steps // len(self.regimen))
 

@@ -1,15 +1,18 @@
-"""What the package declares is what its code needs: every folder of code is a package the
-build finds, and every third-party import is a declared dependency (an optional one only in
-an extra, and only where its absence is handled)."""
+"""What the package declares is what its code needs: the wheel built from the tree holds every
+file of code, every shipped config and repertoire and ``py.typed``; every module imports under
+``animat`` from its own file; and every third-party import is a declared dependency (an
+optional one only in an extra, and only where its absence is handled)."""
 
 import ast
 import importlib
+import os
+import shutil
+import subprocess
 import sys
 import tomllib
+import zipfile
 from importlib import metadata
 from pathlib import Path
-
-import animat
 
 ROOT = Path(__file__).resolve().parents[1]
 CODE = {"animat": "animat", "animat.envs": "envs", "animat.learners": "learners",
@@ -17,6 +20,37 @@ CODE = {"animat": "animat", "animat.envs": "envs", "animat.learners": "learners"
 # the imports that an extra provides, and the modules that import them (each handles its
 # absence: the benchmark runs without Swimmer-v5, the sweep says to install the extra)
 OPTIONAL = {"mujoco": ("bench", {"envs/bench.py"}), "ray": ("ray", {"experiments/sweep.py"})}
+DATA = {"animat/configs": "configs", "animat/repertoires": "repertoires"}
+SKIP = shutil.ignore_patterns(".git", ".venv", "runs", "build", "dist", "*.egg-info",
+                              "__pycache__", ".pytest_cache", ".ruff_cache", "videos")
+
+
+def clean_env() -> dict[str, str]:
+    """This process's environment without what would put the checkout or its venv on a new
+    interpreter's path (pip's own settings, e.g. where the CPU torch lies, are kept)."""
+    env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "VIRTUAL_ENV",
+                                                             "PYTHONHOME", "PIP_USER")}
+    here = str(Path(sys.executable).parent)
+    env["PATH"] = os.pathsep.join(p for p in env.get("PATH", "").split(os.pathsep) if p != here)
+    return env
+
+
+def build_wheel(folder: Path) -> Path:
+    """The wheel of a copy of the tree (no build/ of an older tree can leak in), built with
+    this interpreter's setuptools when it is new enough, else in pip's isolated build env."""
+    source, dist = folder / "source", folder / "dist"
+    shutil.copytree(ROOT, source, ignore=SKIP)
+    try:
+        import setuptools
+
+        isolated = int(setuptools.__version__.split(".")[0]) < 77
+    except ImportError:
+        isolated = True
+    flags = [] if isolated else ["--no-build-isolation"]
+    subprocess.run([sys.executable, "-m", "pip", "wheel", "--quiet", "--no-deps", *flags, "-w",
+                    str(dist), str(source)], check=True, capture_output=True, cwd=folder,
+                   env=clean_env(), timeout=600)
+    return next(dist.glob("artificial_animals-*.whl"))
 
 
 def _requirement_name(requirement: str) -> str:
@@ -73,4 +107,19 @@ def test_every_module_of_the_tree_imports_under_animat_from_its_own_file():
     modules = module_names()
     for name, path in modules.items():
         assert Path(importlib.import_module(name).__file__).resolve() == path.resolve(), name
-    assert len(modules) > 60 and (Path(animat.__file__).parent / "py.typed").is_file()
+    assert len(modules) > 60
+
+
+def test_the_wheel_holds_every_file_of_code_every_shipped_file_and_py_typed(tmp_path):
+    names = set(zipfile.ZipFile(build_wheel(tmp_path)).namelist())
+    wanted = {"animat/py.typed"}
+    for name, folder in CODE.items():
+        prefix = name.replace(".", "/")
+        wanted |= {f"{prefix}/{p.relative_to(ROOT / folder).as_posix()}"
+                   for p in (ROOT / folder).rglob("*.py")}
+    for prefix, folder in DATA.items():
+        wanted |= {f"{prefix}/{p.relative_to(ROOT / folder).as_posix()}"
+                   for p in (ROOT / folder).rglob("*") if p.is_file()}
+    assert "animat/envs/world/life.py" in wanted and "animat/configs/tune/fish_swim_ppo.yaml" \
+        in wanted
+    assert not wanted - names, sorted(wanted - names)

@@ -7,11 +7,12 @@ relative to the config's folder) finish at a small budget. The unrelated ``envs`
 package index installs beside it (a top-level ``envs`` of ours would have overwritten it).
 
 Slow (it installs torch and the rest into the venv, and Numba compiles the kernels afresh):
-``python -m pytest -m slow`` runs it; ``.ci/run`` does.
+``python -m pytest -m slow`` runs it, and ``.ci/run`` does; the default suite deselects it
+(``addopts``), so ``pytest tests/test_wheel.py`` alone runs nothing without ``-m slow``. The
+wheel's contents are checked in the default suite (``tests/test_packaging.py``).
 """
 
 import json
-import os
 import shutil
 import subprocess
 import sys
@@ -19,7 +20,7 @@ from pathlib import Path
 
 import pytest
 
-from tests.test_packaging import module_names
+from tests.test_packaging import SKIP, clean_env, module_names
 
 ROOT = Path(__file__).resolve().parents[1]
 SMOKE = """
@@ -38,20 +39,6 @@ for env_id in ids:
     env.close()
 print(json.dumps(ids))
 """
-SKIP = shutil.ignore_patterns(".git", ".venv", "runs", "build", "*.egg-info", "__pycache__",
-                              ".pytest_cache", ".ruff_cache", "videos")
-
-
-def clean_env() -> dict[str, str]:
-    """This process's environment without what would put the checkout or its venv on a new
-    interpreter's path (pip's own settings, e.g. where the CPU torch lies, are kept)."""
-    env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "VIRTUAL_ENV",
-                                                             "PYTHONHOME", "PIP_USER")}
-    here = str(Path(sys.executable).parent)
-    env["PATH"] = os.pathsep.join(p for p in env.get("PATH", "").split(os.pathsep) if p != here)
-    return env
-
-
 def _run(args: list, cwd: Path, timeout: float = 1800) -> str:
     done = subprocess.run([str(a) for a in args], cwd=cwd, capture_output=True, text=True,
                           timeout=timeout, env=clean_env())

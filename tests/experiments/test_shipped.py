@@ -122,3 +122,46 @@ def test_a_failure_while_running_is_one_line_and_the_run_folder_keeps_the_traceb
     assert result["error"] == "RuntimeError: the simulator blew up"
     with pytest.raises(RuntimeError, match="blew up"):
         cli.main(["--debug", "run", str(config), "--out", str(tmp_path / "debug"), "--quiet"])
+
+
+def test_a_work_time_file_error_is_a_failure_of_the_run_not_of_the_users_input(
+        tmp_path, monkeypatch):
+    from animat.learners.blackbox import AnnealingLearner
+
+    def lost(self, budget, checkpoint_dir=None):
+        raise FileNotFoundError("a file the learner needs went away")
+
+    monkeypatch.setattr(AnnealingLearner, "learn", lost)
+    folder = tmp_path / "run"
+    failed = animat("run", write_config(tmp_path / "tiny.yaml", TINY), "--out", folder,
+                    "--quiet", check=False)
+    assert failed.returncode == 1 and f"(traceback in {folder / 'error.log'})" in failed.stderr
+    assert "FileNotFoundError: a file the learner needs went away" in failed.stderr
+
+
+def test_a_run_folder_that_can_no_longer_build_is_marked_failed_with_the_reason(tmp_path):
+    from animat.experiments.runs import create_run
+
+    repertoire = tmp_path / "fish.json"
+    shutil.copyfile(ROOT / "repertoires" / "fish.json", repertoire)
+    config = load_config(CONFIGS / "fish_reach_macro.yaml",
+                         [f"learner.params.repertoire={repertoire}", "budget.env_steps=20000"])
+    folder = create_run(config, tmp_path / "run", ["test"])
+    repertoire.unlink()  # before the run first starts (and keeps its own copy)
+    failed = animat("run", "--resume", folder, check=False)
+    assert failed.returncode == 1 and len(failed.stderr.strip().splitlines()) == 1
+    result = json.loads((folder / "result.json").read_text())
+    assert result["status"] == "failed" and "ConfigError" in result["error"]
+    assert (folder / "error.log").exists()
+
+
+def test_a_sweep_or_a_study_cannot_write_one_output_from_many_runs(tmp_path):
+    config = write_config(tmp_path / "one.yaml", ONE_SKILL)
+    output = ["--set", f"learner.params.output={tmp_path / 'out.json'}"]
+    swept = animat("sweep", config, "--seeds", "0-1", *output, "--out", tmp_path / "sweep",
+                   check=False)
+    assert swept.returncode == 2 and "the 2 runs of the sweep would all write" in swept.stderr
+    tuned = animat("tune", config, "--trials", "3", *output, "--out", tmp_path / "tune",
+                   check=False)
+    assert tuned.returncode == 2 and "the 3 runs of the study would all write" in tuned.stderr
+    assert not (tmp_path / "sweep").exists() and not (tmp_path / "tune").exists()

@@ -1,0 +1,84 @@
+"""One run per folder: the folder's lock is held while it is made and while it runs, so of two
+processes given one ``--out`` (or two ``--resume``s of one folder) exactly one runs and the
+other is refused in one line; a killed run leaves no stale lock."""
+
+import json
+import subprocess
+import sys
+import time
+
+from animat.experiments.runs import run_lock
+from tests.experiments.test_cli import ROOT, TINY, animat, write_config
+
+# both processes import everything first, then start the command at the same instant
+RACE = """
+import sys, time
+from animat.experiments.cli import main
+start = float(sys.argv[1])
+while time.time() < start:
+    pass
+sys.exit(main(sys.argv[2:]))
+"""
+
+
+def _race(*commands: list[str]) -> list[subprocess.CompletedProcess]:
+    start = time.time() + 8.0  # after both have imported
+    procs = [subprocess.Popen([sys.executable, "-c", RACE, str(start), *map(str, c)], cwd=ROOT,
+                              stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+             for c in commands]
+    return [subprocess.CompletedProcess(p.args, p.wait(timeout=600), *p.communicate())
+            for p in procs]
+
+
+def _refused_once(done: list[subprocess.CompletedProcess]) -> subprocess.CompletedProcess:
+    codes = sorted(d.returncode for d in done)
+    assert codes == [0, 2], [d.stderr for d in done]
+    refused = next(d for d in done if d.returncode == 2)
+    assert len(refused.stderr.strip().splitlines()) == 1, refused.stderr
+    return refused
+
+
+def test_a_held_lock_refuses_a_run_and_a_resume_in_one_line_and_writes_nothing(tmp_path):
+    config = write_config(tmp_path / "tiny.yaml", TINY)
+    empty = tmp_path / "empty"
+    empty.mkdir()
+    with run_lock(empty):
+        refused = animat("run", config, "--out", empty, check=False)
+    assert refused.returncode == 2 and "another process is making or running" in refused.stderr
+    assert sorted(p.name for p in empty.iterdir()) == [".lock"]
+    folder = tmp_path / "run"
+    animat("run", config, "--out", folder, "--quiet")
+    status = json.loads((folder / "result.json").read_text())
+    (folder / "result.json").write_text(json.dumps({**status, "status": "failed"}))
+    with run_lock(folder):
+        again = animat("run", "--resume", folder, check=False)
+    assert again.returncode == 2 and len(again.stderr.strip().splitlines()) == 1
+    assert json.loads((folder / "result.json").read_text())["status"] == "failed"  # untouched
+    animat("run", "--resume", folder, "--quiet")  # the lock is free again: it resumes
+
+
+def test_two_processes_given_one_out_folder_run_it_once(tmp_path):
+    config = write_config(tmp_path / "tiny.yaml", TINY)
+    folder = tmp_path / "run"
+    done = _race(["run", config, "--out", folder, "--set", "seed=0", "--quiet"],
+                 ["run", config, "--out", folder, "--set", "seed=1", "--quiet"])
+    _refused_once(done)
+    winner = next(d for d in done if d.returncode == 0)
+    seed = int(winner.args[winner.args.index("--set") + 1].split("=")[1])
+    assert f"seed: {seed}" in (folder / "config.yaml").read_text()
+    rows = (folder / "scalars.csv").read_text().splitlines()
+    assert len(rows) == len(set(rows))  # one run's rows, none twice
+    writers = {p.name.split(".")[-2] for p in (folder / "tb").rglob("events.out.tfevents.*")}
+    assert len(writers) == 1  # the event files of one process (their names end in pid.k)
+
+
+def test_two_resumes_of_one_folder_run_it_once(tmp_path):
+    config = write_config(tmp_path / "tiny.yaml", TINY)
+    folder = tmp_path / "run"
+    animat("run", config, "--out", folder, "--quiet")
+    status = json.loads((folder / "result.json").read_text())
+    (folder / "result.json").write_text(json.dumps({**status, "status": "failed"}))
+    refused = _refused_once(_race(["run", "--resume", folder, "--quiet"],
+                                  ["run", "--resume", folder, "--quiet"]))
+    assert any(m in refused.stderr for m in ("another process", "still running", "is done"))
+    assert json.loads((folder / "result.json").read_text())["status"] == "done"
