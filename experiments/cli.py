@@ -112,12 +112,15 @@ def _parser() -> argparse.ArgumentParser:
     compare.add_argument("-o", "--output", type=Path, help="Markdown report (+ .png plot)")
     tune = sub.add_parser("tune", help="hyperparameter search (Optuna) over tune.space",
                           description="Optuna over the config's tune.space: every trial a run "
-                          "folder under OUT, the study in OUT/study.db (run again with the "
+                          "folder under OUT, the study in OUT/journal.log (run again with the "
                           "same --out to continue), the best config in OUT/best.yaml.")
     tune.add_argument("config", help="YAML config with a tune.space, or a shipped one's name")
     tune.add_argument("--trials", type=int, required=True, help="finished trials wanted")
     _add_overrides(tune)
     tune.add_argument("--out", type=Path, help="the study's folder (default: runs/tune/...)")
+    tune.add_argument("--storage", metavar="URL", help="an RDB URL for the study (e.g. "
+                      "postgresql://host/db, for workers on several machines; default: a "
+                      "journal file in --out)")
     evaluation = sub.add_parser("eval", help="play a finished run's agent over start states",
                                 description="Load a finished run's agent, play it on seeded "
                                 "start states, print its metric and write eval.json.")
@@ -246,7 +249,7 @@ def cmd_tune(args) -> int:
         raise RunError(f"--trials must be at least 1, got {args.trials}")
     path = _config_path(args.config)
     _single_output(load_config(path, args.overrides, build=False), args.trials, "the study")
-    summary = tune(path, args.trials, args.out, args.overrides)
+    summary = tune(path, args.trials, args.out, args.overrides, args.storage)
     print(table(summary))
     return 0 if summary["best"] is not None else 1
 

@@ -1,9 +1,13 @@
 """``animat tune CONFIG --trials N``: hyperparameter search with Optuna over a config's
 ``tune.space``, every trial an ordinary run folder.
 
-The study (TPE sampler seeded by the config's seed, median pruner) lives in ``OUT/study.db``
-(SQLite), so a killed tune continues where it stopped when run again with the same ``--out``
-(the trial it was running counts as failed; its folder says ``killed``). Each trial samples the
+The study (TPE sampler, median pruner) lives in ``OUT/journal.log`` (Optuna's JournalStorage
+on a file, which several processes may share; ``OUT/study.db``, SQLite, where an older study
+left one; or ``--storage URL``, an RDB such as PostgreSQL for a cluster), so a killed tune
+continues where it stopped when run again with the same ``--out`` (the trial it was running
+counts as failed; its folder says ``killed``). Each trial's sample is drawn by a sampler seeded
+by the config's seed and the trial's number, so a restarted tune (or a second process on the
+same study) draws new samples, never the ones an earlier start drew. Each trial samples the
 space (config field paths such as ``learner.params.cooling``), validates the config with those
 values like ``animat run`` does (a sample that cannot work is told to the study as failed), and
 runs it into ``OUT/trial<k>/``; the learner's ``eval.metric`` evaluations are reported to the
@@ -95,8 +99,26 @@ def run_trial(optuna, trial, path: Path, overrides: list[str], out: Path,
     return ("COMPLETE", float(value)) if value is not None else ("FAIL", None)
 
 
+def storage(optuna, out: Path, url: str | None):
+    """Where the study lives: ``url`` (an RDB URL) when given; else ``OUT/study.db`` where an
+    older study left one; else a journal file, ``OUT/journal.log``."""
+    if url:
+        return url
+    if (out / "study.db").exists():
+        return f"sqlite:///{out / 'study.db'}"
+    from optuna.storages.journal import JournalFileBackend
+
+    return optuna.storages.JournalStorage(JournalFileBackend(str(out / "journal.log")))
+
+
+def trial_sampler(optuna, seed: int, number: int):
+    """The sampler for trial ``number``: TPE seeded by the config's seed and the number, so
+    that no restart or second worker replays another trial's random draws."""
+    return optuna.samplers.TPESampler(seed=(seed * 1_000_003 + number) % 2**32)
+
+
 def tune(path: str | Path, trials: int, out: str | Path | None = None,
-         overrides: list[str] | None = None) -> dict:
+         overrides: list[str] | None = None, storage_url: str | None = None) -> dict:
     """Run the study to ``trials`` finished trials; returns its summary (also printed by the
     CLI) and writes ``best.yaml``."""
     optuna = _optuna()
@@ -109,14 +131,15 @@ def tune(path: str | Path, trials: int, out: str | Path | None = None,
     out = Path(out) if out else Path("runs") / "tune" / f"{path.stem}-{stamp}"
     out.mkdir(parents=True, exist_ok=True)
     study = optuna.create_study(
-        storage=f"sqlite:///{out / 'study.db'}", study_name="tune", load_if_exists=True,
-        direction=config.tune.direction, sampler=optuna.samplers.TPESampler(seed=config.seed),
+        storage=storage(optuna, out, storage_url), study_name="tune", load_if_exists=True,
+        direction=config.tune.direction, sampler=trial_sampler(optuna, config.seed, 0),
         pruner=optuna.pruners.MedianPruner(n_startup_trials=3,
                                            n_warmup_steps=config.budget.env_steps // 4))
     for stale in study.get_trials(states=(optuna.trial.TrialState.RUNNING,)):
         study.tell(stale.number, state=optuna.trial.TrialState.FAIL)  # a killed tune's
     while sum(t.state.is_finished() for t in study.trials) < trials:
         trial = study.ask()
+        study.sampler = trial_sampler(optuna, config.seed, trial.number)  # draws at suggest
         state, value = run_trial(optuna, trial, path, overrides, out, config)
         study.tell(trial, value, state=getattr(optuna.trial.TrialState, state))
     return summarise(study, out, config)

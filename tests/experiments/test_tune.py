@@ -58,3 +58,19 @@ def test_tune_without_a_space_says_so_in_one_line(tmp_path):
     result = animat("tune", write_config(tmp_path / "bad2.yaml", bad), "--trials", "1",
                     check=False)
     assert result.returncode == 2 and "give log or step, not both" in result.stderr
+
+
+def test_a_restarted_tune_never_repeats_a_sample_and_the_journal_is_shared_storage(tmp_path):
+    space = {"learner.params.cooling": {"low": 0.5, "high": 0.99},
+             "learner.params.step_size": {"low": 0.05, "high": 0.8, "log": True}}
+    config, out = _config(tmp_path, space), tmp_path / "study"
+    for trials in (2, 3, 5):  # three starts of one study, as after kills
+        animat("tune", config, "--trials", str(trials), "--out", out)
+    rows = json.loads((out / "tune.json").read_text())["trials"]
+    samples = [tuple(sorted(r["params"].items())) for r in rows]
+    assert len(samples) == 5 and len(set(samples)) == 5
+    assert (out / "journal.log").exists() and not (out / "study.db").exists()
+    elsewhere = tmp_path / "db"
+    animat("tune", config, "--trials", "2", "--out", elsewhere, "--storage",
+           f"sqlite:///{tmp_path / 'shared.db'}")
+    assert (tmp_path / "shared.db").exists() and not (elsewhere / "journal.log").exists()
