@@ -11,8 +11,10 @@ error, above 100% is worse).
 
 from __future__ import annotations
 
-import json
+import sys
 from pathlib import Path
+
+from animat.learners.base import read_json
 
 
 def abstraction_rows(runs, metric: str) -> list[dict]:
@@ -23,7 +25,11 @@ def abstraction_rows(runs, metric: str) -> list[dict]:
         path = Path(run.folder) / "artefacts.json"
         if not path.exists():
             continue
-        artefacts = json.loads(path.read_text())
+        try:
+            artefacts = read_json(path)
+        except (OSError, ValueError) as error:  # a broken run's: its row left out, said once
+            print(f"animat: warning: {path}: no abstraction row: {error}", file=sys.stderr)
+            continue
         if "abstraction_metrics" not in artefacts:
             continue
         learned = artefacts.get("learned_metrics") or run.status.get("metrics", {})

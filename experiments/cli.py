@@ -82,6 +82,9 @@ def _parser() -> argparse.ArgumentParser:
                      "runs/<env>/<learner>/seed<k>-<time>/); never overwritten")
     run.add_argument("--resume", type=Path, metavar="DIR",
                      help="continue the unfinished run in DIR with its own config.yaml")
+    run.add_argument("--trust-pickles", action="store_true",
+                     help="--resume: also from an older version's pickled checkpoint (loading "
+                          "it runs any code its writer put in it: only for folders you trust)")
     run.add_argument("--threads", type=int, metavar="N",
                      help="Numba threads for the run (default: every CPU this process may use)")
     run.add_argument("--quiet", action="store_true", help="no progress bar")
@@ -131,6 +134,9 @@ def _parser() -> argparse.ArgumentParser:
     evaluation.add_argument("--seeds", help="these seeds instead, e.g. 0-4 or 1,3,5")
     evaluation.add_argument("--video", type=Path, metavar="DIR",
                             help="film every episode into DIR (mp4, Gymnasium's RecordVideo)")
+    evaluation.add_argument("--trust-pickles", action="store_true",
+                            help="also load an older version's pickled checkpoint (it runs "
+                                 "any code its writer put in it: only for folders you trust)")
     evaluation.add_argument("--refine", type=int, default=1, metavar="K",
                             help="play at the physics step divided by K (frame_skip times K; "
                                  "the env step unchanged): is the figure the solver's?")
@@ -210,10 +216,12 @@ def cmd_run(args) -> int:
         if not (folder / "config.yaml").exists():
             raise RunError(f"{folder}: no config.yaml: not a run folder")
         config = load_config(folder / "config.yaml", build=False)  # built by the run
-        result = resume(folder, _progress(args, config), args.threads)
+        result = resume(folder, _progress(args, config), args.threads, args.trust_pickles)
     else:
         if not args.config:
             raise RunError("give a CONFIG to run, or --resume DIR")
+        if args.trust_pickles:
+            raise RunError("--trust-pickles is for --resume DIR (a new run loads no checkpoint)")
         path = _config_path(args.config)
         overrides = _forced(path, args.overrides) if args.force else args.overrides
         config = load_config(path, overrides)
@@ -264,7 +272,8 @@ def cmd_eval(args) -> int:
         seeds = parse_seeds(args.seeds) if args.seeds else None
     except ValueError as error:
         raise RunError(str(error)) from None
-    result = evaluate(args.run_dir, seeds, args.episodes, args.video, args.refine)
+    result = evaluate(args.run_dir, seeds, args.episodes, args.video, args.refine,
+                      args.trust_pickles)
     print(report(result))
     print(f"written: {args.run_dir / result_name(args.refine)}" + (
         f"; videos in {args.video}" if args.video else ""))

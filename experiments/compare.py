@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import csv
 import json
+import sys
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -21,7 +22,7 @@ import numpy as np
 import yaml
 
 from animat.experiments.abstraction_table import abstraction_markdown, abstraction_rows
-from animat.experiments.runs import read_status
+from animat.experiments.runs import RunError, one_line, read_status
 
 
 @dataclass
@@ -75,6 +76,23 @@ def load_run(folder: Path) -> RunCurves:
     learner = config["learner"].get("label") or config["learner"]["name"]
     return RunCurves(folder, learner, config["env"]["id"],
                      int(config.get("seed", 0)), read_status(folder), read_scalars(folder))
+
+
+def load_runs(folders: list[Path]) -> list[RunCurves]:
+    """Every run that can be read; one that cannot (a corrupt or missing file, a config that
+    is not one) is left out with a one-line warning naming it, so one broken run does not stop
+    a comparison of the rest. RunError if none can be read."""
+    runs = []
+    for folder in folders:
+        try:
+            runs.append(load_run(folder))
+        except (OSError, ValueError, KeyError, TypeError, AttributeError, RunError,
+                yaml.YAMLError) as error:
+            print(f"animat: warning: {folder}: left out, it cannot be read: "
+                  f"{one_line(error)}", file=sys.stderr)
+    if not runs:
+        raise RunError(f"none of the {len(folders)} run folders could be read")
+    return runs
 
 
 def _steps_to(curve: tuple[np.ndarray, np.ndarray] | None, threshold: float | None):
@@ -194,7 +212,7 @@ def plot(runs: list[RunCurves], metric: str, path: Path) -> list[str]:
 def compare(paths: list[str | Path], metric: str = "eval/return", threshold: float | None = None,
             report: str | Path | None = None) -> tuple[str, Path | None]:
     """Compare runs; returns the Markdown and the plot's path (beside ``report`` if given)."""
-    runs = [load_run(folder) for folder in find_runs(paths)]
+    runs = load_runs(find_runs(paths))
     rows = summarise(runs, metric, threshold)
     abstractions = abstraction_rows(runs, metric)
     envs = sorted({r.env_id for r in runs})

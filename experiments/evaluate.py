@@ -24,7 +24,6 @@ when the solver is refined is the solver's, not the animal's.
 from __future__ import annotations
 
 import copy
-import json
 from pathlib import Path
 
 import gymnasium as gym
@@ -34,20 +33,24 @@ import animat  # noqa: F401
 from animat.experiments.config import learner_params, load_config
 from animat.experiments.runs import RunError, read_status, write_json
 from animat.learners.agents import SkillSet
+from animat.learners.base import read_json
 from animat.learners.registry import make_learner
 from animat.learners.rollout import score_episode, spread
 
 
-def load(run_dir: str | Path):
-    """The agent of the finished run in ``run_dir``."""
+def load(run_dir: str | Path, trust_pickles: bool = False):
+    """The agent of the finished run in ``run_dir`` (``trust_pickles``: also from an older
+    version's pickled checkpoint, which runs its writer's code)."""
     folder = Path(run_dir)
     status = read_status(folder)
     if status["status"] != "done":
         raise RunError(f"{folder}: the run is {status['status']}; only a finished run can be "
                        "loaded")
     config = load_config(folder / "config.yaml", build=False)  # built below, from its copies
-    artefacts = json.loads((folder / "artefacts.json").read_text())
-    return _learner(folder, config).agent(artefacts, folder)
+    artefacts = read_json(folder / "artefacts.json")
+    learner = _learner(folder, config)
+    learner.trust_pickles = trust_pickles
+    return learner.agent(artefacts, folder)
 
 
 def _learner(folder: Path, config):
@@ -97,7 +100,8 @@ def refined(agent, refine: int):
 
 
 def evaluate(run_dir: str | Path, seeds: list[int] | None = None, episodes: int | None = None,
-             video: str | Path | None = None, refine: int = 1) -> dict:
+             video: str | Path | None = None, refine: int = 1, trust_pickles: bool = False
+             ) -> dict:
     """Play the run's agent on ``seeds`` (default: ``episodes`` start states from the run's
     seed on, by default as many as the run's own scores are over); returns and writes
     ``eval.json``: the seeds, every episode's figures, and ``metrics`` (``eval/<figure>``
@@ -110,7 +114,7 @@ def evaluate(run_dir: str | Path, seeds: list[int] | None = None, episodes: int 
         seeds = [config.seed + k for k in range(count)]
     if refine < 1:
         raise RunError(f"--refine must be at least 1, got {refine}")
-    agent = load(folder)
+    agent = load(folder, trust_pickles)
     video = Path(video) if video else None
     if isinstance(agent, SkillSet):
         runs = {name: _episodes(refined(skill, refine), seeds, video, name)

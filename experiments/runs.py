@@ -27,7 +27,7 @@ from importlib import metadata
 from pathlib import Path
 
 from animat.experiments.config import ExperimentConfig, learner_params, load_config, to_yaml
-from animat.learners.base import LearnResult, atomic_write
+from animat.learners.base import LearnResult, atomic_write, read_json
 from animat.learners.logger import CsvSink, Logger, TensorBoardSink
 from animat.learners.registry import make_learner
 
@@ -168,7 +168,7 @@ def read_status(folder: Path) -> dict:
     path = Path(folder) / "result.json"
     if not path.exists():
         raise RunError(f"{folder}: no result.json: not a run folder")
-    data = json.loads(path.read_text())
+    data = read_json(path)
     if data.get("status") == "running" and data.get("host") == socket.gethostname():
         try:
             os.kill(int(data.get("pid", -1)), 0)
@@ -197,7 +197,8 @@ def flat_hparams(config: ExperimentConfig) -> dict[str, object]:
     return out
 
 
-def execute(folder: Path, progress=None, threads: int | None = None) -> dict:
+def execute(folder: Path, progress=None, threads: int | None = None,
+            trust_pickles: bool = False) -> dict:
     """Run (or continue) the experiment of a run folder with ``threads`` Numba threads (the
     CPUs it was given; default all this process may use), holding the folder's lock; returns
     the final result.json. RunError if another process holds the lock or the run is done."""
@@ -205,7 +206,7 @@ def execute(folder: Path, progress=None, threads: int | None = None) -> dict:
     with run_lock(folder):
         if read_status(folder)["status"] == "done":  # finished by whoever held the lock
             raise RunError(f"{folder}: the run is done; nothing to resume")
-        return _execute_locked(folder, progress, threads)
+        return _execute_locked(folder, progress, threads, trust_pickles)
 
 
 def _failed(folder: Path, error: BaseException, threads: int | None) -> None:
@@ -221,7 +222,7 @@ def _failed(folder: Path, error: BaseException, threads: int | None) -> None:
         pass
 
 
-def _execute_locked(folder: Path, progress, threads: int | None) -> dict:
+def _execute_locked(folder: Path, progress, threads: int | None, trust_pickles: bool) -> dict:
     (folder / ERROR_LOG).unlink(missing_ok=True)  # an earlier attempt's
     try:  # a config its folder can no longer build (a file it needs gone) fails the run too
         config = load_config(folder / "config.yaml")
@@ -241,6 +242,7 @@ def _execute_locked(folder: Path, progress, threads: int | None) -> dict:
     try:
         learner = make_learner(config.learner.name, config.env.id, config.env.kwargs,
                                learner_params(folder, config), config.seed, logger)
+        learner.trust_pickles = trust_pickles  # an older version's pickled checkpoint
         result = learner.learn(config.budget.env_steps, folder / "checkpoints")
     except BaseException as error:
         logger.close()
@@ -259,11 +261,13 @@ def _execute_locked(folder: Path, progress, threads: int | None) -> dict:
     return final
 
 
-def resume(folder: Path, progress=None, threads: int | None = None) -> dict:
-    """Continue an unfinished run from its last checkpoint."""
+def resume(folder: Path, progress=None, threads: int | None = None,
+           trust_pickles: bool = False) -> dict:
+    """Continue an unfinished run from its last checkpoint (``trust_pickles``: also from an
+    older version's pickled one)."""
     status = read_status(folder)
     if status["status"] == "done":
         raise RunError(f"{folder}: the run is done; nothing to resume")
     if status["status"] == "running":
         raise RunError(f"{folder}: the run is still running (pid {status.get('pid')})")
-    return execute(folder, progress, threads)
+    return execute(folder, progress, threads, trust_pickles)

@@ -18,7 +18,6 @@ and returns the figures it read off the episodes.
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 import cv2
@@ -28,6 +27,7 @@ import numpy as np
 import animat  # noqa: F401
 from animat.envs.dolphin import ACTUATOR_NAMES
 from animat.experiments.config import load_config
+from animat.learners.base import read_json
 from animat.learners.concatenation import schedule
 from animat.learners.macro import MacroSequence
 from animat.learners.repertoire import Repertoire
@@ -38,7 +38,7 @@ def macro_of(run_dir: str | Path) -> tuple[MacroSequence, Repertoire, dict]:
     folder = Path(run_dir)
     config = load_config(folder / "config.yaml", build=False)
     repertoire = Repertoire.load(folder / "checkpoints" / "repertoire.json")
-    artefacts = json.loads((folder / "artefacts.json").read_text())
+    artefacts = read_json(folder / "artefacts.json")
     steps = [(s["skill"], float(s["duration"])) for s in artefacts["sequence"]]
     overlap = float(config.learner.params.get("overlap", 0.05))
     return MacroSequence(repertoire, steps, overlap), repertoire, {

@@ -62,6 +62,27 @@ class BudgetError(ValueError):
     line, before anything runs."""
 
 
+class CorruptFile(ValueError):
+    """A file of a run folder that cannot be read back (truncated, empty, not what it should
+    be): its path and what is wrong, in one line."""
+
+    def __init__(self, path: str | Path, problem: str) -> None:
+        super().__init__(f"{path}: {problem} (the file is truncated or corrupt)")
+
+
+def read_json(path: str | Path) -> dict:
+    """A JSON object from ``path``; CorruptFile naming it when it is not one (FileNotFoundError
+    when it is missing)."""
+    text = Path(path).read_text()
+    try:
+        data = json.loads(text)
+    except json.JSONDecodeError as error:
+        raise CorruptFile(path, f"not valid JSON ({error.msg} at line {error.lineno})") from None
+    if not isinstance(data, dict):
+        raise CorruptFile(path, f"holds a JSON {type(data).__name__}, not an object")
+    return data
+
+
 class Learner(ABC):
     """Base class. Subclasses set ``name`` and implement :meth:`learn`.
 
@@ -79,6 +100,9 @@ class Learner(ABC):
     name: ClassVar[str] = "learner"
     # params that name files: a config's relative paths there are relative to its own folder
     path_params: ClassVar[tuple[str, ...]] = ()
+    # whether a run folder's pickled checkpoint of an older version may be loaded (its writer's
+    # code would run): set by the caller (animat eval/run --trust-pickles), never by a config
+    trust_pickles: bool = False
 
     def __init__(self, env_id: str, env_kwargs: dict | None = None, params: dict | None = None,
                  seed: int = 0, logger: Logger | None = None) -> None:
@@ -164,7 +188,12 @@ def load_checkpoint(path: str | Path) -> Any | None:
     if not path.exists():
         return None
     with path.open("rb") as file:
-        return _Unpickler(file).load()
+        try:
+            return _Unpickler(file).load()
+        except (pickle.UnpicklingError, EOFError, ValueError, AttributeError, ImportError,
+                IndexError, TypeError) as error:
+            raise CorruptFile(path, f"cannot be read back ({type(error).__name__}: "
+                                    f"{error})") from None
 
 
 class _Unpickler(pickle.Unpickler):

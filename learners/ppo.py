@@ -10,7 +10,6 @@ evaluation's own env steps are not charged to the budget.
 
 from __future__ import annotations
 
-import json
 import time
 from pathlib import Path
 
@@ -19,12 +18,18 @@ import numpy as np
 from pydantic import ValidationError
 
 from animat.envs.tasks import EpisodeSummary
+from animat.learners import ppo_checkpoint
 from animat.learners.agents import PolicyAgent
-from animat.learners.base import BudgetError, Learner, LearnResult
+from animat.learners.base import BudgetError, Learner, LearnResult, read_json
 from animat.learners.rollout import START_STATES, score_episode, spread
 from animat.learners.zoo import PPOParams, normalize_kwargs, policy_kwargs, schedule
 
 OWN_KEYS = {"eval_every", "torch_threads", "checkpoint_every"}
+
+
+class UntrustedPickle(RuntimeError):
+    """A run folder's checkpoint is a pickle (an older version's), and the caller has not said
+    it trusts the folder."""
 ZOO_KEYS = set(PPOParams.model_fields) - OWN_KEYS  # what SB3's PPO is given
 
 
@@ -68,13 +73,40 @@ class PPOLearner(Learner):
         self.hp = ppo_params(self.params, f"learner {self.name!r}").model_dump()
 
     def agent(self, artefacts: dict, folder: Path) -> PolicyAgent:
-        """The saved network, deterministic, with the run's observation normalisation."""
+        """The saved network, deterministic, with the run's observation normalisation: the
+        model rebuilt from the config, its weights and statistics read as data
+        (:mod:`animat.learners.ppo_checkpoint`)."""
+        checkpoints = Path(folder) / "checkpoints"
+        saved = ppo_checkpoint.latest(checkpoints)
+        if saved is None and self._legacy(checkpoints):
+            return self._legacy_agent(checkpoints)
+        if saved is None:
+            raise FileNotFoundError(f"{checkpoints}: the run saved no model")
+        venv = self._venv()
+        model = self._model(venv)
+        ppo_checkpoint.restore(model, venv, saved)
+        normalize = None
+        if hasattr(venv, "normalize_obs"):
+            venv.training, venv.norm_reward = False, False
+            normalize = venv.normalize_obs
+        return PolicyAgent(model, self.env_id, self.env_kwargs, normalize)
+
+    def _legacy(self, checkpoints: Path) -> bool:
+        """Whether the folder holds an older version's pickled checkpoint (model.zip); refused
+        unless ``trust_pickles``: unpickling runs whatever code its writer put in it."""
+        if not (checkpoints / "model.zip").exists():
+            return False
+        if not self.trust_pickles:
+            raise UntrustedPickle(f"{checkpoints / 'model.zip'}: a checkpoint of an older "
+                                  f"version, saved with pickle: loading it can run any code its "
+                                  f"writer put in it; pass --trust-pickles if you trust where "
+                                  f"this run folder came from")
+        return True
+
+    def _legacy_agent(self, saved: Path) -> PolicyAgent:
         from stable_baselines3 import PPO
         from stable_baselines3.common.vec_env import DummyVecEnv, VecNormalize
 
-        saved = Path(folder) / "checkpoints"
-        if not (saved / "model.zip").exists():
-            raise FileNotFoundError(f"{saved / 'model.zip'}: the run saved no model")
         model = PPO.load(saved / "model.zip", device="cpu")
         normalize = None
         if (saved / "vecnormalize.pkl").exists():
@@ -91,13 +123,15 @@ class PPOLearner(Learner):
             raise BudgetError(f"{budget_env_steps} is less than one PPO rollout ({rollout} env "
                               f"steps: n_envs {self.hp['n_envs']} x n_steps {self.hp['n_steps']})")
 
-    def _model(self, venv, checkpoint: Path | None):
+    def _model(self, venv, legacy: Path | None = None):
+        """A fresh model of the config's hyperparameters on ``venv`` (``legacy``: an older,
+        trusted pickled checkpoint's folder to load instead)."""
         import torch
         from stable_baselines3 import PPO
 
         torch.set_num_threads(int(self.hp["torch_threads"]))
-        if checkpoint is not None:
-            model = PPO.load(checkpoint / "model.zip", env=venv, device="cpu")
+        if legacy is not None:
+            model = PPO.load(legacy / "model.zip", env=venv, device="cpu")
             model.set_logger(sb3_logger(self.logger))
             return model
         keys = ZOO_KEYS - {"n_envs", "policy", "policy_kwargs", "normalize", "learning_rate",
@@ -115,7 +149,7 @@ class PPOLearner(Learner):
         ``n_envs`` single envs (e.g. the pursuit)."""
         return gym.spec(self.env_id).vector_entry_point is not None
 
-    def _venv(self, checkpoint: Path | None):
+    def _venv(self, legacy: Path | None = None):
         from stable_baselines3.common.vec_env import DummyVecEnv, VecNormalize
 
         from animat.learners.sb3_adapter import NativeVecEnv
@@ -129,8 +163,8 @@ class PPOLearner(Learner):
         normalize = normalize_kwargs(self.hp["normalize"])
         if normalize is None:
             return venv
-        if checkpoint is not None:
-            return VecNormalize.load(str(checkpoint / "vecnormalize.pkl"), venv)
+        if legacy is not None:
+            return VecNormalize.load(str(legacy / "vecnormalize.pkl"), venv)
         space = venv.observation_space
         keys = None  # a Dict observation: normalise its non-image entries only
         if isinstance(space, gym.spaces.Dict):
@@ -180,12 +214,17 @@ class PPOLearner(Learner):
 
         self.check_budget(budget_env_steps)
         folder = Path(checkpoint_dir) if checkpoint_dir else None
-        saved = folder if folder and (folder / "model.zip").exists() else None
-        state = json.loads((saved / "state.json").read_text()) if saved else {
-            "wall": 0.0, "metrics": {}}
-        venv = self._venv(saved)
-        model = self._model(venv, saved)
-        if saved is None:
+        saved = ppo_checkpoint.latest(folder) if folder else None
+        legacy = folder if saved is None and folder and self._legacy(folder) else None
+        venv = self._venv(legacy)
+        model = self._model(venv, legacy)
+        state = {"wall": 0.0, "metrics": {}}
+        if saved is not None:
+            state = ppo_checkpoint.restore(model, venv, saved)
+        elif legacy is not None:
+            state = read_json(legacy / "state.json")
+        resumed = saved is not None or legacy is not None
+        if not resumed:
             self.log_hparams()
         learner, start = self, time.perf_counter() - state["wall"]
 
@@ -214,7 +253,7 @@ class PPOLearner(Learner):
         # SB3 collects whole rollouts: as many as fit, so the budget is never overrun
         remaining = (budget_env_steps - model.num_timesteps) // rollout * rollout
         if remaining > 0:
-            model.learn(remaining, callback=Progress(), reset_num_timesteps=saved is None)
+            model.learn(remaining, callback=Progress(), reset_num_timesteps=not resumed)
         state["metrics"] = self.evaluate(model, venv)
         self.logger.scalars(state["metrics"], model.num_timesteps)
         if folder:
@@ -226,9 +265,8 @@ class PPOLearner(Learner):
 
     @staticmethod
     def _save(folder: Path, model, venv, state: dict, start: float) -> None:
-        folder.mkdir(parents=True, exist_ok=True)
-        model.save(folder / "model.zip")
-        if hasattr(venv, "save"):
-            venv.save(str(folder / "vecnormalize.pkl"))
+        """A new checkpoint (:func:`animat.learners.ppo_checkpoint.save`: data, written whole
+        before it replaces the last)."""
         state["wall"] = time.perf_counter() - start
-        (folder / "state.json").write_text(json.dumps(state))
+        ppo_checkpoint.save(folder, model, venv, {"wall": state["wall"],
+                                                  "metrics": state["metrics"]})

@@ -82,3 +82,24 @@ def test_two_resumes_of_one_folder_run_it_once(tmp_path):
                                   ["run", "--resume", folder, "--quiet"]))
     assert any(m in refused.stderr for m in ("another process", "still running", "is done"))
     assert json.loads((folder / "result.json").read_text())["status"] == "done"
+
+
+def test_a_corrupt_file_of_a_run_folder_is_named_in_one_line_and_compare_goes_on(tmp_path):
+    config = write_config(tmp_path / "tiny.yaml", TINY)
+    good, broken = tmp_path / "runs" / "good", tmp_path / "runs" / "broken"
+    for folder in (good, broken):
+        animat("run", config, "--out", folder, "--quiet")
+    (broken / "artefacts.json").write_text('{"controller": ')  # truncated
+    refused = animat("eval", broken, "--episodes", "1", check=False)
+    assert refused.returncode == 1 and len(refused.stderr.strip().splitlines()) == 1
+    assert f"{broken / 'artefacts.json'}: not valid JSON" in refused.stderr
+    (broken / "result.json").write_text("")  # empty
+    compared = animat("compare", tmp_path / "runs", "--metric", "eval/speed_bl_per_s")
+    assert f"animat: warning: {broken}: left out" in compared.stderr
+    assert "| annealing | 1 (1) |" in compared.stdout
+    status = json.loads((good / "result.json").read_text())
+    (good / "result.json").write_text(json.dumps({**status, "status": "failed"}))
+    (good / "checkpoints" / "checkpoint.pkl").write_bytes(b"\x80\x04truncated")
+    resumed = animat("run", "--resume", good, check=False)
+    assert resumed.returncode == 1 and len(resumed.stderr.strip().splitlines()) == 1
+    assert f"{good / 'checkpoints' / 'checkpoint.pkl'}: cannot be read back" in resumed.stderr

@@ -204,7 +204,7 @@ def test_ppo_resumes_from_its_checkpoint(tmp_path):
     params, _ = TINY["ppo"]
     params = {**params, "checkpoint_every": 64}
     first = make_learner("ppo", ENV, TINY_ENV, params, seed=0).learn(128, tmp_path)
-    assert (tmp_path / "model.zip").exists() and first.env_steps == 128
+    assert (tmp_path / "ppo" / "latest.json").exists() and first.env_steps == 128
     resumed = make_learner("ppo", ENV, TINY_ENV, params, seed=0).learn(256, tmp_path)
     assert resumed.env_steps == 256  # continued from 128, not from 0
 

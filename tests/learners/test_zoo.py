@@ -28,12 +28,13 @@ def test_the_zoo_value_forms_parse_to_what_sb3_takes():
 
 
 def test_ppo_learns_with_zoo_values_and_uses_them(tmp_path):
+    from animat.learners import ppo_checkpoint
+
     learner = make_learner("ppo", "Animat/FishSwim-v0", {"duration": 0.5}, ZOO)
     result = learner.learn(64, tmp_path)
     assert result.env_steps == 64
-    from stable_baselines3 import PPO
-
-    model = PPO.load(tmp_path / "model.zip", device="cpu")
+    model = learner._model(learner._venv())  # rebuilt from the params, then given the weights
+    ppo_checkpoint.restore(model, learner._venv(), ppo_checkpoint.latest(tmp_path))
     assert isinstance(model.policy.mlp_extractor.policy_net[1], nn.Tanh)
     assert model.lr_schedule(0.5) == pytest.approx(1.5e-4)
     assert model.gamma == 0.999
@@ -73,9 +74,10 @@ def test_a_resumed_ppo_run_collects_exactly_its_budget(tmp_path, monkeypatch):
     with pytest.raises(Killed):
         make_learner("ppo", "Animat/FishSwim-v0", {"duration": 0.5}, params).learn(320, tmp_path)
     monkeypatch.setattr(ppo.PPOLearner, "_save", staticmethod(save))
-    from stable_baselines3 import PPO
+    from animat.learners.base import read_json
+    from animat.learners.ppo_checkpoint import latest
 
-    assert PPO.load(tmp_path / "model.zip").num_timesteps % 64 == 0  # a whole rollout
+    assert read_json(latest(tmp_path) / "state.json")["num_timesteps"] % 64 == 0  # whole rollouts
     resumed = make_learner("ppo", "Animat/FishSwim-v0", {"duration": 0.5}, params).learn(
         320, tmp_path)
     assert resumed.env_steps == 320

@@ -1,0 +1,124 @@
+"""PPO checkpoints as data, each written whole before it becomes the one a resume reads.
+
+A checkpoint is a folder ``checkpoints/ppo/save-<k>/``:
+
+- ``policy.pt``: the policy's ``state_dict`` (tensors), ``optimizer.pt``: its optimiser's;
+  both read back with ``torch.load(weights_only=True)``, which refuses anything but tensors
+  and plain containers, so a planted pickle cannot run code;
+- ``normalize.npz``: the observation and return statistics of ``VecNormalize`` (read with
+  ``allow_pickle=False``), when the run normalises;
+- ``state.json``: ``num_timesteps``, SB3's update count, the learner's wall time and metrics.
+
+It is written as ``save-<k>.partial/`` and made a checkpoint by one rename; only then does
+``checkpoints/ppo/latest.json`` (written atomically) point at it, and only then is the previous
+one removed: a kill at any moment leaves the last complete checkpoint readable. The model and
+its ``VecNormalize`` are rebuilt from the run's config (the same code that makes a fresh one),
+then given the saved numbers.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import pickle
+import shutil
+from pathlib import Path
+
+import numpy as np
+
+from animat.learners.base import CorruptFile, atomic_write, read_json
+
+FOLDER = "ppo"
+LATEST = "latest.json"
+
+
+def _stats(venv) -> dict[str, np.ndarray]:
+    """VecNormalize's running statistics as named arrays (empty without normalisation)."""
+    if not hasattr(venv, "obs_rms"):
+        return {}
+    rms = venv.obs_rms
+    named = dict(rms.items()) if isinstance(rms, dict) else {"": rms}
+    out = {}
+    for key, stats in [*((f"obs:{k}", v) for k, v in named.items()), ("ret", venv.ret_rms)]:
+        out[f"{key}:mean"], out[f"{key}:var"] = np.asarray(stats.mean), np.asarray(stats.var)
+        out[f"{key}:count"] = np.asarray(stats.count)
+    out["returns"] = np.asarray(venv.returns)
+    return out
+
+
+def _restore_stats(venv, path: Path) -> None:
+    """Set VecNormalize's statistics from ``normalize.npz``."""
+    try:
+        with np.load(path, allow_pickle=False) as saved:
+            data = {k: saved[k] for k in saved.files}
+        rms = venv.obs_rms
+        named = dict(rms.items()) if isinstance(rms, dict) else {"": rms}
+        for key, stats in [*((f"obs:{k}", v) for k, v in named.items()), ("ret", venv.ret_rms)]:
+            stats.mean, stats.var = data[f"{key}:mean"], data[f"{key}:var"]
+            stats.count = float(data[f"{key}:count"])
+        venv.returns = data["returns"]
+    except (OSError, ValueError, KeyError, EOFError) as error:
+        raise CorruptFile(path, f"not the run's normalisation statistics ({error})") from None
+
+
+def save(checkpoint_dir: Path, model, venv, state: dict) -> Path:
+    """Write a new checkpoint of ``model`` (and ``venv``'s statistics) and make it the latest;
+    returns its folder."""
+    import torch
+
+    root = Path(checkpoint_dir) / FOLDER
+    root.mkdir(parents=True, exist_ok=True)
+    index = 1 + max((int(p.name.split("-")[1].split(".")[0]) for p in root.glob("save-*")),
+                    default=0)
+    final, partial = root / f"save-{index:06d}", root / f"save-{index:06d}.partial"
+    partial.mkdir()
+    torch.save(model.policy.state_dict(), partial / "policy.pt")
+    torch.save(model.policy.optimizer.state_dict(), partial / "optimizer.pt")
+    stats = _stats(venv)
+    if stats:
+        np.savez(partial / "normalize.npz", **stats)
+    (partial / "state.json").write_text(json.dumps(
+        {**state, "num_timesteps": int(model.num_timesteps), "n_updates": int(model._n_updates)}))
+    for path in partial.iterdir():  # on disk before the rename makes it a checkpoint
+        with path.open("rb") as file:
+            os.fsync(file.fileno())
+    os.rename(partial, final)
+    atomic_write(root / LATEST, lambda file: json.dump({"folder": final.name}, file))
+    for old in root.glob("save-*"):
+        if old != final:
+            shutil.rmtree(old, ignore_errors=True)
+    return final
+
+
+def latest(checkpoint_dir: Path) -> Path | None:
+    """The latest complete checkpoint's folder, or None when the run has none."""
+    pointer = Path(checkpoint_dir) / FOLDER / LATEST
+    if not pointer.exists():
+        return None
+    name = read_json(pointer).get("folder")
+    folder = pointer.parent / str(name)
+    if not isinstance(name, str) or "/" in name or not (folder / "state.json").exists():
+        raise CorruptFile(pointer, f"names no checkpoint of this run ({name!r})")
+    return folder
+
+
+def restore(model, venv, folder: Path) -> dict:
+    """Give a freshly built ``model`` (and its ``venv``) a checkpoint's numbers; returns the
+    checkpoint's state (``wall``, ``metrics``, ...)."""
+    import torch
+
+    for name, target in (("policy.pt", model.policy),
+                         ("optimizer.pt", model.policy.optimizer)):
+        try:
+            target.load_state_dict(torch.load(folder / name, map_location="cpu",
+                                              weights_only=True))
+        except (OSError, RuntimeError, ValueError, KeyError, EOFError,
+                pickle.UnpicklingError) as error:
+            message = str(error).strip().splitlines()[0] if str(error).strip() else ""
+            raise CorruptFile(folder / name, f"not this run's weights ({type(error).__name__}"
+                                             f": {message[:200]})") from None
+    if (folder / "normalize.npz").exists():
+        _restore_stats(venv, folder / "normalize.npz")
+    state = read_json(folder / "state.json")
+    model.num_timesteps, model._n_updates = int(state["num_timesteps"]), int(state["n_updates"])
+    return state

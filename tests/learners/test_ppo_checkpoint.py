@@ -1,0 +1,106 @@
+"""PPO checkpoints are data, written whole before they replace the last: a planted pickle in a
+run folder never runs, a save that dies midway loses nothing, and an older version's pickled
+checkpoint loads only when the caller says it trusts the folder."""
+
+import json
+import pickle
+
+import pytest
+import torch
+
+from animat.learners import ppo_checkpoint
+from animat.learners.base import CorruptFile, read_json
+from animat.learners.ppo import UntrustedPickle
+from animat.learners.registry import make_learner
+from tests.experiments.test_cli import animat, write_config
+
+PARAMS = {"n_envs": 4, "n_steps": 16, "batch_size": 32, "n_epochs": 1, "eval_every": 64,
+          "checkpoint_every": 64, "policy_kwargs": "dict(net_arch=[16])",
+          "normalize": "{'norm_obs': True, 'norm_reward': False}"}
+CONFIG = {"env": {"id": "Animat/FishSwim-v0", "kwargs": {"duration": 0.5}},
+          "learner": {"name": "ppo", "params": PARAMS}, "budget": {"env_steps": 192},
+          "eval": {"metric": "eval/return"}}
+
+
+class Planted:
+    """A pickle that, unpickled, writes a file: what a hostile run folder would carry."""
+
+    def __init__(self, marker):
+        self.marker = str(marker)
+
+    def __reduce__(self):
+        return (open, (self.marker, "w"))
+
+
+def _learner():
+    return make_learner("ppo", "Animat/FishSwim-v0", {"duration": 0.5}, PARAMS, seed=0)
+
+
+def test_a_checkpoint_is_data_and_one_folder(tmp_path):
+    _learner().learn(192, tmp_path)
+    saved = ppo_checkpoint.latest(tmp_path)
+    assert sorted(p.name for p in (tmp_path / "ppo").iterdir()) == ["latest.json", saved.name]
+    assert sorted(p.name for p in saved.iterdir()) == ["normalize.npz", "optimizer.pt",
+                                                       "policy.pt", "state.json"]
+    state = torch.load(saved / "policy.pt", weights_only=True)  # tensors only
+    assert all(isinstance(v, torch.Tensor) for v in state.values())
+    assert read_json(saved / "state.json")["num_timesteps"] == 192
+
+
+def test_a_planted_pickle_in_a_run_folder_never_runs(tmp_path):
+    folder = tmp_path / "run"
+    animat("run", write_config(tmp_path / "ppo.yaml", CONFIG), "--out", folder, "--quiet")
+    saved = ppo_checkpoint.latest(folder / "checkpoints")
+    marker = tmp_path / "pwned"
+    for name in ("policy.pt", "optimizer.pt"):
+        original = (saved / name).read_bytes()
+        (saved / name).write_bytes(pickle.dumps(Planted(marker), protocol=2))
+        for command in (["eval", folder, "--episodes", "1"],):
+            refused = animat(*command, check=False)
+            assert refused.returncode == 1 and len(refused.stderr.strip().splitlines()) == 1
+            assert f"{saved / name}: not this run's weights" in refused.stderr
+        assert not marker.exists()
+        (saved / name).write_bytes(original)
+    animat("eval", folder, "--episodes", "1")  # the genuine checkpoint loads
+
+
+def test_a_save_that_dies_midway_leaves_the_last_checkpoint_whole(tmp_path, monkeypatch):
+    learner = _learner()
+    learner.learn(128, tmp_path)
+    before = ppo_checkpoint.latest(tmp_path)
+    real_save, calls = torch.save, []
+
+    def dying(obj, path, *args, **kwargs):
+        calls.append(path)
+        if len(calls) == 2:  # the policy written, the optimiser not: a kill here
+            raise KeyboardInterrupt
+        return real_save(obj, path, *args, **kwargs)
+
+    monkeypatch.setattr(torch, "save", dying)
+    with pytest.raises(KeyboardInterrupt):
+        _learner().learn(256, tmp_path)
+    monkeypatch.setattr(torch, "save", real_save)
+    assert ppo_checkpoint.latest(tmp_path) == before  # still the complete one
+    assert read_json(before / "state.json")["num_timesteps"] == 128
+    resumed = _learner().learn(256, tmp_path)
+    assert resumed.env_steps == 256
+    assert [p.name for p in (tmp_path / "ppo").iterdir() if p.name != "latest.json"] == [
+        ppo_checkpoint.latest(tmp_path).name]  # the half-written one is gone
+
+
+def test_an_older_pickled_checkpoint_needs_trust_and_a_corrupt_pointer_is_named(tmp_path):
+    folder = tmp_path / "run"
+    animat("run", write_config(tmp_path / "ppo.yaml", CONFIG), "--out", folder, "--quiet")
+    checkpoints = folder / "checkpoints"
+    (checkpoints / "model.zip").write_bytes(b"an older version's pickled model")
+    (checkpoints / "ppo" / "latest.json").unlink()
+    with pytest.raises(UntrustedPickle, match="pass --trust-pickles"):
+        _learner().agent({}, folder)
+    refused = animat("eval", folder, "--episodes", "1", check=False)
+    assert refused.returncode == 1 and "--trust-pickles" in refused.stderr
+    (checkpoints / "ppo" / "latest.json").write_text(json.dumps({"folder": "../../elsewhere"}))
+    with pytest.raises(CorruptFile, match="names no checkpoint of this run"):
+        ppo_checkpoint.latest(checkpoints)
+    (checkpoints / "ppo" / "latest.json").write_text('{"folder": "save-0')
+    with pytest.raises(CorruptFile, match="not valid JSON"):
+        ppo_checkpoint.latest(checkpoints)
