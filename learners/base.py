@@ -62,6 +62,11 @@ class BudgetError(ValueError):
     line, before anything runs."""
 
 
+class UntrustedPickle(RuntimeError):
+    """A run folder's checkpoint is a pickle (an older version's), and the caller has not said
+    it trusts the folder (``--trust-pickles``)."""
+
+
 class CorruptFile(ValueError):
     """A file of a run folder that cannot be read back (truncated, empty, not what it should
     be): its path and what is wrong, in one line."""
@@ -178,12 +183,15 @@ def _place_new(tmp: str, path: Path) -> None:
 
 
 def save_checkpoint(path: str | Path, payload: Any) -> None:
-    """Pickle ``payload`` to ``path`` atomically (a crash never leaves half a checkpoint)."""
+    """Pickle ``payload`` to ``path`` atomically: an older version's checkpoint format, still
+    written for a run begun by it and resumed with ``--trust-pickles`` (new runs write data:
+    :mod:`animat.learners.checkpoint_data`)."""
     atomic_write(path, lambda file: pickle.dump(payload, file), binary=True)
 
 
 def load_checkpoint(path: str | Path) -> Any | None:
-    """The payload saved at ``path``, or None when there is none."""
+    """The payload pickled at ``path``, or None when there is none. Unpickling runs whatever
+    code the file's writer put in it: only for folders the caller trusts (``--trust-pickles``)."""
     path = Path(path)
     if not path.exists():
         return None

@@ -25,13 +25,14 @@ from typing import Any
 
 import numpy as np
 
-from animat.learners import annealing, cmaes
+from animat.learners import annealing, checkpoint_data, cmaes
 from animat.learners.abstraction import AbstractController, abstract, most_compact
 from animat.learners.agents import OpenLoopAgent
 from animat.learners.base import (
     BudgetError,
     Learner,
     LearnResult,
+    UntrustedPickle,
     episode_steps,
     episode_timing,
     load_checkpoint,
@@ -282,8 +283,7 @@ class BlackBoxLearner(Learner):
         self._fit_population(plan["population"])
         evaluator = BatchEvaluator(self.env_id, self.env_kwargs, self.population, self.seed,
                                    self.own.start_states)
-        path = Path(checkpoint_dir) / "checkpoint.pkl" if checkpoint_dir else None
-        saved = load_checkpoint(path) if path else None
+        path, saved = self._saved(checkpoint_dir)
         if saved is not None:
             if isinstance(saved, dict) and "phases" not in saved:  # before phases existed
                 saved["params"] = self.opt_params
@@ -301,11 +301,36 @@ class BlackBoxLearner(Learner):
         if len(run.phases) > 1:
             self._run_phase(run, 1, evaluator, budget_env_steps, path, start)
         if path:
-            save_checkpoint(path, run)
+            self._save(path, run)
         result = self._result(run, evaluator)
         result.artefacts["budget"] = {**plan, "population": self.population,
                                       "phases_run": len(run.phases)}
         return result
+
+    def _saved(self, checkpoint_dir: str | Path | None) -> tuple[Path | None, object]:
+        """Where the run's checkpoint goes, and what is saved there (None: nothing yet).
+        ``checkpoint.json`` is data (:mod:`animat.learners.checkpoint_data`); an older
+        version's ``checkpoint.pkl`` is read (and the run goes on pickling) only when the
+        caller trusts the folder: unpickling runs whatever its writer put in it."""
+        if not checkpoint_dir:
+            return None, None
+        folder = Path(checkpoint_dir)
+        legacy, path = folder / "checkpoint.pkl", folder / "checkpoint.json"
+        if path.exists() or not legacy.exists():
+            return path, checkpoint_data.load(path)
+        if not self.trust_pickles:
+            raise UntrustedPickle(f"{legacy}: a checkpoint of an older version, saved with "
+                                  f"pickle: loading it can run any code its writer put in it; "
+                                  f"pass --trust-pickles if you trust where this run folder "
+                                  f"came from")
+        return legacy, load_checkpoint(legacy)
+
+    @staticmethod
+    def _save(path: Path, run: Run) -> None:
+        if path.suffix == ".pkl":  # a trusted older run goes on as it was saved
+            save_checkpoint(path, run)
+        else:
+            checkpoint_data.save(path, run)
 
     def _start_refining(self, run: Run, x: np.ndarray, evaluator: BatchEvaluator) -> None:
         """Phase 2 starts at the truncated abstraction, which is scored first (one episode,
@@ -346,7 +371,7 @@ class BlackBoxLearner(Learner):
             self._log(run, phase, returns, metrics)
             run.wall = time.perf_counter() - start
             if path and run.rounds % self.checkpoint_every == 0:
-                save_checkpoint(path, run)
+                self._save(path, run)
 
     @staticmethod
     def _track_best(phase: Phase, candidates, returns, metrics) -> None:

@@ -5,7 +5,7 @@ controller parameters: the baseline that answers "was annealing a good choice?".
 from __future__ import annotations
 
 import warnings
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -28,9 +28,17 @@ class CMAESParams:
 
 @dataclass
 class CMAESState:
-    """The pycma strategy object (it holds its own generator; it pickles for checkpoints)."""
+    """What pycma's strategy is made of: its start (``x0``, ``sigma0``, pycma's ``options``,
+    the seed among them) and the energies told so far, one (popsize,) array a round. The
+    strategy object itself, ``es``, is not kept in a checkpoint: :func:`strategy` rebuilds it
+    by replaying the rounds (pycma's generator is its own, seeded by the options, so the replay
+    asks what the run asked), and a checkpoint stays data."""
 
-    es: object
+    x0: np.ndarray
+    sigma0: float
+    options: dict
+    told: list = field(default_factory=list)
+    es: object = field(default=None, compare=False, repr=False, metadata={"checkpoint": False})
 
 
 MIN_POPULATION = 2
@@ -47,7 +55,7 @@ def population(params: CMAESParams) -> int:
 
 def metrics(params: CMAESParams, state: CMAESState) -> dict[str, float]:
     """``train/*`` scalars: the overall step size sigma."""
-    return {"sigma": float(state.es.sigma)}
+    return {"sigma": float(strategy(state).sigma)}
 
 
 def fit_encoding(options: dict, block: int) -> dict:
@@ -66,22 +74,37 @@ def _cma():
 
 
 def init(params: CMAESParams, x0: np.ndarray, seed: int) -> CMAESState:
-    cma = _cma()
     options = {"popsize": params.popsize, "seed": int(seed) + 1, "verbose": -9,
                "bounds": [params.lower, params.upper], "tolfun": params.tolfun}
-    return CMAESState(cma.CMAEvolutionStrategy(np.asarray(x0, dtype=float), params.sigma0,
-                                               options))
+    state = CMAESState(np.asarray(x0, dtype=float).copy(), float(params.sigma0), options)
+    strategy(state)
+    return state
+
+
+def strategy(state: CMAESState):
+    """The pycma strategy of ``state``, rebuilt from its start and told energies when the
+    state was read from a checkpoint (each round asked again, then told what it was told)."""
+    if state.es is None:
+        cma = _cma()
+        es = cma.CMAEvolutionStrategy(np.asarray(state.x0, dtype=float), state.sigma0,
+                                      dict(state.options))
+        for energies in state.told:
+            es.tell(list(np.asarray(es.ask())), list(np.asarray(energies, dtype=float)))
+        state.es = es
+    return state.es
 
 
 def finished(params: CMAESParams, state: CMAESState) -> bool:
-    return bool(state.es.stop())
+    return bool(strategy(state).stop())
 
 
 def ask(params: CMAESParams, state: CMAESState) -> tuple[np.ndarray, CMAESState]:
-    return np.asarray(state.es.ask()), state
+    return np.asarray(strategy(state).ask()), state
 
 
 def tell(params: CMAESParams, state: CMAESState, candidates: np.ndarray,
          energies: np.ndarray) -> CMAESState:
-    state.es.tell(list(candidates), list(np.asarray(energies, dtype=float)))
+    energies = np.asarray(energies, dtype=float)
+    strategy(state).tell(list(candidates), list(energies))
+    state.told.append(energies.copy())
     return state

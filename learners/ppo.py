@@ -20,16 +20,12 @@ from pydantic import ValidationError
 from animat.envs.tasks import EpisodeSummary
 from animat.learners import ppo_checkpoint
 from animat.learners.agents import PolicyAgent
-from animat.learners.base import BudgetError, Learner, LearnResult, read_json
+from animat.learners.base import BudgetError, Learner, LearnResult, UntrustedPickle, read_json
 from animat.learners.rollout import START_STATES, score_episode, spread
 from animat.learners.zoo import PPOParams, normalize_kwargs, policy_kwargs, schedule
 
 OWN_KEYS = {"eval_every", "torch_threads", "checkpoint_every"}
 
-
-class UntrustedPickle(RuntimeError):
-    """A run folder's checkpoint is a pickle (an older version's), and the caller has not said
-    it trusts the folder."""
 ZOO_KEYS = set(PPOParams.model_fields) - OWN_KEYS  # what SB3's PPO is given
 
 

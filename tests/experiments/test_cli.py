@@ -165,7 +165,7 @@ def test_sigkilled_run_resumes_to_the_uninterrupted_result(tmp_path):
     process = subprocess.Popen([sys.executable, "-m", "animat.experiments", "run", str(config),
                                 "--out", str(folder)], cwd=ROOT, stdout=subprocess.DEVNULL,
                                stderr=subprocess.DEVNULL)
-    checkpoint = folder / "checkpoints" / "checkpoint.pkl"
+    checkpoint = folder / "checkpoints" / "checkpoint.json"
     deadline = time.time() + 300
     while time.time() < deadline and process.poll() is None:
         if checkpoint.exists() and len((folder / "scalars.csv").read_text().splitlines()) > 30:

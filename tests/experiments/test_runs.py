@@ -99,7 +99,7 @@ def test_a_corrupt_file_of_a_run_folder_is_named_in_one_line_and_compare_goes_on
     assert "| annealing | 1 (1) |" in compared.stdout
     status = json.loads((good / "result.json").read_text())
     (good / "result.json").write_text(json.dumps({**status, "status": "failed"}))
-    (good / "checkpoints" / "checkpoint.pkl").write_bytes(b"\x80\x04truncated")
+    (good / "checkpoints" / "checkpoint.json").write_text('{"format": "artificial-ani')
     resumed = animat("run", "--resume", good, check=False)
     assert resumed.returncode == 1 and len(resumed.stderr.strip().splitlines()) == 1
-    assert f"{good / 'checkpoints' / 'checkpoint.pkl'}: cannot be read back" in resumed.stderr
+    assert f"{good / 'checkpoints' / 'checkpoint.json'}: cannot be read back" in resumed.stderr

@@ -9,8 +9,7 @@ import pytest
 import torch
 
 from animat.learners import ppo_checkpoint
-from animat.learners.base import CorruptFile, read_json
-from animat.learners.ppo import UntrustedPickle
+from animat.learners.base import CorruptFile, UntrustedPickle, read_json
 from animat.learners.registry import make_learner
 from tests.experiments.test_cli import animat, write_config
 

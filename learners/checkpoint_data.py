@@ -1,0 +1,108 @@
+"""Black-box checkpoints as data: a learner's progress (:class:`~animat.learners.blackbox.Run`)
+written as JSON and read back without pickle.
+
+The progress is a tree of a few known dataclasses (the run, its phases, the optimisers' params
+and states), NumPy arrays, an FFT abstraction and plain values. :func:`to_data` writes each
+dataclass as ``{"__type__": name, ...fields}`` (only the types in :data:`TYPES`), each array as
+``{"__array__": dtype, "shape", "data"}`` and a tuple as ``{"__tuple__": [...]}``; floats go
+through ``repr`` and come back bit for bit (``inf`` and ``nan`` included). :func:`from_data`
+builds only those types: a file that names anything else is refused, so a checkpoint planted in
+a shared run folder cannot run code.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from animat.learners.base import CorruptFile, atomic_write
+
+FORMAT = "artificial-animals black-box checkpoint 1"
+
+
+def _types() -> dict[str, type]:
+    from animat.learners import annealing, blackbox, cmaes
+
+    return {cls.__name__: cls for cls in (blackbox.Run, blackbox.Phase, annealing.AnnealingParams,
+                                          annealing.AnnealingState, cmaes.CMAESParams,
+                                          cmaes.CMAESState)}
+
+
+def to_data(value: Any) -> Any:
+    """``value`` as JSON-able data (see the module's docstring)."""
+    from animat.learners.abstraction import AbstractController
+
+    if isinstance(value, AbstractController):
+        return {"__type__": "AbstractController", "data": value.to_dict()}
+    if dataclasses.is_dataclass(value) and not isinstance(value, type):
+        fields = {f.name: to_data(getattr(value, f.name)) for f in dataclasses.fields(value)
+                  if f.metadata.get("checkpoint", True)}
+        return {"__type__": type(value).__name__, **fields}
+    if isinstance(value, np.ndarray):
+        return {"__array__": value.dtype.str, "shape": list(value.shape),
+                "data": value.ravel().tolist()}
+    if isinstance(value, np.generic):
+        return value.item()
+    if isinstance(value, tuple):
+        return {"__tuple__": [to_data(v) for v in value]}
+    if isinstance(value, list):
+        return [to_data(v) for v in value]
+    if isinstance(value, dict):
+        if not all(isinstance(k, str) for k in value):
+            raise TypeError(f"a checkpoint's mapping keys must be strings: {list(value)[:3]}")
+        return {k: to_data(v) for k, v in value.items()}
+    if value is None or isinstance(value, bool | int | float | str):
+        return value
+    raise TypeError(f"a checkpoint cannot hold a {type(value).__name__}")
+
+
+def from_data(data: Any, types: dict[str, type] | None = None) -> Any:
+    """The value :func:`to_data` wrote; ValueError for a type it does not know."""
+    from animat.learners.abstraction import AbstractController
+
+    types = _types() if types is None else types
+    if isinstance(data, list):
+        return [from_data(v, types) for v in data]
+    if not isinstance(data, dict):
+        return data
+    if "__array__" in data:
+        dtype = np.dtype(data["__array__"])
+        if dtype.kind not in "biuf":
+            raise ValueError(f"an array of dtype {dtype} in a checkpoint")
+        return np.array(data["data"], dtype=dtype).reshape(data["shape"])
+    if "__tuple__" in data:
+        return tuple(from_data(v, types) for v in data["__tuple__"])
+    if "__type__" in data:
+        name = data["__type__"]
+        if name == "AbstractController":
+            return AbstractController.from_dict(data["data"])
+        if name not in types:
+            raise ValueError(f"a checkpoint names the type {name!r}, which it may not hold")
+        return types[name](**{k: from_data(v, types) for k, v in data.items()
+                              if k != "__type__"})
+    return {k: from_data(v, types) for k, v in data.items()}
+
+
+def save(path: str | Path, run) -> None:
+    """Write ``run`` to ``path`` atomically, as JSON."""
+    text = json.dumps({"format": FORMAT, "run": to_data(run)})
+    atomic_write(path, lambda file: file.write(text))
+
+
+def load(path: str | Path):
+    """The run saved at ``path``, or None when there is none; CorruptFile naming the file when
+    it is not one of these checkpoints."""
+    path = Path(path)
+    if not path.exists():
+        return None
+    try:
+        data = json.loads(path.read_text())
+        if not isinstance(data, dict) or data.get("format") != FORMAT:
+            raise ValueError("not a black-box checkpoint")
+        return from_data(data["run"])
+    except (ValueError, TypeError, KeyError) as error:  # JSONDecodeError is a ValueError
+        raise CorruptFile(path, f"cannot be read back ({error})") from None

@@ -1,0 +1,76 @@
+"""Black-box checkpoints are data: written as JSON and read back without pickle, bit for bit;
+a file naming a type it may not hold is refused; an older version's pickled checkpoint is read
+only when the caller trusts the folder."""
+
+import json
+import pickle
+
+import numpy as np
+import pytest
+
+from animat.learners import checkpoint_data
+from animat.learners.base import CorruptFile, UntrustedPickle, save_checkpoint
+from animat.learners.registry import make_learner
+from tests.experiments.test_cli import TINY, animat, write_config
+
+ENV, KWARGS = "Animat/FishSwim-v0", {"duration": 0.5}
+REFINE = {"nodes": 4, "checkpoint_every": 1, "refine": {"share": 0.4}}
+
+
+class Planted:
+    def __init__(self, marker):
+        self.marker = str(marker)
+
+    def __reduce__(self):
+        return (open, (self.marker, "w"))
+
+
+@pytest.mark.parametrize("name, params", [("annealing", {"chains": 8}),
+                                          ("cmaes", {"popsize": 8})])
+def test_a_run_round_trips_as_data_bit_for_bit(tmp_path, name, params):
+    make_learner(name, ENV, KWARGS, {**REFINE, **params}, seed=2).learn(4800, tmp_path)
+    path = tmp_path / "checkpoint.json"
+    text = path.read_text()
+    run = checkpoint_data.load(path)
+    assert len(run.phases) == 2 and run.phases[1].support is not None  # learned, refined
+    checkpoint_data.save(tmp_path / "again.json", run)
+    assert (tmp_path / "again.json").read_text() == text
+    assert not (tmp_path / "checkpoint.pkl").exists()
+
+
+def test_a_checkpoint_naming_another_type_or_an_object_array_is_refused(tmp_path):
+    path = tmp_path / "checkpoint.json"
+    for run in ({"__type__": "Popen", "args": ["touch", str(tmp_path / "pwned")]},
+                {"__array__": "|O", "shape": [1], "data": ["x"]}):
+        path.write_text(json.dumps({"format": checkpoint_data.FORMAT, "run": run}))
+        with pytest.raises(CorruptFile, match="cannot be read back"):
+            checkpoint_data.load(path)
+    assert checkpoint_data.from_data(checkpoint_data.to_data(np.array([np.inf, np.nan])))[0] \
+        == np.inf
+
+
+def test_an_older_pickled_checkpoint_is_read_only_when_trusted(tmp_path):
+    data = json.loads(json.dumps(TINY))
+    data["learner"]["params"]["checkpoint_every"] = 1
+    config = write_config(tmp_path / "tiny.yaml", data)
+    folder = tmp_path / "run"
+    animat("run", config, "--out", folder, "--quiet")
+    checkpoints, marker = folder / "checkpoints", tmp_path / "pwned"
+    status = json.loads((folder / "result.json").read_text())
+    (folder / "result.json").write_text(json.dumps({**status, "status": "failed"}))
+    (checkpoints / "checkpoint.json").unlink()
+    (checkpoints / "checkpoint.pkl").write_bytes(pickle.dumps(Planted(marker)))
+    refused = animat("run", "--resume", folder, check=False)
+    assert refused.returncode == 1 and "pass --trust-pickles" in refused.stderr
+    assert not marker.exists()
+    with pytest.raises(UntrustedPickle):
+        make_learner("annealing", ENV, KWARGS, TINY["learner"]["params"])._saved(checkpoints)
+    learner = make_learner("annealing", ENV, KWARGS, {**TINY["learner"]["params"],
+                                                      "checkpoint_every": 1})
+    genuine = tmp_path / "genuine"
+    learner.learn(1600, genuine)
+    save_checkpoint(checkpoints / "checkpoint.pkl", checkpoint_data.load(
+        genuine / "checkpoint.json"))  # what an older version wrote: a pickle of the run
+    animat("run", "--resume", folder, "--trust-pickles", "--quiet")
+    assert json.loads((folder / "result.json").read_text())["status"] == "done"
+    assert not (checkpoints / "checkpoint.json").exists()  # a trusted older run goes on pickling
