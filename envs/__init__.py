@@ -20,8 +20,10 @@ from animat.envs import stunts  # noqa: F401  (adds the dolphin's tasks to envs.
 
 ENV_IDS = ("Animat/FishSwim-v0", "Animat/FishTurn-v0", "Animat/FishReach-v0")
 # The dolphin's world: a water surface at z = 0, skin friction for its Reynolds number (C_f
-# 0.0028 at Re 1e7: 0.5 rho C_f = 1.4 kg/m^3), and a step within its stability bound.
-DOLPHIN_KWARGS = {"body": "dolphin", "water": {"surface_z": 0.0, "friction_coefficient": 1.4},
+# 0.0028 at Re 1e7: 0.5 rho C_f = 1.4 kg/m^3), and a step within its stability bound. The pool
+# is the base water: a user's water={...} changes its fields, it does not replace the pool.
+DOLPHIN_KWARGS = {"body": "dolphin",
+                  "base_water": {"surface_z": 0.0, "friction_coefficient": 1.4},
                   "physics_dt": 0.05 / 80, "frame_skip": 80}
 # The stunts weigh the controller's effort (mu1) a tenth of the fish's: a 5 Hz fluke stroke
 # costs ten times a 3 Hz fish's tail beat in E_u, which would otherwise outweigh the stunt.

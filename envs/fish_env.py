@@ -53,7 +53,8 @@ No termination; truncation after ``duration`` simulated seconds.
 | ``duration`` | float, s | the task's | truncation time (swim 10, turn 5, reach 20) |
 | ``physics_dt`` | float, s | 1/800 | step; refused above 75% of the body's bound |
 | ``frame_skip`` | int | 40 | steps per env step (``dt = physics_dt * frame_skip``) |
-| ``water`` | dict | fresh water | :class:`~envs.physics.system.Water` fields |
+| ``water`` | dict | fresh water | ``Water`` fields (:mod:`~envs.physics.system`) over the base |
+| ``base_water`` | dict | none | a registered world's water (the dolphin's pool), field by field |
 | ``fins`` | bool | False | the pectoral fin angles in the action space |
 | ``sensors`` | list | proprioception | :mod:`animat.envs.sensors`; several give a Dict space |
 | ``reset_noise_scale`` | float, BL | 0.005 | uniform noise on each start node coordinate |
@@ -101,7 +102,11 @@ RENDER_FPS = 20
 def _make_core(num_envs: int, task: str, task_kwargs: dict, body: str | BodySpec | None,
                duration: float | None, physics_dt: float, frame_skip: int,
                reset_noise_scale: float, reward_weights: RewardWeights | dict | None,
-               water: dict | None, fins: bool) -> FishBatch:
+               water: dict | None, fins: bool, base_water: dict | None = None) -> FishBatch:
+    for name, value in (("water", water), ("base_water", base_water)):
+        if value is not None and not isinstance(value, dict):
+            raise ValueError(f"{name} must be a dict of Water fields, got {value!r}")
+    water = {**(base_water or {}), **(water or {})} or None  # water changes fields of the base
     task_object = make_task(task, **task_kwargs)
     weights = reward_weights if isinstance(reward_weights, RewardWeights) else RewardWeights(
         **(reward_weights or {}))
@@ -161,11 +166,12 @@ class FishEnv(_PublicSurface, gym.Env):
                  frame_skip: int = DEFAULT_FRAME_SKIP, water: dict | None = None,
                  fins: bool = False, sensors: list | None = None,
                  reset_noise_scale: float = 0.005,
-                 reward_weights: RewardWeights | dict | None = None, **task_kwargs: Any) -> None:
+                 reward_weights: RewardWeights | dict | None = None,
+                 base_water: dict | None = None, **task_kwargs: Any) -> None:
         if render_mode not in (None, "rgb_array"):
             raise ValueError(f"render_mode must be None or 'rgb_array', got {render_mode!r}")
         self.core = _make_core(1, task, task_kwargs, body, duration, physics_dt, frame_skip,
-                               reset_noise_scale, reward_weights, water, fins)
+                               reset_noise_scale, reward_weights, water, fins, base_water)
         self.observer = Observer(self.core, sensors)
         self.action_space = _action_space(self.core)
         self.observation_space = self.observer.single_space
@@ -241,7 +247,7 @@ class FishVectorEnv(_PublicSurface, VectorEnv):
                  reset_noise_scale: float = 0.005,
                  reward_weights: RewardWeights | dict | None = None,
                  autoreset_mode: str | AutoresetMode = AutoresetMode.NEXT_STEP,
-                 **task_kwargs: Any) -> None:
+                 base_water: dict | None = None, **task_kwargs: Any) -> None:
         mode = _autoreset_mode(autoreset_mode)
         self.autoreset_mode = mode
         self.metadata = {**self.metadata, "autoreset_mode": mode}
@@ -251,7 +257,8 @@ class FishVectorEnv(_PublicSurface, VectorEnv):
             raise ValueError(f"render_mode must be None or 'rgb_array', got {render_mode!r}")
         self.num_envs = int(num_envs)
         self.core = _make_core(self.num_envs, task, task_kwargs, body, duration, physics_dt,
-                               frame_skip, reset_noise_scale, reward_weights, water, fins)
+                               frame_skip, reset_noise_scale, reward_weights, water, fins,
+                               base_water)
         self.observer = Observer(self.core, sensors)
         self.single_action_space = _action_space(self.core)
         self.single_observation_space = self.observer.single_space

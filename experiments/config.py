@@ -138,6 +138,8 @@ def apply_override(data: dict, override: str, source: str) -> None:
     if not all(keys):
         raise ConfigError(source, path, f"override {override!r} has an empty key")
     try:
+        if any(isinstance(event, yaml.AliasEvent) for event in yaml.parse(raw)):
+            raise ConfigError(source, path, "YAML aliases (*name) are not accepted")
         value = yaml.safe_load(raw)
     except yaml.YAMLError as error:
         raise ConfigError(source, path, f"cannot read value {raw!r}: {error}") from None
@@ -242,6 +244,9 @@ def load_config(path: str | Path, overrides: list[str] | None = None, build: boo
     except OSError as error:
         raise ConfigError(source, "", f"cannot read the file: {error.strerror}") from None
     try:
+        if any(isinstance(event, yaml.AliasEvent) for event in yaml.parse(text)):
+            raise ConfigError(source, "", "YAML aliases (*name) are not accepted: a few "
+                              "nested ones expand to gigabytes; write the values out")
         data = yaml.safe_load(text)
     except yaml.YAMLError as error:
         raise ConfigError(source, "", f"not valid YAML: {str(error).splitlines()[0]}") from None
@@ -262,5 +267,6 @@ def load_config(path: str | Path, overrides: list[str] | None = None, build: boo
 
 
 def to_yaml(config: ExperimentConfig) -> str:
-    """The resolved config as YAML (what a run folder keeps)."""
-    return yaml.safe_dump(config.model_dump(mode="json"), sort_keys=False)
+    """The resolved config as YAML (what a run folder keeps): every value as it was read,
+    ``.inf`` and ``.nan`` included (JSON mode would have written them as null)."""
+    return yaml.safe_dump(config.model_dump(mode="python"), sort_keys=False)

@@ -4,6 +4,7 @@ momentum kept, floating back up after a plunge, a belly flop that splashes more 
 tissue within limits, and a leap that does not move when the step is halved."""
 
 import numpy as np
+import pytest
 
 from animat.envs import DOLPHIN_KWARGS
 from animat.envs.dolphin import ACTUATOR_NAMES, LEFT_TIP, RIGHT_TIP, dolphin_body
@@ -18,7 +19,7 @@ from animat.envs.stunts import LeapTask
 
 G = 9.81
 BODY = dolphin_body()
-WATER = DOLPHIN_KWARGS["water"]
+WATER = DOLPHIN_KWARGS["base_water"]
 STEP, SKIP = DOLPHIN_KWARGS["physics_dt"], DOLPHIN_KWARGS["frame_skip"]
 
 
@@ -141,3 +142,13 @@ def test_a_leaps_apex_is_converged_in_the_step(refine=2):
         apexes.append(info["apex_height_bl"][0])
     assert apexes[0] > 0.5
     assert abs(apexes[1] - apexes[0]) < 0.05 * apexes[1], apexes
+
+
+def test_a_users_water_changes_fields_of_the_pool_and_does_not_replace_it():
+    import gymnasium as gym
+
+    env = gym.make("Animat/DolphinLeap-v0", water={"gravity": 9.81})
+    water = env.unwrapped.core.system.water
+    assert water.surface_z == 0.0 and water.friction_coefficient == 1.4 and water.gravity == 9.81
+    with pytest.raises(ValueError, match="water must be a dict of Water fields"):
+        gym.make("Animat/DolphinLeap-v0", water=3)

@@ -103,3 +103,17 @@ def test_a_corrupt_file_of_a_run_folder_is_named_in_one_line_and_compare_goes_on
     resumed = animat("run", "--resume", good, check=False)
     assert resumed.returncode == 1 and len(resumed.stderr.strip().splitlines()) == 1
     assert f"{good / 'checkpoints' / 'checkpoint.json'}: cannot be read back" in resumed.stderr
+
+
+def test_inf_and_nan_survive_the_run_folder_and_yaml_aliases_are_refused(tmp_path):
+    data = json.loads(json.dumps(TINY))
+    data["env"]["kwargs"]["water"] = {"surface_z": float("inf")}  # the documented "no surface"
+    folder = tmp_path / "run"
+    animat("run", write_config(tmp_path / "inf.yaml", data), "--out", folder, "--quiet")
+    assert "surface_z: .inf" in (folder / "config.yaml").read_text()
+    assert json.loads((folder / "result.json").read_text())["status"] == "done"
+    bomb = tmp_path / "bomb.yaml"
+    bomb.write_text((tmp_path / "inf.yaml").read_text() + "x: &a [1, 1]\ny: [*a, *a]\n")
+    refused = animat("run", bomb, "--out", tmp_path / "bomb", check=False)
+    assert refused.returncode == 2 and "YAML aliases (*name) are not accepted" in refused.stderr
+    assert not (tmp_path / "bomb").exists()
