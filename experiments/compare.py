@@ -22,6 +22,7 @@ import numpy as np
 import yaml
 
 from animat.experiments.abstraction_table import abstraction_markdown, abstraction_rows
+from animat.experiments.config import load_config
 from animat.experiments.runs import RunError, one_line, read_status
 
 
@@ -72,10 +73,10 @@ def read_scalars(folder: Path) -> dict[str, tuple[np.ndarray, np.ndarray]]:
 
 
 def load_run(folder: Path) -> RunCurves:
-    config = yaml.safe_load((folder / "config.yaml").read_text())
-    learner = config["learner"].get("label") or config["learner"]["name"]
-    return RunCurves(folder, learner, config["env"]["id"],
-                     int(config.get("seed", 0)), read_status(folder), read_scalars(folder))
+    """A run's curves, its config read and validated as ``animat run`` reads one (not built)."""
+    config = load_config(folder / "config.yaml", build=False)
+    return RunCurves(folder, config.learner.display_name, config.env.id, config.seed,
+                     read_status(folder), read_scalars(folder))
 
 
 def load_runs(folders: list[Path]) -> list[RunCurves]:

@@ -134,6 +134,18 @@ def run_lock(folder: Path):
         os.close(handle)  # the only descriptor: closing it releases the lock
 
 
+def folder_busy(folder: Path) -> bool:
+    """Whether another process holds the run folder's lock (is making or running it): what a
+    recorded pid cannot tell across hosts or after the pid is reused."""
+    if not (Path(folder) / LOCK_NAME).exists():
+        return False
+    try:
+        with run_lock(folder):
+            return False
+    except RunError:
+        return True
+
+
 def create_run(config: ExperimentConfig, out: Path | None, command: list[str]) -> Path:
     """Make a new run folder (``out`` exactly, or the default under ``runs/``), under its lock
     (:func:`run_lock`): of two processes making one folder, one makes it and the other is
@@ -268,6 +280,6 @@ def resume(folder: Path, progress=None, threads: int | None = None,
     status = read_status(folder)
     if status["status"] == "done":
         raise RunError(f"{folder}: the run is done; nothing to resume")
-    if status["status"] == "running":
+    if status["status"] == "running" and folder_busy(folder):
         raise RunError(f"{folder}: the run is still running (pid {status.get('pid')})")
-    return execute(folder, progress, threads, trust_pickles)
+    return execute(folder, progress, threads, trust_pickles)  # a "running" one that died

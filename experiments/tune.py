@@ -25,7 +25,14 @@ import time
 from pathlib import Path
 
 from animat.experiments.config import ConfigError, ExperimentConfig, load_config
-from animat.experiments.runs import RunError, create_run, execute, read_status, write_json
+from animat.experiments.runs import (
+    RunError,
+    create_run,
+    execute,
+    folder_busy,
+    read_status,
+    write_json,
+)
 
 
 def _optuna():
@@ -136,7 +143,9 @@ def tune(path: str | Path, trials: int, out: str | Path | None = None,
         pruner=optuna.pruners.MedianPruner(n_startup_trials=3,
                                            n_warmup_steps=config.budget.env_steps // 4))
     for stale in study.get_trials(states=(optuna.trial.TrialState.RUNNING,)):
-        study.tell(stale.number, state=optuna.trial.TrialState.FAIL)  # a killed tune's
+        folder = out / f"trial{stale.number:03d}"
+        if folder.exists() and not folder_busy(folder):  # a killed tune's, not a live worker's
+            study.tell(stale.number, state=optuna.trial.TrialState.FAIL)
     while sum(t.state.is_finished() for t in study.trials) < trials:
         trial = study.ask()
         study.sampler = trial_sampler(optuna, config.seed, trial.number)  # draws at suggest

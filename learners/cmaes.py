@@ -4,6 +4,7 @@ controller parameters: the baseline that answers "was annealing a good choice?".
 
 from __future__ import annotations
 
+import hashlib
 import warnings
 from dataclasses import dataclass, field, replace
 
@@ -29,15 +30,19 @@ class CMAESParams:
 @dataclass
 class CMAESState:
     """What pycma's strategy is made of: its start (``x0``, ``sigma0``, pycma's ``options``,
-    the seed among them) and the energies told so far, one (popsize,) array a round. The
-    strategy object itself, ``es``, is not kept in a checkpoint: :func:`strategy` rebuilds it
-    by replaying the rounds (pycma's generator is its own, seeded by the options, so the replay
-    asks what the run asked), and a checkpoint stays data."""
+    the seed among them), the energies told so far, one (popsize,) array a round, and a digest
+    of each round's candidates. The strategy object itself, ``es``, is not kept in a
+    checkpoint: :func:`strategy` rebuilds it by replaying the rounds. pycma seeds and draws
+    from NumPy's global generator, so the replay asks what the run asked only if nothing else
+    drew from it meanwhile (nothing here does) and pycma is the same; each replayed round is
+    checked against its digest, and a replay that differs is refused, not told to the wrong
+    candidates."""
 
     x0: np.ndarray
     sigma0: float
     options: dict
     told: list = field(default_factory=list)
+    asked: list = field(default_factory=list)
     es: object = field(default=None, compare=False, repr=False, metadata={"checkpoint": False})
 
 
@@ -88,8 +93,13 @@ def strategy(state: CMAESState):
         cma = _cma()
         es = cma.CMAEvolutionStrategy(np.asarray(state.x0, dtype=float), state.sigma0,
                                       dict(state.options))
-        for energies in state.told:
-            es.tell(list(np.asarray(es.ask())), list(np.asarray(energies, dtype=float)))
+        for k, energies in enumerate(state.told):
+            candidates = np.asarray(es.ask())
+            if k < len(state.asked) and _digest(candidates) != state.asked[k]:
+                raise ValueError(f"CMA-ES round {k + 1} of the checkpoint does not replay: pycma "
+                                 f"asked other candidates than the run did (another pycma, or "
+                                 f"NumPy's global generator drawn from meanwhile)")
+            es.tell(list(candidates), list(np.asarray(energies, dtype=float)))
         state.es = es
     return state.es
 
@@ -106,5 +116,12 @@ def tell(params: CMAESParams, state: CMAESState, candidates: np.ndarray,
          energies: np.ndarray) -> CMAESState:
     energies = np.asarray(energies, dtype=float)
     strategy(state).tell(list(candidates), list(energies))
-    state.told.append(energies.copy())
+    if hasattr(state, "told"):  # an older version's pickled state has only ``es``
+        state.told.append(energies.copy())
+        state.asked.append(_digest(np.asarray(candidates)))
     return state
+
+
+def _digest(candidates: np.ndarray) -> str:
+    """A short digest of a round's candidates (float64 bytes), to check a replay by."""
+    return hashlib.sha256(np.ascontiguousarray(candidates, dtype=float).tobytes()).hexdigest()[:16]

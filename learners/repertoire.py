@@ -126,13 +126,16 @@ def kept_in_run(repertoire: Repertoire, checkpoint_dir: str | Path | None) -> Re
 
 
 def learn_skill(spec: dict, env_steps: int, seed: int, threshold: float | None,
-                annealing: dict, logger: Logger, checkpoint_dir: Path | None) -> Skill:
-    """Anneal one skill's controller, abstract it, and measure what abstraction cost."""
+                annealing: dict, logger: Logger, checkpoint_dir: Path | None,
+                trust_pickles: bool = False) -> Skill:
+    """Anneal one skill's controller, abstract it, and measure what abstraction cost
+    (``trust_pickles``: resume from an older version's pickled checkpoint too)."""
     params = {**annealing, **spec.get("params", {})}
     if threshold is not None:
         params["abstraction_threshold"] = threshold
     learner = AnnealingLearner(spec["env_id"], spec.get("env_kwargs", {}), params, seed,
                                Logger([_Prefixed(logger, f"skill/{spec['name']}/")]))
+    learner.trust_pickles = trust_pickles
     result = learner.learn(env_steps, checkpoint_dir)
     artefacts = result.artefacts
     abstracted = AbstractController.from_dict(artefacts["abstraction"])
@@ -252,7 +255,7 @@ class BasicTrainingLearner(Learner):
         for k, spec in enumerate(self.regimen):
             skill_dir = folder / spec["name"] if folder else None
             skill = learn_skill(spec, share, self.seed + k, self.threshold, self.annealing,
-                                self.logger, skill_dir)
+                                self.logger, skill_dir, self.trust_pickles)
             repertoire.add(skill)
             used += skill.metadata["env_steps"]
             self.logger.scalar("eval/return", -skill.metadata["abstracted_E"], used)

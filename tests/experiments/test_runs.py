@@ -117,3 +117,29 @@ def test_inf_and_nan_survive_the_run_folder_and_yaml_aliases_are_refused(tmp_pat
     refused = animat("run", bomb, "--out", tmp_path / "bomb", check=False)
     assert refused.returncode == 2 and "YAML aliases (*name) are not accepted" in refused.stderr
     assert not (tmp_path / "bomb").exists()
+
+
+def test_a_running_status_whose_lock_is_free_is_a_dead_run_and_resumes(tmp_path):
+    """The recorded pid can be alive and someone else's (reused, or another host's): the
+    folder's lock, which the kernel frees when the run's process dies, is what says."""
+    import os
+
+    config = write_config(tmp_path / "tiny.yaml", TINY)
+    folder = tmp_path / "run"
+    animat("run", config, "--out", folder, "--quiet")
+    status = json.loads((folder / "result.json").read_text())
+    (folder / "result.json").write_text(json.dumps({**status, "status": "running",
+                                                    "pid": os.getpid()}))  # alive: this one
+    animat("run", "--resume", folder, "--quiet")
+    assert json.loads((folder / "result.json").read_text())["status"] == "done"
+
+
+def test_compare_leaves_out_a_run_whose_config_is_malformed(tmp_path):
+    config = write_config(tmp_path / "tiny.yaml", TINY)
+    good, odd = tmp_path / "runs" / "good", tmp_path / "runs" / "odd"
+    for folder in (good, odd):
+        animat("run", config, "--out", folder, "--quiet")
+    text = (odd / "config.yaml").read_text().replace("label: null", "label: [x]")
+    (odd / "config.yaml").write_text(text)
+    compared = animat("compare", tmp_path / "runs", "--metric", "eval/speed_bl_per_s")
+    assert f"{odd}: left out" in compared.stderr and "| annealing | 1 (1) |" in compared.stdout

@@ -74,3 +74,23 @@ def test_an_older_pickled_checkpoint_is_read_only_when_trusted(tmp_path):
     animat("run", "--resume", folder, "--trust-pickles", "--quiet")
     assert json.loads((folder / "result.json").read_text())["status"] == "done"
     assert not (checkpoints / "checkpoint.json").exists()  # a trusted older run goes on pickling
+
+
+def test_a_cma_es_replay_that_asks_other_candidates_is_refused_and_old_states_still_tell(
+        tmp_path):
+    from animat.learners import cmaes
+
+    make_learner("cmaes", ENV, KWARGS, {"nodes": 4, "popsize": 8, "checkpoint_every": 1},
+                 seed=2).learn(1600, tmp_path)
+    state = checkpoint_data.load(tmp_path / "checkpoint.json").phases[0].state
+    assert len(state.asked) == len(state.told) > 1
+    cmaes.strategy(state)  # replays as the run asked
+    state.es, state.options = None, {**state.options, "seed": state.options["seed"] + 1}
+    with pytest.raises(ValueError, match="does not replay"):
+        cmaes.strategy(state)
+    old = object.__new__(cmaes.CMAESState)  # an older version's pickled state: only its es
+    params = cmaes.CMAESParams(popsize=4)
+    old.es = cmaes.init(params, np.full(3, 0.5), 0).es
+    candidates, old = cmaes.ask(params, old)
+    cmaes.tell(params, old, candidates, np.arange(4.0))
+    assert not hasattr(old, "told")
