@@ -146,19 +146,22 @@ def folder_busy(folder: Path) -> bool:
         return True
 
 
+def _refuse_if_used(folder: Path) -> None:
+    """RunError if ``folder`` holds anything but its lock file."""
+    if folder.exists() and any(p.name != LOCK_NAME for p in folder.iterdir()):
+        raise RunError(f"{folder}: exists and is not empty; a run folder is never overwritten")
+
+
 def create_run(config: ExperimentConfig, out: Path | None, command: list[str]) -> Path:
     """Make a new run folder (``out`` exactly, or the default under ``runs/``), under its lock
     (:func:`run_lock`): of two processes making one folder, one makes it and the other is
     refused. The lock is let go once it is made and taken again to run it, so a ``--resume``
     in between may be the one that runs it (still one run)."""
     folder = Path(out) if out else default_run_dir(config)
-    if folder.exists() and any(p.name != LOCK_NAME for p in folder.iterdir()):
-        raise RunError(f"{folder}: exists and is not empty; a run folder is never overwritten")
+    _refuse_if_used(folder)  # before anything, even a lock file, is written into it
     folder.mkdir(parents=True, exist_ok=True)
     with run_lock(folder):
-        if any(p.name != LOCK_NAME for p in folder.iterdir()):  # made meanwhile
-            raise RunError(f"{folder}: exists and is not empty; a run folder is never "
-                           f"overwritten")
+        _refuse_if_used(folder)  # made meanwhile by another process
         (folder / "config.yaml").write_text(to_yaml(config))
         (folder / "command.txt").write_text(shlex.join(command) + "\n")
         write_json(folder / "versions.json", versions())

@@ -66,6 +66,11 @@ class UntrustedPickle(RuntimeError):
     """A run folder's checkpoint is a pickle (an older version's), and the caller has not said
     it trusts the folder (``--trust-pickles``)."""
 
+    def __init__(self, path: str | Path) -> None:
+        super().__init__(f"{path}: a checkpoint of an older version, saved with pickle: loading "
+                         f"it can run any code its writer put in it; pass --trust-pickles if you "
+                         f"trust where this run folder came from")
+
 
 class CorruptFile(ValueError):
     """A file of a run folder that cannot be read back (truncated, empty, not what it should

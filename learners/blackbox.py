@@ -319,10 +319,7 @@ class BlackBoxLearner(Learner):
         if path.exists() or not legacy.exists():
             return path, checkpoint_data.load(path)
         if not self.trust_pickles:
-            raise UntrustedPickle(f"{legacy}: a checkpoint of an older version, saved with "
-                                  f"pickle: loading it can run any code its writer put in it; "
-                                  f"pass --trust-pickles if you trust where this run folder "
-                                  f"came from")
+            raise UntrustedPickle(legacy)
         return legacy, load_checkpoint(legacy)
 
     @staticmethod

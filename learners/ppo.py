@@ -93,10 +93,7 @@ class PPOLearner(Learner):
         if not (checkpoints / "model.zip").exists():
             return False
         if not self.trust_pickles:
-            raise UntrustedPickle(f"{checkpoints / 'model.zip'}: a checkpoint of an older "
-                                  f"version, saved with pickle: loading it can run any code its "
-                                  f"writer put in it; pass --trust-pickles if you trust where "
-                                  f"this run folder came from")
+            raise UntrustedPickle(checkpoints / "model.zip")
         return True
 
     def _legacy_agent(self, saved: Path) -> PolicyAgent:

@@ -32,14 +32,20 @@ FOLDER = "ppo"
 LATEST = "latest.json"
 
 
+def _running(venv) -> list[tuple[str, object]]:
+    """VecNormalize's RunningMeanStd objects by name: ``obs:`` (or ``obs:<key>`` for each key
+    of a Dict observation) and ``ret``."""
+    rms = venv.obs_rms
+    named = dict(rms.items()) if isinstance(rms, dict) else {"": rms}
+    return [*((f"obs:{k}", v) for k, v in named.items()), ("ret", venv.ret_rms)]
+
+
 def _stats(venv) -> dict[str, np.ndarray]:
     """VecNormalize's running statistics as named arrays (empty without normalisation)."""
     if not hasattr(venv, "obs_rms"):
         return {}
-    rms = venv.obs_rms
-    named = dict(rms.items()) if isinstance(rms, dict) else {"": rms}
     out = {}
-    for key, stats in [*((f"obs:{k}", v) for k, v in named.items()), ("ret", venv.ret_rms)]:
+    for key, stats in _running(venv):
         out[f"{key}:mean"], out[f"{key}:var"] = np.asarray(stats.mean), np.asarray(stats.var)
         out[f"{key}:count"] = np.asarray(stats.count)
     out["returns"] = np.asarray(venv.returns)
@@ -51,9 +57,7 @@ def _restore_stats(venv, path: Path) -> None:
     try:
         with np.load(path, allow_pickle=False) as saved:
             data = {k: saved[k] for k in saved.files}
-        rms = venv.obs_rms
-        named = dict(rms.items()) if isinstance(rms, dict) else {"": rms}
-        for key, stats in [*((f"obs:{k}", v) for k, v in named.items()), ("ret", venv.ret_rms)]:
+        for key, stats in _running(venv):
             stats.mean, stats.var = data[f"{key}:mean"], data[f"{key}:var"]
             stats.count = float(data[f"{key}:count"])
         venv.returns = data["returns"]

@@ -38,6 +38,21 @@ def _refused_once(done: list[subprocess.CompletedProcess]) -> subprocess.Complet
     return refused
 
 
+def _finished(tmp_path, *names: str) -> list:
+    """Run folders ``tmp_path/runs/<name>`` of the tiny config, each finished."""
+    config = write_config(tmp_path / "tiny.yaml", TINY)
+    folders = [tmp_path / "runs" / name for name in names]
+    for folder in folders:
+        animat("run", config, "--out", folder, "--quiet")
+    return folders
+
+
+def _set_status(folder, **fields) -> None:
+    """Rewrite the run's result.json with ``fields`` changed (a run as it would be left)."""
+    status = json.loads((folder / "result.json").read_text())
+    (folder / "result.json").write_text(json.dumps({**status, **fields}))
+
+
 def test_a_held_lock_refuses_a_run_and_a_resume_in_one_line_and_writes_nothing(tmp_path):
     config = write_config(tmp_path / "tiny.yaml", TINY)
     empty = tmp_path / "empty"
@@ -46,10 +61,8 @@ def test_a_held_lock_refuses_a_run_and_a_resume_in_one_line_and_writes_nothing(t
         refused = animat("run", config, "--out", empty, check=False)
     assert refused.returncode == 2 and "another process is making or running" in refused.stderr
     assert sorted(p.name for p in empty.iterdir()) == [".lock"]
-    folder = tmp_path / "run"
-    animat("run", config, "--out", folder, "--quiet")
-    status = json.loads((folder / "result.json").read_text())
-    (folder / "result.json").write_text(json.dumps({**status, "status": "failed"}))
+    (folder,) = _finished(tmp_path, "run")
+    _set_status(folder, status="failed")
     with run_lock(folder):
         again = animat("run", "--resume", folder, check=False)
     assert again.returncode == 2 and len(again.stderr.strip().splitlines()) == 1
@@ -73,11 +86,8 @@ def test_two_processes_given_one_out_folder_run_it_once(tmp_path):
 
 
 def test_two_resumes_of_one_folder_run_it_once(tmp_path):
-    config = write_config(tmp_path / "tiny.yaml", TINY)
-    folder = tmp_path / "run"
-    animat("run", config, "--out", folder, "--quiet")
-    status = json.loads((folder / "result.json").read_text())
-    (folder / "result.json").write_text(json.dumps({**status, "status": "failed"}))
+    (folder,) = _finished(tmp_path, "run")
+    _set_status(folder, status="failed")
     refused = _refused_once(_race(["run", "--resume", folder, "--quiet"],
                                   ["run", "--resume", folder, "--quiet"]))
     assert any(m in refused.stderr for m in ("another process", "still running", "is done"))
@@ -85,10 +95,7 @@ def test_two_resumes_of_one_folder_run_it_once(tmp_path):
 
 
 def test_a_corrupt_file_of_a_run_folder_is_named_in_one_line_and_compare_goes_on(tmp_path):
-    config = write_config(tmp_path / "tiny.yaml", TINY)
-    good, broken = tmp_path / "runs" / "good", tmp_path / "runs" / "broken"
-    for folder in (good, broken):
-        animat("run", config, "--out", folder, "--quiet")
+    good, broken = _finished(tmp_path, "good", "broken")
     (broken / "artefacts.json").write_text('{"controller": ')  # truncated
     refused = animat("eval", broken, "--episodes", "1", check=False)
     assert refused.returncode == 1 and len(refused.stderr.strip().splitlines()) == 1
@@ -97,8 +104,7 @@ def test_a_corrupt_file_of_a_run_folder_is_named_in_one_line_and_compare_goes_on
     compared = animat("compare", tmp_path / "runs", "--metric", "eval/speed_bl_per_s")
     assert f"animat: warning: {broken}: left out" in compared.stderr
     assert "| annealing | 1 (1) |" in compared.stdout
-    status = json.loads((good / "result.json").read_text())
-    (good / "result.json").write_text(json.dumps({**status, "status": "failed"}))
+    _set_status(good, status="failed")
     (good / "checkpoints" / "checkpoint.json").write_text('{"format": "artificial-ani')
     resumed = animat("run", "--resume", good, check=False)
     assert resumed.returncode == 1 and len(resumed.stderr.strip().splitlines()) == 1
@@ -124,21 +130,14 @@ def test_a_running_status_whose_lock_is_free_is_a_dead_run_and_resumes(tmp_path)
     folder's lock, which the kernel frees when the run's process dies, is what says."""
     import os
 
-    config = write_config(tmp_path / "tiny.yaml", TINY)
-    folder = tmp_path / "run"
-    animat("run", config, "--out", folder, "--quiet")
-    status = json.loads((folder / "result.json").read_text())
-    (folder / "result.json").write_text(json.dumps({**status, "status": "running",
-                                                    "pid": os.getpid()}))  # alive: this one
+    (folder,) = _finished(tmp_path, "run")
+    _set_status(folder, status="running", pid=os.getpid())  # alive: this one
     animat("run", "--resume", folder, "--quiet")
     assert json.loads((folder / "result.json").read_text())["status"] == "done"
 
 
 def test_compare_leaves_out_a_run_whose_config_is_malformed(tmp_path):
-    config = write_config(tmp_path / "tiny.yaml", TINY)
-    good, odd = tmp_path / "runs" / "good", tmp_path / "runs" / "odd"
-    for folder in (good, odd):
-        animat("run", config, "--out", folder, "--quiet")
+    good, odd = _finished(tmp_path, "good", "odd")
     text = (odd / "config.yaml").read_text().replace("label: null", "label: [x]")
     (odd / "config.yaml").write_text(text)
     compared = animat("compare", tmp_path / "runs", "--metric", "eval/speed_bl_per_s")
