@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import sys
 from pathlib import Path
 
@@ -368,6 +369,9 @@ def main(argv: list[str] | None = None) -> int:
             raise
         print("animat: interrupted", file=sys.stderr)
         return 130
+    except BrokenPipeError:  # the reader went away (animat list | head): nothing to say
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())  # no flush error at exit
+        return 141
     except Exception as error:
         if args.debug:
             raise

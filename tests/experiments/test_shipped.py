@@ -165,3 +165,13 @@ def test_a_sweep_or_a_study_cannot_write_one_output_from_many_runs(tmp_path):
                    check=False)
     assert tuned.returncode == 2 and "the 3 runs of the study would all write" in tuned.stderr
     assert not (tmp_path / "sweep").exists() and not (tmp_path / "tune").exists()
+
+
+def test_list_into_a_closed_pipe_says_nothing():
+    import subprocess
+    import sys
+
+    # the reader (true) is gone long before animat has imported and prints
+    done = subprocess.run(f"{sys.executable} -m animat.experiments list | true", shell=True,
+                          capture_output=True, text=True, cwd=ROOT, timeout=120)
+    assert done.returncode == 0 and done.stderr == ""
