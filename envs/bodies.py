@@ -9,6 +9,7 @@ from __future__ import annotations
 from collections.abc import Callable
 
 from animat.envs.body import BodySpec
+from animat.envs.checks import shown
 from animat.envs.dolphin import dolphin_body
 from animat.envs.fish import fish_body
 
@@ -20,7 +21,7 @@ def make_body(body: str | BodySpec | None) -> BodySpec:
     if isinstance(body, BodySpec):
         return body
     name = "fish" if body is None else body
-    if name not in BODIES:
-        raise ValueError(f"unknown body {name!r}; choose one of {sorted(BODIES)} or pass a "
-                         "BodySpec")
+    if not (isinstance(name, str) and name in BODIES):
+        raise ValueError(f"unknown body {shown(name)}; choose one of {sorted(BODIES)} or pass "
+                         "a BodySpec")
     return BODIES[name]()

@@ -2,14 +2,15 @@
 its repertoire, and the start under water that they and the stunts (:mod:`animat.envs.stunts`)
 share. Shapes and units as in :mod:`animat.envs.tasks`.
 
-Every dolphin task starts the body ``start_depth`` m under the surface (z = 0), heading +x,
-pitched by ``start_pitch_deg``, at ``start_speed`` (0: at rest).
+Every dolphin task starts the body ``start_depth`` m under the surface (z = 0; in [-100, 1000]
+m), heading +x, pitched by ``start_pitch_deg`` (in [-90, 90]), at ``start_speed`` (0: at rest;
+in [0, 20] m/s).
 
 * ``dolphin_forward`` (move-forward): E_v = -u, the speed along the start heading, BL/s.
 * ``dolphin_turn``: ``direction`` up, down, left or right by ``angle_deg``; E_v is the squared
   pitch or yaw error, rad^2.
-* ``dolphin_arc``: a turn of radius ``radius_bl`` swum round at speed; E_v = -the speed along
-  the circle, BL/s.
+* ``dolphin_arc``: a turn of radius ``radius_bl`` (in (0, 100] BL) swum round at speed;
+  E_v = -the speed along the circle, BL/s.
 * ``dolphin_spin``: a pitch spin (a turn of no radius); E_v = -the body's pitch rate in the
   ``direction`` (its angular momentum about the lateral axis over its inertia), rad/s.
 """
@@ -20,9 +21,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from animat.envs.checks import check_number
 from animat.envs.dolphin_motor import dolphin_swim_mc, dolphin_turn_mc
 from animat.envs.physics.observe import momenta
 from animat.envs.tasks import SwimTask, Task, TurnTask, World, heading_yaw, wrap_angle
+
+MAX_HEIGHT, MAX_DEPTH = 100.0, 1000.0  # m, a start above and under the surface
+MAX_START_SPEED = 20.0  # m/s
 
 
 def placed(body, depth: float, pitch_deg: float) -> np.ndarray:
@@ -52,14 +57,13 @@ class Underwater:
     start_speed: float
 
     def check_start(self) -> None:
-        if not np.isfinite(self.start_depth):
-            raise ValueError(f"start_depth must be a number of metres (negative: above the "
-                             f"surface), got {self.start_depth!r}")
-        if not -90.0 <= self.start_pitch_deg <= 90.0:
-            raise ValueError(f"start_pitch_deg must be in [-90, 90], got "
-                             f"{self.start_pitch_deg!r}")
-        if not (np.isfinite(self.start_speed) and self.start_speed >= 0.0):
-            raise ValueError(f"start_speed must be a speed >= 0 m/s, got {self.start_speed!r}")
+        """``start_depth`` in [-100, 1000] m (negative: above the surface),
+        ``start_pitch_deg`` in [-90, 90], ``start_speed`` in [0, 20] m/s (a dolphin's top
+        speed is ~11 m/s); else a ValueError of one line naming the argument."""
+        check_number("start_depth", self.start_depth, -MAX_HEIGHT, MAX_DEPTH, "m",
+                     note="negative: above the surface")
+        check_number("start_pitch_deg", self.start_pitch_deg, -90.0, 90.0, "deg")
+        check_number("start_speed", self.start_speed, 0.0, MAX_START_SPEED, "m/s")
 
     def place(self, body):
         return placed(body, self.start_depth, self.start_pitch_deg)
@@ -106,14 +110,13 @@ class DolphinTurnTask(Underwater, TurnTask):
         if self.direction not in ("up", "down", "left", "right"):
             raise ValueError(f"direction must be up, down, left or right, got "
                              f"{self.direction!r}")
+        self.check_start()
         limit = 180.0
         if self.direction in ("up", "down"):  # a pitch beyond +-90 deg is not a pitch
             sign = 1.0 if self.direction == "up" else -1.0
             limit = 90.0 - sign * float(self.start_pitch_deg)
-        if not 0.0 < float(self.angle_deg) <= limit:
-            raise ValueError(f"angle_deg must be in (0, {limit:g}] for {self.direction} from "
-                             f"start_pitch_deg {self.start_pitch_deg:g}, got {self.angle_deg!r}")
-        self.check_start()
+        check_number("angle_deg", self.angle_deg, 0.0, limit, "deg", low_open=True,
+                     note=f"for {self.direction} from start_pitch_deg {self.start_pitch_deg:g}")
 
     def _error(self, frames):
         sign = 1.0 if self.direction in ("up", "left") else -1.0
@@ -159,8 +162,7 @@ class DolphinArcTask(Underwater, Task):
     def __post_init__(self) -> None:
         if self.direction not in ("up", "down"):
             raise ValueError(f"direction must be up or down, got {self.direction!r}")
-        if not (np.isfinite(self.radius_bl) and self.radius_bl > 0.0):
-            raise ValueError(f"radius_bl must be a length > 0 BL, got {self.radius_bl!r}")
+        check_number("radius_bl", self.radius_bl, 0.0, 100.0, "BL", low_open=True)
         self.check_start()
 
     def terms(self, com, com_vel, frames, targets, length, last):

@@ -13,13 +13,14 @@ actuations u in [0, 1] (finite differences over env steps), E_v from the task.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from typing import NamedTuple
 
 import numpy as np
 from numba import njit
 
 from animat.envs.body import BodySpec
+from animat.envs.checks import check_flag, check_integer, check_number, shown
 from animat.envs.fish import fish_body
 from animat.envs.motor import FinParams
 from animat.envs.physics.integrator import step_batch
@@ -29,17 +30,47 @@ from animat.envs.tasks import Task, World
 
 OBS_LIMIT = 1e4  # observation entries are clipped to +-OBS_LIMIT
 DEFAULT_FRAME_SKIP = 40  # integration steps per env step: 40 x 1.25 ms = 0.05 s
+# What a batch accepts, so that a step and an episode cost a bounded time (one integration
+# step of one fish takes ~5 us): one env step at most MAX_FRAME_SKIP integration steps (~0.05 s
+# a fish), an episode at most MAX_DURATION s and MAX_EPISODE_SUBSTEPS integration steps.
+MAX_FRAME_SKIP = 10_000
+MAX_DURATION = 86_400.0  # s, a simulated day
+MAX_EPISODE_SUBSTEPS = 10**9  # duration / physics_dt
+MIN_PHYSICS_DT, MAX_PHYSICS_DT = 1e-6, 1.0  # s (the body's stability bound is lower: System)
+MAX_NUM_ENVS = 65_536
+MAX_RESET_NOISE = 0.1  # BL
+MAX_REWARD_WEIGHT = 1e6
 
 
 @dataclass(frozen=True)
 class RewardWeights:
     """Weights of Eq. (1): mu1 (controller), mu2 (trajectory); nu1 (|du/dt|^2), nu2
-    (|d^2u/dt^2|^2)."""
+    (|d^2u/dt^2|^2). Each a finite number in [0, ``MAX_REWARD_WEIGHT``] (1e6)."""
 
     mu1: float = 1e-4
     mu2: float = 1.0
     nu1: float = 1.0
     nu2: float = 0.01
+
+    def __post_init__(self) -> None:
+        for name in ("mu1", "mu2", "nu1", "nu2"):
+            check_number(f"reward_weights.{name}", getattr(self, name), 0.0, MAX_REWARD_WEIGHT)
+
+    @classmethod
+    def from_value(cls, value: RewardWeights | dict | None) -> RewardWeights:
+        """The weights of an env's ``reward_weights`` argument: None (the defaults), weights,
+        or a dict of some of mu1, mu2, nu1, nu2; anything else, or an unknown name, is a
+        ValueError of one line naming it."""
+        if value is None or isinstance(value, RewardWeights):
+            return value or cls()
+        if not isinstance(value, dict):
+            raise ValueError(f"reward_weights must be a dict of mu1, mu2, nu1, nu2, got "
+                             f"{shown(value)}")
+        unknown = sorted(map(str, set(value) - {"mu1", "mu2", "nu1", "nu2"}))
+        if unknown:
+            raise ValueError(f"reward_weights: unknown weight(s) {shown(unknown)}; known: "
+                             "['mu1', 'mu2', 'nu1', 'nu2']")
+        return cls(**value)
 
 
 def validate_actions(actions: np.ndarray, shape: tuple[int, ...]) -> np.ndarray:
@@ -134,6 +165,26 @@ class Kinematics(NamedTuple):
     frames: np.ndarray
 
 
+def check_arguments(num_envs: int, physics_dt: float, frame_skip: int, duration: float,
+                    reset_noise_scale: float, fins: bool, fin_max_angle: float) -> None:
+    """Check a batch's arguments (:class:`FishBatch`), each a ValueError of one line naming
+    it: ``num_envs`` an integer in [1, 65536]; ``physics_dt`` a finite number in [1e-6, 1] s
+    (:class:`~envs.physics.system.System` refuses one above the body's stability bound);
+    ``frame_skip`` an integer in [1, 10000]; ``duration`` a finite number in (0, 86400] s
+    and at most 1e9 integration steps (``duration / physics_dt``); ``reset_noise_scale`` in
+    [0, 0.1] BL; ``fins`` a bool; ``fin_max_angle`` in [0, pi/2] rad."""
+    check_integer("num_envs", num_envs, 1, MAX_NUM_ENVS)
+    dt = check_number("physics_dt", physics_dt, MIN_PHYSICS_DT, MAX_PHYSICS_DT, "s")
+    check_integer("frame_skip", frame_skip, 1, MAX_FRAME_SKIP)
+    longest = min(MAX_DURATION, MAX_EPISODE_SUBSTEPS * dt)
+    note = "" if longest == MAX_DURATION else (
+        f"at most {MAX_EPISODE_SUBSTEPS:.0e} steps of physics_dt {dt:g} s an episode")
+    check_number("duration", duration, 0.0, longest, "s", low_open=True, note=note)
+    check_number("reset_noise_scale", reset_noise_scale, 0.0, MAX_RESET_NOISE, "BL")
+    check_flag("fins", fins)
+    check_number("fin_max_angle", fin_max_angle, 0.0, np.pi / 2, "rad")
+
+
 class FishBatch:
     """B fish doing one task: a :class:`~envs.physics.system.System` (fixed), a
     :class:`FishState` (``state``, what changes) and the step, measurement and observation
@@ -153,6 +204,9 @@ class FishBatch:
         fins: if True the actions carry the pectoral fin angles too: (B, A + P), the last P
             entries in [-1, 1] setting fin p to ``fin_max_angle`` (rad) times the entry.
         fin_max_angle: rad, the fin angle of an action entry of 1 (the fin-MC's gain).
+
+    The numbers are checked (:func:`check_arguments`): a bad one is a ValueError of one line
+    naming it.
     """
 
     def __init__(self, num_envs: int, task: Task, body: BodySpec | None = None,
@@ -161,10 +215,8 @@ class FishBatch:
                  duration: float = 10.0, reset_noise_scale: float = 0.005,
                  weights: RewardWeights = RewardWeights(), fins: bool = False,
                  fin_max_angle: float = FinParams().max_angle) -> None:
-        if int(frame_skip) < 1:
-            raise ValueError(f"frame_skip must be >= 1, got {frame_skip!r}")
-        if not duration > 0:
-            raise ValueError(f"duration must be > 0 seconds, got {duration!r}")
+        check_arguments(num_envs, physics_dt, frame_skip, duration, reset_noise_scale, fins,
+                        fin_max_angle)
         self.task, self.weights = task, weights
         self.system = System(body or fish_body(), Water.from_dict(water), dt=physics_dt)
         self.body = self.system.body
@@ -204,6 +256,30 @@ class FishBatch:
         if self.ball is not None:
             state.ball[rows] = np.concatenate([self.ball.rest, np.zeros(3)])
         state.origin[rows] = self.kinematics().com[rows]
+
+    def get_state(self) -> dict[str, np.ndarray]:
+        """A copy of everything that changes (:class:`FishState`'s arrays by name): given to
+        :meth:`set_state` of a batch of the same config, it continues exactly from here."""
+        return {f.name: getattr(self.state, f.name).copy() for f in fields(FishState)}
+
+    def set_state(self, saved: dict[str, np.ndarray]) -> None:
+        """Continue from ``saved`` (:meth:`get_state`'s dict); ValueError naming the first
+        entry that does not fit this batch (wrong name, dtype or shape, or NaN), before
+        anything is changed."""
+        names = [f.name for f in fields(FishState)]
+        if sorted(saved) != sorted(names):
+            raise ValueError(f"a fish state has the entries {names}, got {sorted(saved)}")
+        arrays = {}
+        for name in names:
+            current, value = getattr(self.state, name), np.asarray(saved[name])
+            if value.shape != current.shape or value.dtype != current.dtype:
+                raise ValueError(f"fish state {name!r} must be {current.dtype} of shape "
+                                 f"{current.shape}, got {value.dtype} of shape {value.shape}")
+            if np.isnan(value).any():
+                raise ValueError(f"fish state {name!r} holds NaN")
+            arrays[name] = value.copy()
+        for name, value in arrays.items():
+            setattr(self.state, name, value)
 
     def kinematics(self) -> Kinematics:
         """Centre of mass, its velocity and the body frames of the current state."""

@@ -66,10 +66,20 @@ Task arguments: swim ``target_speed`` (BL/s, None); turn ``angle_deg`` (90), ``d
 (``"left"``); reach ``distance_bl`` ((2, 4)), ``bearing_deg`` ((-180, 180)), ``final_weight``
 (20).
 
+Every argument is checked as it enters, and a bad one is a ``ValueError`` of one line naming
+it and its value: ``duration`` in (0, 86400] s (and at most 1e9 integration steps of
+``physics_dt``), ``physics_dt`` in [1e-6, 1] s, ``frame_skip`` an integer in [1, 10000],
+``num_envs`` in [1, 65536], ``reset_noise_scale`` in [0, 0.1] BL, each reward weight in
+[0, 1e6] (:func:`animat.envs.fish_core.check_arguments`), the water's fields
+(:class:`~envs.physics.system.Water`) and the task's arguments in their ranges (each task's
+docstring): so that no argument gives NaN, and a step and an episode have a bounded cost.
+
 Public attributes (single env through ``env.unwrapped``; the vector env directly): ``dt`` (s),
 ``body_length`` (m), ``body`` (the ``BodySpec``), ``task`` (the :class:`~envs.tasks.Task`),
 ``episode_steps`` (env steps per episode) and ``node_positions`` (world frame, m: (N, 3), or
-(B, N, 3) for the vector env; a copy).
+(B, N, 3) for the vector env; a copy). ``get_state()`` and ``set_state(state)``: everything
+that changes (the bodies, the random generators), as arrays and plain values, to continue
+exactly from a saved moment (:meth:`FishVectorEnv.get_state`).
 """
 
 from __future__ import annotations
@@ -84,8 +94,10 @@ from gymnasium.vector.utils import batch_space
 
 from animat.envs.bodies import make_body
 from animat.envs.body import BodySpec
+from animat.envs.checks import check_integer, shown
 from animat.envs.fish_core import (
     DEFAULT_FRAME_SKIP,
+    MAX_NUM_ENVS,
     FishBatch,
     RewardWeights,
     validate_actions,
@@ -105,11 +117,10 @@ def _make_core(num_envs: int, task: str, task_kwargs: dict, body: str | BodySpec
                water: dict | None, fins: bool, base_water: dict | None = None) -> FishBatch:
     for name, value in (("water", water), ("base_water", base_water)):
         if value is not None and not isinstance(value, dict):
-            raise ValueError(f"{name} must be a dict of Water fields, got {value!r}")
+            raise ValueError(f"{name} must be a dict of Water fields, got {shown(value)}")
     water = {**(base_water or {}), **(water or {})} or None  # water changes fields of the base
     task_object = make_task(task, **task_kwargs)
-    weights = reward_weights if isinstance(reward_weights, RewardWeights) else RewardWeights(
-        **(reward_weights or {}))
+    weights = RewardWeights.from_value(reward_weights)
     return FishBatch(num_envs, task_object, body=make_body(body), water=water,
                      physics_dt=physics_dt, frame_skip=frame_skip,
                      reset_noise_scale=reset_noise_scale,
@@ -153,6 +164,17 @@ def _render_row(renderer, core: FishBatch, row: int) -> np.ndarray:
 
 def _action_space(core: FishBatch) -> gym.spaces.Box:
     return gym.spaces.Box(-1.0, 1.0, (core.action_size,), np.float32)
+
+
+def _generator(state: dict) -> np.random.Generator:
+    """A random generator continuing from ``state`` (a ``PCG64`` ``bit_generator.state``, the
+    kind Gymnasium's seeding makes); ValueError when it is not one."""
+    generator = np.random.Generator(np.random.PCG64())
+    try:
+        generator.bit_generator.state = state
+    except (TypeError, ValueError, KeyError) as error:
+        raise ValueError(f"not a PCG64 random generator's state ({error})") from None
+    return generator
 
 
 class FishEnv(_PublicSurface, gym.Env):
@@ -211,6 +233,20 @@ class FishEnv(_PublicSurface, gym.Env):
             self._renderer = _renderer(self.core)
         return _render_row(self._renderer, self.core, 0)
 
+    def get_state(self) -> dict:
+        """Everything that changes, as arrays and plain values: the fish's state
+        (:meth:`FishBatch.get_state`) and the random generator that the next reset draws
+        from. :meth:`set_state` on an env of the same arguments continues exactly from here."""
+        return {"core": self.core.get_state(), "rng": self.np_random.bit_generator.state,
+                "started": self._started}
+
+    def set_state(self, saved: dict) -> None:
+        """Continue from ``saved`` (:meth:`get_state`'s dict); ValueError naming what does
+        not fit, before anything is changed."""
+        generator = _generator(saved["rng"])
+        self.core.set_state(saved["core"])
+        self.np_random, self._started = generator, bool(saved["started"])
+
     @property
     def node_positions(self) -> np.ndarray:
         """(N, 3) node positions, world frame, m (a copy)."""
@@ -251,11 +287,9 @@ class FishVectorEnv(_PublicSurface, VectorEnv):
         mode = _autoreset_mode(autoreset_mode)
         self.autoreset_mode = mode
         self.metadata = {**self.metadata, "autoreset_mode": mode}
-        if int(num_envs) < 1:
-            raise ValueError(f"num_envs must be >= 1, got {num_envs!r}")
         if render_mode not in (None, "rgb_array"):
             raise ValueError(f"render_mode must be None or 'rgb_array', got {render_mode!r}")
-        self.num_envs = int(num_envs)
+        self.num_envs = check_integer("num_envs", num_envs, 1, MAX_NUM_ENVS)
         self.core = _make_core(self.num_envs, task, task_kwargs, body, duration, physics_dt,
                                frame_skip, reset_noise_scale, reward_weights, water, fins,
                                base_water)
@@ -334,6 +368,27 @@ class FishVectorEnv(_PublicSurface, VectorEnv):
             self._renderer = _renderer(self.core)
         return tuple(_render_row(self._renderer, self.core, row) for row in range(self.num_envs))
 
+
+    def get_state(self) -> dict:
+        """Everything that changes, as arrays and plain values: the batch's state
+        (:meth:`FishBatch.get_state`), each sub-env's random generator (what its next reset
+        draws) and the pending next-step autoresets. :meth:`set_state` on a vector env of the
+        same arguments continues exactly from here (a checkpointed PPO run resumes with it)."""
+        return {"core": self.core.get_state(), "rngs": [g.bit_generator.state for g in self._rngs],
+                "autoreset": self._autoreset.copy(), "started": self._started}
+
+    def set_state(self, saved: dict) -> None:
+        """Continue from ``saved`` (:meth:`get_state`'s dict); ValueError naming what does
+        not fit, before anything is changed."""
+        if len(saved["rngs"]) != self.num_envs:
+            raise ValueError(f"a state of {len(saved['rngs'])} sub-envs, not {self.num_envs}")
+        rngs = [_generator(state) for state in saved["rngs"]]
+        autoreset = np.asarray(saved["autoreset"])
+        if autoreset.shape != (self.num_envs,) or autoreset.dtype != bool:
+            raise ValueError(f"autoreset must be {self.num_envs} booleans, got {autoreset!r}")
+        self.core.set_state(saved["core"])
+        self._rngs, self._autoreset = rngs, autoreset.copy()
+        self._started = bool(saved["started"])
 
     @property
     def node_positions(self) -> np.ndarray:

@@ -47,11 +47,12 @@ sight, 2 BL beyond the prey, heading across it.
 No termination; truncation after ``duration`` s (default 20).
 
 ## Arguments
-``duration`` (s, 20), ``start_distance_bl`` ((3, 5)), ``flee_distance_bl`` (2.5),
-``prey_speed`` (0.5), ``render_mode`` (``"rgb_array"``: third person, 480x360;
-``"retina"``: the two eyes' composites side by side, 512x1024). Public attributes: ``dt``,
-``body_length``, ``episode_steps``, ``episode_summary()``, ``scene()``,
-``retina_images()``.
+``duration`` (s, 20; in (0, 86400]), ``start_distance_bl`` ((3, 5); within [1, 100]),
+``flee_distance_bl`` (2.5; in (0, 100]), ``prey_speed`` (0.5; the swim-MC's speed, in [0, 1]),
+``render_mode`` (``"rgb_array"``: third person, 480x360; ``"retina"``: the two eyes'
+composites side by side, 512x1024); each checked as it enters (a bad one is a ``ValueError``
+of one line naming it). Public attributes: ``dt``, ``body_length``, ``episode_steps``,
+``episode_summary()``, ``scene()``, ``retina_images()``.
 """
 
 from __future__ import annotations
@@ -59,6 +60,7 @@ from __future__ import annotations
 import gymnasium as gym
 import numpy as np
 
+from animat.envs.checks import check_number, check_range
 from animat.envs.fish_core import OBS_LIMIT, FishBatch
 from animat.envs.navigation import Navigator
 from animat.envs.perception import triangulate
@@ -78,6 +80,7 @@ COLOURS = ((250, 140, 60), (220, 50, 40), (230, 210, 40))
 THETA_RANGE, PHI_RANGE = np.radians(60.0), np.radians(30.0)
 FOVEA_HALF_ANGLE = np.radians(7.5)
 SEABED_Z = -0.5  # m
+MAX_DISTANCE_BL = 100.0  # the farthest start and flight distance, BL
 SCENERY = SceneryParams(rocks=5, plants=12, food=15, low=(-1.5, -3.0), high=(4.5, 3.0))
 
 
@@ -151,8 +154,11 @@ class FishPursuitEnv(gym.Env):
         self.render_mode = render_mode
         self.core = FishBatch(3, SwimTask(), duration=duration, fins=True)
         self.dt, self.body_length = self.core.dt, self.core.body.length
-        self.start_distance_bl = tuple(float(v) for v in start_distance_bl)
-        self.flee_distance_bl, self.prey_speed = float(flee_distance_bl), float(prey_speed)
+        self.start_distance_bl = check_range("start_distance_bl", start_distance_bl, 1.0,
+                                             MAX_DISTANCE_BL, "BL")
+        self.flee_distance_bl = check_number("flee_distance_bl", flee_distance_bl, 0.0,
+                                             MAX_DISTANCE_BL, "BL", low_open=True)
+        self.prey_speed = check_number("prey_speed", prey_speed, 0.0, 1.0)
         self.retina = RetinaParams()
         self.navigator = Navigator(3)
         self._live_init()

@@ -15,6 +15,7 @@ from typing import Protocol
 import gymnasium as gym
 import numpy as np
 
+from animat.envs.checks import shown
 from animat.envs.fish_core import OBS_LIMIT, FishBatch, Kinematics
 
 
@@ -49,7 +50,13 @@ class Observer:
     """Assembles the observation of a batch from ``sensors`` (default: proprioception)."""
 
     def __init__(self, core: FishBatch, sensors: list | None = None) -> None:
+        if sensors is not None and not isinstance(sensors, (list, tuple)):
+            raise ValueError(f"sensors must be a list of sensors, got {shown(sensors)}")
         self.sensors = list(sensors) if sensors else [Proprioception()]
+        for sensor in self.sensors:
+            if not all(hasattr(sensor, a) for a in ("name", "space", "read")):
+                raise ValueError(f"sensors: each must have a name, space() and read() "
+                                 f"(animat.envs.sensors.Sensor), got {shown(sensor)}")
         names = [s.name for s in self.sensors]
         if len(set(names)) != len(names):
             raise ValueError(f"sensor names must be unique, got {names}")

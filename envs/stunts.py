@@ -36,6 +36,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from animat.envs.checks import check_number, shown
 from animat.envs.dolphin import LEFT_TIP, RIGHT_TIP
 from animat.envs.dolphin_tasks import (
     DolphinArcTask,
@@ -56,6 +57,7 @@ TAIL_NODES = (17, 18, 19, 20, LEFT_TIP, RIGHT_TIP)
 (APEX, AIRBORNE, SPLASH, ROTATION, FORWARD_X, FORWARD_Y, FORWARD_Z, ENTRY_PITCH, REENTERED,
  NOSE_GAP, TAIL_GAP, SCORE, FIRST_TOUCH, BALL_OFF, FLIGHT, BEST_FLIGHT) = range(16)
 BALL_OFF_DISTANCE = 0.1  # m the ball must move from its rest to have left its support
+MAX_BALL_OFFSET, MAX_BALL_HEIGHT, MAX_BALL_RADIUS = 1000.0, 100.0, 5.0  # m, BallTask's ranges
 FINAL_METRICS = ("apex_height_bl", "airborne", "rotation_deg", "flight_rotation_deg",
                  "reentry_splash", "entry_pitch_deg")
 BALL_METRICS = ("nose_gap_bl", "tail_gap_bl", "first_touch", "ball_off", "ball_hit")
@@ -201,7 +203,8 @@ class BallTask(StuntTask):
     support with its top at (``ball_x``, ``ball_y``, ``ball_height``) m (by default where the
     leap macro controller of ``configs/dolphin_leap_macro.yaml`` broke the surface: where a
     trainer holds the ball); observation: height, then the ball relative to the centre of
-    mass in the body frame, BL."""
+    mass in the body frame, BL. Ranges: ``ball_x``, ``ball_y`` in [-1000, 1000] m,
+    ``ball_height`` in [-100, 100] m (from the surface, z = 0), ``ball_radius`` in (0, 5] m."""
 
     part: str = "nose"
     ball_x: float = 15.3
@@ -214,7 +217,11 @@ class BallTask(StuntTask):
     def __post_init__(self) -> None:
         super().__post_init__()
         if self.part not in ("nose", "tail"):
-            raise ValueError(f"part must be 'nose' or 'tail', got {self.part!r}")
+            raise ValueError(f"part must be 'nose' or 'tail', got {shown(self.part)}")
+        for name in ("ball_x", "ball_y"):
+            check_number(name, getattr(self, name), -MAX_BALL_OFFSET, MAX_BALL_OFFSET, "m")
+        check_number("ball_height", self.ball_height, -MAX_BALL_HEIGHT, MAX_BALL_HEIGHT, "m")
+        check_number("ball_radius", self.ball_radius, 0.0, MAX_BALL_RADIUS, "m", low_open=True)
         self.ball = BallParams(radius=float(self.ball_radius),
                                support=(float(self.ball_x), float(self.ball_y),
                                         float(self.ball_height)))

@@ -13,11 +13,12 @@ are reported in body lengths (BL) and BL/s, angles in degrees.
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, fields, is_dataclass
 from typing import Any, NamedTuple
 
 import numpy as np
 
+from animat.envs.checks import check_number, check_range, shown
 from animat.envs.motor import swim_mc, turn_mc
 
 
@@ -169,8 +170,9 @@ class SwimTask(Task):
     the net displacement along the start heading per second: a fish that veers or circles
     scores only what it makes good (the paper's E_v, "deviation from desired speed", holds as
     is). Without ``target_speed`` E_v = -u
-    (faster is better); with it E_v = (u - target_speed)^2. Metrics: ``speed_bl_per_s`` (u),
-    ``distance_bl`` (net horizontal distance from the start, BL), ``heading_deg``."""
+    (faster is better); with it (in [0, 10] BL/s) E_v = (u - target_speed)^2. Metrics:
+    ``speed_bl_per_s`` (u), ``distance_bl`` (net horizontal distance from the start, BL),
+    ``heading_deg``."""
 
     target_speed: float | None = None
     name = "swim"
@@ -178,8 +180,8 @@ class SwimTask(Task):
     mean_metrics = ("speed_bl_per_s",)
 
     def __post_init__(self) -> None:
-        if self.target_speed is not None and not (0.0 <= float(self.target_speed) <= 10.0):
-            raise ValueError(f"target_speed must be in [0, 10] BL/s, got {self.target_speed!r}")
+        if self.target_speed is not None:
+            check_number("target_speed", self.target_speed, 0.0, 10.0, "BL/s")
         self.obs_size = 0 if self.target_speed is None else 1
 
     def observe(self, com, com_vel, frames, targets, length):
@@ -204,8 +206,8 @@ class SwimTask(Task):
 
 @dataclass
 class TurnTask(Task):
-    """Turn by ``angle_deg`` to the left (``direction="left"``) or right. E_v is the squared
-    heading error (rad^2); observation: sin and cos of the heading error."""
+    """Turn by ``angle_deg`` (in (0, 180]) to the left (``direction="left"``) or right. E_v is
+    the squared heading error (rad^2); observation: sin and cos of the heading error."""
 
     angle_deg: float = 90.0
     direction: str = "left"
@@ -216,8 +218,7 @@ class TurnTask(Task):
     def __post_init__(self) -> None:
         if self.direction not in ("left", "right"):
             raise ValueError(f"direction must be 'left' or 'right', got {self.direction!r}")
-        if not (0.0 < float(self.angle_deg) <= 180.0):
-            raise ValueError(f"angle_deg must be in (0, 180], got {self.angle_deg!r}")
+        check_number("angle_deg", self.angle_deg, 0.0, 180.0, "deg", low_open=True)
 
     @property
     def target_yaw(self) -> float:
@@ -252,7 +253,8 @@ class ReachTask(Task):
     at a bearing drawn uniformly from ``bearing_deg`` (0: straight ahead, 180: behind, positive:
     left), at the start depth. E_v = distance to the goal (BL) at every step, plus
     ``final_weight`` times the distance on the episode's last step. Observation: the goal in
-    the body frame, BL."""
+    the body frame, BL. Ranges: ``distance_bl`` within [0, 1000] BL, ``bearing_deg`` within
+    [-360, 360] deg (each low <= high), ``final_weight`` in [0, 1000]."""
 
     distance_bl: tuple[float, float] = (2.0, 4.0)
     bearing_deg: tuple[float, float] = (-180.0, 180.0)
@@ -263,12 +265,9 @@ class ReachTask(Task):
     default_duration = 20.0
 
     def __post_init__(self) -> None:
-        for name in ("distance_bl", "bearing_deg"):
-            low, high = (float(v) for v in getattr(self, name))
-            if not low <= high:
-                raise ValueError(f"{name} must be a (low, high) range, got {getattr(self, name)!r}")
-        if self.distance_bl[0] < 0:
-            raise ValueError(f"distance_bl must be >= 0, got {self.distance_bl!r}")
+        check_range("distance_bl", self.distance_bl, 0.0, 1000.0, "BL")
+        check_range("bearing_deg", self.bearing_deg, -360.0, 360.0, "deg")
+        check_number("final_weight", self.final_weight, 0.0, 1000.0)
 
     def sample(self, rng):
         distance = rng.uniform(*self.distance_bl)
@@ -292,7 +291,12 @@ TASKS: dict[str, type[Task]] = {"swim": SwimTask, "turn": TurnTask, "reach": Rea
 
 
 def make_task(name: str, **kwargs) -> Task:
-    """The task ``name`` with its keyword arguments; a clear error for an unknown name."""
-    if name not in TASKS:
-        raise ValueError(f"unknown task {name!r}; choose one of {sorted(TASKS)}")
+    """The task ``name`` with its keyword arguments; a ValueError of one line for an unknown
+    name or argument (each task checks its arguments' values)."""
+    if not (isinstance(name, str) and name in TASKS):
+        raise ValueError(f"unknown task {shown(name)}; choose one of {sorted(TASKS)}")
+    known = sorted(f.name for f in fields(TASKS[name])) if is_dataclass(TASKS[name]) else []
+    unknown = sorted(map(str, set(kwargs) - set(known)))
+    if known and unknown:
+        raise ValueError(f"task {name!r} has no argument(s) {unknown}; its arguments: {known}")
     return TASKS[name](**kwargs)

@@ -27,6 +27,7 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
+from animat.envs.checks import check_vector
 from animat.envs.physics.forces import sphere_submerged
 
 BODY_PART, NOSE_PART, TAIL_PART = 0, 1, 2
@@ -59,9 +60,8 @@ class BallParams:
             value = getattr(self, name)
             if not (isinstance(value, (int, float)) and np.isfinite(value) and value > 0):
                 raise ValueError(f"ball.{name} must be a number > 0, got {value!r}")
-        if len(tuple(self.support)) != 3:
-            raise ValueError(f"ball.support must be 3 numbers (x, y, z) m, got {self.support!r}")
-        object.__setattr__(self, "support", tuple(float(c) for c in self.support))
+        support = check_vector("ball.support (x, y, z)", self.support, 3, -1e4, 1e4, "m")
+        object.__setattr__(self, "support", support)
 
     @property
     def rest(self) -> np.ndarray:

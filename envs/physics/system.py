@@ -16,8 +16,25 @@ from typing import NamedTuple
 import numpy as np
 
 from animat.envs.body import BodySpec, frozen_array
+from animat.envs.checks import check_number, check_vector, is_real, shown
 
 REACTION_LAWS = ("crossflow", "paper")
+# The ranges Water accepts (low, high, unit; air_pressure must be above its low): physically
+# sensible media that the integrator keeps finite, every field at its bound at once, at the
+# largest physics_dt System accepts, with the reset noise at its bound (tests/envs/
+# test_env_arguments.py). Drag kappa = 0.5 rho C_d of a liquid no denser than 2e4 kg/m^3
+# (mercury: 13,534) with C_d up to 2; skin friction 0.5 rho C_f with C_f up to 0.1 in water
+# (laminar flow at Re ~ 200; the fish's steps turn unstable at about 200, four times more);
+# up to 10 g; up to 100 bar at the surface.
+MAX_KAPPA, MAX_FRICTION = 2e4, 50.0  # kg/m^3, the drag and the skin friction coefficients'
+WATER_LIMITS = {"fluid_coefficient": (0.0, MAX_KAPPA, "kg/m^3"),
+                "air_coefficient": (0.0, MAX_KAPPA, "kg/m^3"),
+                "friction_coefficient": (0.0, MAX_FRICTION, "kg/m^3"),
+                "air_friction_coefficient": (0.0, MAX_FRICTION, "kg/m^3"),
+                "density": (0.0, 2e4, "kg/m^3"), "gravity": (0.0, 100.0, "m/s^2"),
+                "air_pressure": (0.0, 1e7, "Pa")}
+MAX_CURRENT = 20.0  # m/s, each component of the current (the fastest rivers: ~7 m/s)
+MAX_SURFACE_Z = 1e4  # m, the largest |surface_z| but inf (no surface)
 
 
 @dataclass(frozen=True)
@@ -41,7 +58,12 @@ class Water:
             :func:`animat.envs.physics.forces.compressed`).
 
     ``Water(fluid_coefficient=0, air_coefficient=0, friction_coefficient=0, gravity=0)`` is a
-    vacuum (:func:`vacuum`).
+    vacuum (:func:`vacuum`). Each field must be finite and within its range: the two drag
+    coefficients and ``density`` in [0, 2e4] kg/m^3, the two friction coefficients in
+    [0, 50] kg/m^3, ``gravity`` in [0, 100] m/s^2,
+    ``air_pressure`` in (0, 1e7] Pa (:data:`WATER_LIMITS`), each ``current`` component in
+    [-20, 20] m/s, ``surface_z`` in [-1e4, 1e4] m or ``inf``; a bad one is a ValueError of
+    one line naming the field and its value.
     """
 
     fluid_coefficient: float = 500.0
@@ -56,27 +78,21 @@ class Water:
     air_pressure: float = 101325.0
 
     def __post_init__(self) -> None:
-        for name in ("fluid_coefficient", "air_coefficient", "friction_coefficient",
-                     "air_friction_coefficient", "density", "gravity"):
-            value = getattr(self, name)
-            if not isinstance(value, (int, float)) or not np.isfinite(value) or value < 0:
-                raise ValueError(f"Water.{name} must be a finite number >= 0, got {value!r}")
-        if self.reaction not in REACTION_LAWS:
+        """Check every field: a finite number in its range (:data:`WATER_LIMITS`), ``current``
+        within +-``MAX_CURRENT`` m/s, ``surface_z`` also ``inf`` (no surface); a bad one is a
+        ValueError of one line naming the field and its value."""
+        for name, (low, high, unit) in WATER_LIMITS.items():
+            check_number(f"Water.{name}", getattr(self, name), low, high, unit,
+                         low_open=name == "air_pressure")
+        if not (isinstance(self.reaction, str) and self.reaction in REACTION_LAWS):
             raise ValueError(f"Water.reaction must be one of {REACTION_LAWS}, got "
-                             f"{self.reaction!r}")
-        if isinstance(self.surface_z, bool) or not isinstance(self.surface_z, (int, float)) or (
-                np.isnan(self.surface_z)):
-            raise ValueError(f"Water.surface_z must be a number (inf: no surface), got "
-                             f"{self.surface_z!r}")
-        if not (isinstance(self.air_pressure, (int, float)) and np.isfinite(self.air_pressure)
-                and self.air_pressure > 0):
-            raise ValueError(f"Water.air_pressure must be a finite number of pascals > 0, got "
-                             f"{self.air_pressure!r}")
-        current = tuple(self.current)
-        if len(current) != 3 or not all(isinstance(c, (int, float)) and np.isfinite(c)
-                                        for c in current):
-            raise ValueError(f"Water.current must be 3 finite numbers, got {self.current!r}")
-        object.__setattr__(self, "current", tuple(float(c) for c in current))
+                             f"{shown(self.reaction)}")
+        if not (is_real(self.surface_z) and self.surface_z == float("inf")):
+            check_number("Water.surface_z", self.surface_z, -MAX_SURFACE_Z, MAX_SURFACE_Z, "m",
+                         note="or inf: no surface")
+        current = check_vector("Water.current", self.current, 3, -MAX_CURRENT, MAX_CURRENT,
+                               "m/s")
+        object.__setattr__(self, "current", current)
 
     @classmethod
     def from_dict(cls, fields: dict | Water | None) -> Water:
@@ -86,7 +102,7 @@ class Water:
         if isinstance(fields, Water):
             return fields
         if not isinstance(fields, dict):
-            raise ValueError(f"water must be a dict of Water fields, got {fields!r}")
+            raise ValueError(f"water must be a dict of Water fields, got {shown(fields)}")
         unknown = sorted(set(fields) - set(asdict(cls())))
         if unknown:
             raise ValueError(f"water: unknown field(s) {unknown}; known: "

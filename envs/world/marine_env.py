@@ -46,8 +46,9 @@ hunger (0.3-0.8) and libido (0-0.6) drawn from the seed.
 No termination; truncation after ``duration`` s (60).
 
 ## Arguments
-``duration`` (s, 60), ``species`` ({name: count} of shark, minnow, angelfish; default 1, 6,
-3), ``food`` (15), ``obstacles`` (5), ``agent`` (a fish index or None), ``control``,
+``duration`` (s, 60; in (0, 86400]), ``species`` ({name: count} of shark, minnow, angelfish;
+default 1, 6, 3; each count in [0, 100]), ``food`` (15; in [0, 1000]), ``obstacles`` (5; in
+[0, 100]), ``agent`` (a fish index or None), ``control``,
 ``vision`` (a fish index or None: that fish hunts by its eyes), ``render_mode``
 (``"rgb_array"``: the tank from above a corner, 480x360). Public: ``world``, ``dt``,
 ``body_length``, ``episode_steps``, ``episode_summary()``.
@@ -58,7 +59,8 @@ from __future__ import annotations
 import gymnasium as gym
 import numpy as np
 
-from animat.envs.fish_core import OBS_LIMIT
+from animat.envs.checks import check_integer, check_number, shown
+from animat.envs.fish_core import MAX_DURATION, OBS_LIMIT
 from animat.envs.world.food import FoodParams
 from animat.envs.world.scene import WorldView
 from animat.envs.world.world import ANGELFISH, MINNOW, SHARK, MarineWorld, WorldParams
@@ -66,18 +68,30 @@ from animat.envs.world.world import ANGELFISH, MINNOW, SHARK, MarineWorld, World
 SPECIES = {"shark": SHARK, "minnow": MINNOW, "angelfish": ANGELFISH}
 CONTROLS = ("behaviour", "navigation", "muscles")
 SUMMED = ("food_eaten", "catches", "matings", "obstacle_collisions", "fish_collisions")
+MAX_SPECIES_COUNT, MAX_FOOD, MAX_OBSTACLES = 100, 1000, 100  # the sizes the env accepts
 
 
 def world_params(duration: float, species: dict | None, food: int, obstacles: int
                  ) -> WorldParams:
-    """The world of the env's arguments; an unknown species is an error naming it."""
-    counts = {"shark": 1, "minnow": 6, "angelfish": 3} if species is None else dict(species)
-    unknown = set(counts) - set(SPECIES)
+    """The world of the env's arguments, each checked (a ValueError of one line naming it):
+    ``duration`` in (0, 86400] s, ``species`` a dict of known names to counts in [0, 100]
+    with at least one fish, ``food`` in [0, 1000], ``obstacles`` in [0, 100]."""
+    check_number("duration", duration, 0.0, MAX_DURATION, "s", low_open=True)
+    counts = {"shark": 1, "minnow": 6, "angelfish": 3} if species is None else species
+    if not isinstance(counts, dict):
+        raise ValueError(f"species must be a dict of {{name: count}}, got {shown(counts)}")
+    unknown = sorted(map(str, set(counts) - set(SPECIES)))
     if unknown:
-        raise ValueError(f"species: unknown {sorted(unknown)}; choose from {sorted(SPECIES)}")
-    chosen = tuple((SPECIES[name], int(n)) for name, n in counts.items() if int(n) > 0)
-    return WorldParams(species=chosen, obstacles=int(obstacles), duration=float(duration),
-                       food=FoodParams(count=int(food)))
+        raise ValueError(f"species: unknown {unknown}; choose from {sorted(SPECIES)}")
+    counts = {name: check_integer(f"species.{name}", n, 0, MAX_SPECIES_COUNT)
+              for name, n in counts.items()}
+    if sum(counts.values()) < 1:
+        raise ValueError(f"species must give at least one fish, got {shown(species)}")
+    chosen = tuple((SPECIES[name], n) for name, n in counts.items() if n > 0)
+    return WorldParams(species=chosen, obstacles=check_integer("obstacles", obstacles, 0,
+                                                               MAX_OBSTACLES),
+                       duration=float(duration),
+                       food=FoodParams(count=check_integer("food", food, 0, MAX_FOOD)))
 
 
 class MarineSummary:
@@ -115,8 +129,10 @@ class MarineWorldEnv(gym.Env):
         self.world = MarineWorld(world_params(duration, species, food, obstacles))
         f = self.world.num_fish
         for name, row in (("agent", agent), ("vision", vision)):
-            if row is not None and not (isinstance(row, int) and 0 <= row < f):
-                raise ValueError(f"{name} must be a fish index in [0, {f}) or None, got {row!r}")
+            if row is not None and not (isinstance(row, int) and not isinstance(row, bool)
+                                        and 0 <= row < f):
+                raise ValueError(f"{name} must be a fish index in [0, {f}) or None, got "
+                                 f"{shown(row)}")
         if control != "behaviour" and agent is None:
             raise ValueError(f"control {control!r} needs an agent (a fish index)")
         if vision is not None and (vision == agent or not self.world.habits[vision].predator):

@@ -115,7 +115,7 @@ def test_compare_two_learners_writes_table_and_plot(tmp_path):
     (lambda d: d["learner"].update(name="ppo", params={}),
      "budget.env_steps: 3200 is less than one PPO rollout (4096 env steps"),
     (lambda d: d["env"]["kwargs"].update(duration=-1),
-     "env.kwargs: duration must be > 0 seconds, got -1"),
+     "env.kwargs: duration must be a finite number in (0, 86400] s, got -1"),
     (lambda d: d["learner"]["params"].update(chainz=3),
      "learner.params: learner 'annealing' does not take parameter(s) ['chainz']"),
 ])
