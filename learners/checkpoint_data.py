@@ -87,22 +87,24 @@ def from_data(data: Any, types: dict[str, type] | None = None) -> Any:
     return {k: from_data(v, types) for k, v in data.items()}
 
 
-def save(path: str | Path, run) -> None:
-    """Write ``run`` to ``path`` atomically, as JSON."""
-    text = json.dumps({"format": FORMAT, "run": to_data(run)})
+def save(path: str | Path, run, kind: str = FORMAT) -> None:
+    """Write ``run`` (any value :func:`to_data` takes) to ``path`` atomically, as JSON marked
+    as a ``kind`` of checkpoint (default: a black-box learner's)."""
+    text = json.dumps({"format": kind, "run": to_data(run)})
     atomic_write(path, lambda file: file.write(text))
 
 
-def load(path: str | Path):
-    """The run saved at ``path``, or None when there is none; CorruptFile naming the file when
-    it is not one of these checkpoints."""
+def load(path: str | Path, kind: str = FORMAT, types: dict[str, type] | None = None):
+    """The value saved at ``path`` as a ``kind`` of checkpoint, building only ``types``
+    (default: a black-box learner's), or None when there is none; CorruptFile naming the file
+    when it is not one of these checkpoints."""
     path = Path(path)
     if not path.exists():
         return None
     try:
         data = json.loads(path.read_text())
-        if not isinstance(data, dict) or data.get("format") != FORMAT:
-            raise ValueError("not a black-box checkpoint")
-        return from_data(data["run"])
+        if not isinstance(data, dict) or data.get("format") != kind:
+            raise ValueError(f"not a checkpoint of the format {kind!r}")
+        return from_data(data["run"], types)
     except (ValueError, TypeError, KeyError) as error:  # JSONDecodeError is a ValueError
         raise CorruptFile(path, f"cannot be read back ({error})") from None

@@ -3,12 +3,19 @@
 Every learner logs through a :class:`Logger`: scalars with a fixed tag and the global step,
 which is always the number of env steps consumed (CleanRL's convention), and text (e.g. the
 hyperparameters). Sinks: TensorBoard event files, a CSV of the same scalars, memory (tests).
+
+A run folder's sinks write each (tag, step) once. A killed run resumes from its last
+checkpoint, and every learner resumes exactly, so it logs again, with the same values, what it
+had logged between that checkpoint and the kill: the file sinks read what they already hold
+when they open and do not write it twice (no duplicate rows), and they write each record
+through to the file at once (a kill loses none of what was logged before the checkpoint).
 """
 
 from __future__ import annotations
 
 import csv
 import math
+import os
 from pathlib import Path
 from typing import Protocol
 
@@ -72,19 +79,40 @@ class MemorySink:
         return [(step, value) for t, value, step in self.records if t == tag]
 
 
+def _csv_held(path: Path) -> set[tuple[str, int]]:
+    """The (tag, step) of every row of a CSV sink's file, after cutting off a last row a kill
+    left unfinished (no newline); ValueError naming the file when it is not such a file."""
+    data = path.read_bytes()
+    if data and not data.endswith(b"\n"):
+        os.truncate(path, data.rfind(b"\n") + 1)
+    with path.open(newline="") as file:
+        rows = list(csv.reader(file))
+    if rows[:1] not in ([], [["step", "tag", "value"]]):
+        raise ValueError(f"{path}: not a scalars file (its header is {rows[0]})")
+    try:
+        return {(tag, int(step)) for step, tag, _ in rows[1:]}
+    except ValueError as error:
+        raise ValueError(f"{path}: a row is not step,tag,value ({error})") from None
+
+
 class CsvSink:
-    """Appends ``step,tag,value`` rows to a CSV file (flushed every row)."""
+    """Appends ``step,tag,value`` rows to a CSV file (flushed every row), each (tag, step)
+    once (see the module's docstring)."""
 
     def __init__(self, path: str | Path) -> None:
         path = Path(path)
         path.parent.mkdir(parents=True, exist_ok=True)
-        new = not path.exists()
+        self._held = _csv_held(path) if path.exists() else set()
+        new = not path.exists() or path.stat().st_size == 0
         self._file = path.open("a", newline="")
         self._writer = csv.writer(self._file)
         if new:
             self._writer.writerow(["step", "tag", "value"])
 
     def scalar(self, tag: str, value: float, step: int) -> None:
+        if (tag, step) in self._held:
+            return
+        self._held.add((tag, step))
         self._writer.writerow([step, tag, repr(value)])
         self._file.flush()
 
@@ -95,19 +123,43 @@ class CsvSink:
         self._file.close()
 
 
+def _events_held(log_dir: Path) -> set[tuple[str, int]]:
+    """The (tag, step) of every value in the event files of ``log_dir`` (a record a kill cut
+    short is passed over)."""
+    from tensorboard.backend.event_processing.event_file_loader import EventFileLoader
+
+    held = set()
+    for path in sorted(Path(log_dir).glob("events.out.tfevents.*")):
+        for event in EventFileLoader(str(path)).Load():
+            held.update((value.tag, int(event.step)) for value in event.summary.value)
+    return held
+
+
 class TensorBoardSink:
-    """TensorBoard event files in ``log_dir`` (torch's SummaryWriter)."""
+    """TensorBoard event files in ``log_dir`` (torch's SummaryWriter), each (tag, step) once,
+    flushed at every record (see the module's docstring)."""
 
     def __init__(self, log_dir: str | Path) -> None:
         from torch.utils.tensorboard import SummaryWriter
 
+        self._held = _events_held(Path(log_dir))
         self._writer = SummaryWriter(log_dir=str(log_dir))
 
+    def _new(self, tag: str, step: int) -> bool:
+        if (tag, step) in self._held:
+            return False
+        self._held.add((tag, step))
+        return True
+
     def scalar(self, tag: str, value: float, step: int) -> None:
-        self._writer.add_scalar(tag, value, step)
+        if self._new(tag, step):
+            self._writer.add_scalar(tag, value, step)
+            self._writer.flush()
 
     def text(self, tag: str, text: str, step: int) -> None:
-        self._writer.add_text(tag, text, step)
+        if self._new(f"{tag}/text_summary", step):  # the tag add_text writes
+            self._writer.add_text(tag, text, step)
+            self._writer.flush()
 
     def hparams(self, params: dict[str, object], metrics: dict[str, float]) -> None:
         """Into the same log folder (TensorBoard's HParams tab); the metrics are written under

@@ -43,6 +43,15 @@ def ppo_params(params: dict, owner: str) -> PPOParams:
         raise ValueError(f"{owner}: {where}: {message}") from None
 
 
+def _next_multiple(step: int, every: int) -> int:
+    """The first multiple of ``every`` after ``step``."""
+    return (int(step) // int(every) + 1) * int(every)
+
+
+# SB3's count of learn() iterations restarts at a resume; the env step (x) already says it
+NOT_FORWARDED = {"time/iterations"}
+
+
 def sb3_logger(logger):
     """An SB3 logger whose records (``train/*``, ``rollout/*``, ``time/*`` at the env step
     they were dumped) go into this run's logger, beside ``eval/*``."""
@@ -52,6 +61,8 @@ def sb3_logger(logger):
     class Forward(KVWriter):
         def write(self, key_values: dict, key_excluded: dict, step: int = 0) -> None:
             for key, value in key_values.items():
+                if key in NOT_FORWARDED:
+                    continue
                 if isinstance(value, int | float | np.number) and np.isfinite(value):
                     logger.scalar(key, float(value), step)
 
@@ -143,16 +154,15 @@ class PPOLearner(Learner):
         return gym.spec(self.env_id).vector_entry_point is not None
 
     def _venv(self, legacy: Path | None = None):
-        from stable_baselines3.common.vec_env import DummyVecEnv, VecNormalize
+        """The training envs (their state saved with each checkpoint), normalised as the
+        config says."""
+        from stable_baselines3.common.vec_env import VecNormalize
 
-        from animat.learners.sb3_adapter import NativeVecEnv
+        from animat.learners.sb3_adapter import NativeVecEnv, ReplayVecEnv
 
         n_envs = int(self.hp["n_envs"])
-        if self._native():
-            venv = NativeVecEnv(self.env_id, n_envs, self.env_kwargs, self.seed)
-        else:
-            venv = DummyVecEnv([lambda: gym.make(self.env_id, **self.env_kwargs)] * n_envs)
-            venv.seed(self.seed)
+        kind = NativeVecEnv if self._native() else ReplayVecEnv
+        venv = kind(self.env_id, n_envs, self.env_kwargs, self.seed)
         normalize = normalize_kwargs(self.hp["normalize"])
         if normalize is None:
             return venv
@@ -214,6 +224,7 @@ class PPOLearner(Learner):
         state = {"wall": 0.0, "metrics": {}}
         if saved is not None:
             state = ppo_checkpoint.restore(model, venv, saved)
+            ppo_checkpoint.restore_progress(model, venv, saved)
         elif legacy is not None:
             state = read_json(legacy / "state.json")
         resumed = saved is not None or legacy is not None
@@ -224,15 +235,15 @@ class PPOLearner(Learner):
         class Progress(BaseCallback):
             def __init__(self) -> None:
                 super().__init__()
-                self.next_eval = (model.num_timesteps // learner.hp["eval_every"] + 1) * \
-                    learner.hp["eval_every"]
-                self.next_save = model.num_timesteps + learner.hp["checkpoint_every"]
+                self.next_eval = _next_multiple(model.num_timesteps, learner.hp["eval_every"])
+                self.next_save = _next_multiple(model.num_timesteps,
+                                                learner.hp["checkpoint_every"])
 
             def _on_step(self) -> bool:
                 if self.num_timesteps >= self.next_eval:
                     state["metrics"] = learner.evaluate(model, venv)
                     learner.logger.scalars(state["metrics"], self.num_timesteps)
-                    self.next_eval += learner.hp["eval_every"]
+                    self.next_eval = _next_multiple(self.num_timesteps, learner.hp["eval_every"])
                 return True
 
             def _on_rollout_start(self) -> None:
@@ -240,7 +251,8 @@ class PPOLearner(Learner):
                 # of rollouts, so that a resumed run collects exactly what the whole one would
                 if folder and self.num_timesteps >= self.next_save:
                     learner._save(folder, model, venv, state, start)
-                    self.next_save += learner.hp["checkpoint_every"]
+                    self.next_save = _next_multiple(self.num_timesteps,
+                                                    learner.hp["checkpoint_every"])
 
         rollout = int(self.hp["n_envs"]) * int(self.hp["n_steps"])
         # SB3 collects whole rollouts: as many as fit, so the budget is never overrun

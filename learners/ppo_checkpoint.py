@@ -7,7 +7,14 @@ A checkpoint is a folder ``checkpoints/ppo/save-<k>/``:
   and plain containers, so a planted pickle cannot run code;
 - ``normalize.npz``: the observation and return statistics of ``VecNormalize`` (read with
   ``allow_pickle=False``), when the run normalises;
-- ``state.json``: ``num_timesteps``, SB3's update count, the learner's wall time and metrics.
+- ``state.json``: ``num_timesteps``, SB3's update count, the learner's wall time and metrics;
+- ``resume.json`` (:mod:`animat.learners.checkpoint_data`'s JSON, arrays bit for bit): what
+  continues the run exactly besides the weights: the random generators (torch's, NumPy's
+  global one and Python's, which SB3 seeds and draws from), the envs' state (their
+  ``get_state()``: :mod:`animat.learners.sb3_adapter`), the observation and episode starts
+  SB3 steps on from, and the SB3 logger's records not yet written (the last update's
+  ``train/*``). A checkpoint is taken between rollouts, so a resumed run collects and trains
+  on exactly what the whole run would, and logs the same numbers.
 
 It is written as ``save-<k>.partial/`` and made a checkpoint by one rename; only then does
 ``checkpoints/ppo/latest.json`` (written atomically) point at it, and only then is the previous
@@ -21,15 +28,19 @@ from __future__ import annotations
 import json
 import os
 import pickle
+import random
 import shutil
 from pathlib import Path
 
 import numpy as np
 
+from animat.learners import checkpoint_data
 from animat.learners.base import CorruptFile, atomic_write, read_json
 
 FOLDER = "ppo"
 LATEST = "latest.json"
+RESUME = "resume.json"
+RESUME_FORMAT = "artificial-animals PPO resume state 1"
 
 
 def _running(venv) -> list[tuple[str, object]]:
@@ -83,15 +94,97 @@ def save(checkpoint_dir: Path, model, venv, state: dict) -> Path:
         np.savez(partial / "normalize.npz", **stats)
     (partial / "state.json").write_text(json.dumps(
         {**state, "num_timesteps": int(model.num_timesteps), "n_updates": int(model._n_updates)}))
+    checkpoint_data.save(partial / RESUME, _progress(model, venv), RESUME_FORMAT)
     for path in partial.iterdir():  # on disk before the rename makes it a checkpoint
         with path.open("rb") as file:
             os.fsync(file.fileno())
     os.rename(partial, final)
+    _fsync_folder(root)
     atomic_write(root / LATEST, lambda file: json.dump({"folder": final.name}, file))
+    _fsync_folder(root)
     for old in root.glob("save-*"):
         if old != final:
             shutil.rmtree(old, ignore_errors=True)
     return final
+
+
+def _fsync_folder(folder: Path) -> None:
+    """Put a folder's entries (a rename into it) on disk."""
+    handle = os.open(folder, os.O_RDONLY)
+    try:
+        os.fsync(handle)
+    finally:
+        os.close(handle)
+
+
+def _progress(model, venv) -> dict:
+    """What continues the run exactly besides the weights (``resume.json``; see the module's
+    docstring)."""
+    import torch
+
+    log = model.logger
+    return {"rng": {"torch": torch.get_rng_state().numpy(),
+                    "numpy": np.random.get_state(legacy=False), "python": random.getstate()},
+            "env": venv.unwrapped.get_state(),
+            "last_obs": _obs_laid_out(model._last_obs),
+            "last_episode_starts": model._last_episode_starts,
+            "last_original_obs": model._last_original_obs,
+            "pending_log": {"values": dict(log.name_to_value), "counts": dict(log.name_to_count),
+                            "excluded": dict(log.name_to_excluded)}}
+
+
+def _obs_laid_out(obs) -> dict:
+    """A batch's observation, each entry (``""`` for a Box's) in its memory order."""
+    named = obs if isinstance(obs, dict) else {"": obs}
+    return {key: _in_memory_order(value) for key, value in named.items()}
+
+
+def _obs_from(saved: dict):
+    """The observation :func:`_obs_laid_out` saved, laid out as it was."""
+    arrays = {key: _as_laid_out(value) for key, value in saved.items()}
+    return arrays[""] if list(arrays) == [""] else arrays
+
+
+def _in_memory_order(array: np.ndarray) -> dict:
+    """An array as its bytes lie (``memory``) and the axes that view it as it is (``axes``):
+    SB3 hands the policy images transposed to channels-first (a view), and a convolution of a
+    view rounds differently from one of a copy, so the resumed run's first observation must be
+    laid out as the uninterrupted run's was."""
+    order = np.argsort([-stride for stride in array.strides], kind="stable")
+    return {"memory": np.ascontiguousarray(array.transpose(order)), "axes": np.argsort(order)}
+
+
+def _as_laid_out(saved: dict) -> np.ndarray:
+    return saved["memory"].transpose(saved["axes"])
+
+
+def restore_progress(model, venv, folder: Path) -> bool:
+    """Give a freshly built ``model`` and ``venv`` (their weights and statistics restored) the
+    rest of a checkpoint (``resume.json``), so that ``model.learn`` goes on exactly where the
+    run was; False for a checkpoint of an older version without it (the run then goes on
+    from fresh episodes)."""
+    import torch
+
+    path = Path(folder) / RESUME
+    saved = checkpoint_data.load(path, RESUME_FORMAT, types={})
+    if saved is None:
+        return False
+    try:
+        venv.unwrapped.set_state(saved["env"])
+        torch.set_rng_state(torch.from_numpy(saved["rng"]["torch"]))
+        np.random.set_state(saved["rng"]["numpy"])
+        random.setstate(saved["rng"]["python"])
+        model._last_obs = _obs_from(saved["last_obs"])
+        model._last_episode_starts = saved["last_episode_starts"]
+        model._last_original_obs = saved["last_original_obs"]
+        pending = saved["pending_log"]
+        model.logger.name_to_value.update(pending["values"])
+        model.logger.name_to_count.update(pending["counts"])
+        model.logger.name_to_excluded.update(pending["excluded"])
+    except (KeyError, IndexError, TypeError, ValueError, RuntimeError, AttributeError) as error:
+        raise CorruptFile(path, f"not this run's state ({type(error).__name__}: "
+                                f"{str(error)[:200]})") from None
+    return True
 
 
 def latest(checkpoint_dir: Path) -> Path | None:

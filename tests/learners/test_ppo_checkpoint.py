@@ -10,6 +10,7 @@ import torch
 
 from animat.learners import ppo_checkpoint
 from animat.learners.base import CorruptFile, UntrustedPickle, read_json
+from animat.learners.logger import Logger, MemorySink
 from animat.learners.registry import make_learner
 from tests.experiments.test_cli import animat, write_config
 
@@ -40,7 +41,7 @@ def test_a_checkpoint_is_data_and_one_folder(tmp_path):
     saved = ppo_checkpoint.latest(tmp_path)
     assert sorted(p.name for p in (tmp_path / "ppo").iterdir()) == ["latest.json", saved.name]
     assert sorted(p.name for p in saved.iterdir()) == ["normalize.npz", "optimizer.pt",
-                                                       "policy.pt", "state.json"]
+                                                       "policy.pt", "resume.json", "state.json"]
     state = torch.load(saved / "policy.pt", weights_only=True)  # tensors only
     assert all(isinstance(v, torch.Tensor) for v in state.values())
     assert read_json(saved / "state.json")["num_timesteps"] == 192
@@ -103,3 +104,60 @@ def test_an_older_pickled_checkpoint_needs_trust_and_a_corrupt_pointer_is_named(
     (checkpoints / "ppo" / "latest.json").write_text('{"folder": "save-0')
     with pytest.raises(CorruptFile, match="not valid JSON"):
         ppo_checkpoint.latest(checkpoints)
+
+
+class _Crash(Exception):
+    pass
+
+
+class _CrashingSink(MemorySink):
+    """Dies (as a killed process would) once the run logs past ``step``."""
+
+    def __init__(self, step: int) -> None:
+        super().__init__()
+        self.step = step
+
+    def scalar(self, tag: str, value: float, step: int) -> None:
+        if step > self.step:
+            raise _Crash
+        super().scalar(tag, value, step)
+
+
+def _numbers(sink: MemorySink, after: int) -> list:
+    """What a run logged after env step ``after``, but the wall-clock ``time/*``."""
+    return [r for r in sink.records if r[2] > after and not r[0].startswith("time/")]
+
+
+# the native batch (normalised), and single envs replayed (the pursuit: pixels, a Dict space)
+RESUMED = {"native": ("Animat/FishSwim-v0", {"duration": 0.5}, PARAMS, 192, [64, 100, 130]),
+           "replayed": ("Animat/FishPursuit-v0", {"duration": 0.6}, {
+               **PARAMS, "policy": "MultiInputPolicy", "n_envs": 2, "n_steps": 8,
+               "batch_size": 16, "eval_every": 32, "checkpoint_every": 16,
+               "policy_kwargs": "dict(net_arch=[8], features_extractor_kwargs="
+                                "{'cnn_output_dim': 8})"}, 64, [16, 40])}
+
+
+@pytest.mark.parametrize("kind", RESUMED)
+def test_a_crashed_ppo_run_resumes_to_the_same_floats(tmp_path, kind):
+    """Killed anywhere (here: in a rollout, in an evaluation, at the end), a run resumed from
+    its last checkpoint logs and ends with exactly the uninterrupted run's numbers: the envs'
+    state, the random generators and SB3's pending records are in the checkpoint."""
+    env_id, env_kwargs, params, budget, crashes = RESUMED[kind]
+
+    def run(folder, sink):
+        learner = make_learner("ppo", env_id, env_kwargs, params, seed=3, logger=Logger([sink]))
+        return learner.learn(budget, folder)
+
+    whole_sink = MemorySink()
+    whole = run(None, whole_sink)
+    for crash in crashes:
+        folder = tmp_path / f"crash{crash}"
+        with pytest.raises(_Crash):
+            run(folder, _CrashingSink(crash))
+        saved = read_json(ppo_checkpoint.latest(folder) / "state.json")["num_timesteps"]
+        assert saved <= crash
+        sink = MemorySink()
+        resumed = run(folder, sink)
+        assert resumed.metrics == whole.metrics  # bit for bit
+        assert resumed.env_steps == whole.env_steps == budget
+        assert _numbers(sink, saved) == _numbers(whole_sink, saved)
