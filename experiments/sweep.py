@@ -9,7 +9,7 @@ import sys
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
-from animat.experiments.config import ExperimentConfig
+from animat.experiments.config import ExperimentConfig, load_config
 from animat.experiments.runs import (
     available_cpus,
     create_run,
@@ -98,10 +98,9 @@ def summary_table(folders: list[Path], results: list[dict], metric: str | None) 
 
 
 def load_seed(folder: Path) -> int:
-    """The seed a run folder's config.yaml holds."""
-    import yaml
-
-    return int(yaml.safe_load((Path(folder) / "config.yaml").read_text())["seed"])
+    """The seed a run folder's config.yaml holds, read as every config is (YAML aliases
+    refused, the config validated; ConfigError naming the file otherwise)."""
+    return load_config(Path(folder) / "config.yaml", build=False).seed
 
 
 def run_ray(folders: list[Path], address: str | None = None, num_cpus: int | None = None

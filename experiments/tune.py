@@ -19,12 +19,12 @@ config of the best trial (the tuned config).
 
 from __future__ import annotations
 
+import hashlib
 import json
-import shutil
 import time
 from pathlib import Path
 
-from animat.experiments.config import ConfigError, ExperimentConfig, load_config
+from animat.experiments.config import ConfigError, ExperimentConfig, load_config, to_yaml
 from animat.experiments.runs import (
     RunError,
     create_run,
@@ -33,6 +33,7 @@ from animat.experiments.runs import (
     read_status,
     write_json,
 )
+from animat.learners.base import atomic_write
 
 
 def _optuna():
@@ -90,6 +91,7 @@ def run_trial(optuna, trial, path: Path, overrides: list[str], out: Path,
     except ConfigError as error:
         trial.set_user_attr("error", str(error))
         return "FAIL", None
+    trial.set_user_attr("config", to_yaml(trial_config))  # best.yaml's, wherever it ran
     folder = out / f"trial{trial.number:03d}"
     create_run(trial_config, folder, ["animat", "tune", str(path), f"(trial {trial.number})"])
     sink = PruningSink(trial, config.eval.metric, optuna.TrialPruned)
@@ -124,10 +126,41 @@ def trial_sampler(optuna, seed: int, number: int):
     return optuna.samplers.TPESampler(seed=(seed * 1_000_003 + number) % 2**32)
 
 
+LOCAL_STUDY = "tune"  # the study of a storage in OUT (one per folder; every version's name)
+
+
+def default_study_name(optuna, path: Path, overrides: list[str], url: str | None,
+                       out: Path) -> str:
+    """The study's name when ``--study`` is not given. In OUT's own storage: ``tune``, as
+    ever. In a shared RDB (``url``): the config file's name and a digest of its text and the
+    overrides, so that workers given the same command join one study and another config or
+    override starts its own; but a study an older version made there (``tune``, whose trial
+    folders are in OUT) is continued."""
+    if not url:
+        return LOCAL_STUDY
+    text = "\n".join([path.read_text(), *overrides])
+    name = f"{path.stem}-{hashlib.sha256(text.encode()).hexdigest()[:8]}"
+    names = optuna.study.get_all_study_names(storage=url)
+    if name not in names and LOCAL_STUDY in names and any(out.glob("trial[0-9]*")):
+        return LOCAL_STUDY
+    return name
+
+
+def open_study(optuna, config: ExperimentConfig, out: Path, url: str | None, name: str):
+    """The study ``name`` in its storage (:func:`storage`), made if it is new: TPE sampler,
+    median pruner, the config's direction."""
+    return optuna.create_study(
+        storage=storage(optuna, out, url), study_name=name, load_if_exists=True,
+        direction=config.tune.direction, sampler=trial_sampler(optuna, config.seed, 0),
+        pruner=optuna.pruners.MedianPruner(n_startup_trials=3,
+                                           n_warmup_steps=config.budget.env_steps // 4))
+
+
 def tune(path: str | Path, trials: int, out: str | Path | None = None,
-         overrides: list[str] | None = None, storage_url: str | None = None) -> dict:
-    """Run the study to ``trials`` finished trials; returns its summary (also printed by the
-    CLI) and writes ``best.yaml``."""
+         overrides: list[str] | None = None, storage_url: str | None = None,
+         study_name: str | None = None) -> dict:
+    """Run the study (``study_name``, default :func:`default_study_name`) to ``trials``
+    finished trials; returns its summary (also printed by the CLI) and writes ``best.yaml``."""
     optuna = _optuna()
     path, overrides = Path(path), list(overrides or [])
     config = load_config(path, overrides)
@@ -137,11 +170,8 @@ def tune(path: str | Path, trials: int, out: str | Path | None = None,
     stamp = time.strftime("%Y%m%d-%H%M%S")
     out = Path(out) if out else Path("runs") / "tune" / f"{path.stem}-{stamp}"
     out.mkdir(parents=True, exist_ok=True)
-    study = optuna.create_study(
-        storage=storage(optuna, out, storage_url), study_name="tune", load_if_exists=True,
-        direction=config.tune.direction, sampler=trial_sampler(optuna, config.seed, 0),
-        pruner=optuna.pruners.MedianPruner(n_startup_trials=3,
-                                           n_warmup_steps=config.budget.env_steps // 4))
+    name = study_name or default_study_name(optuna, path, overrides, storage_url, out)
+    study = open_study(optuna, config, out, storage_url, name)
     for stale in study.get_trials(states=(optuna.trial.TrialState.RUNNING,)):
         folder = out / f"trial{stale.number:03d}"
         if folder.exists() and not folder_busy(folder):  # a killed tune's, not a live worker's
@@ -151,19 +181,34 @@ def tune(path: str | Path, trials: int, out: str | Path | None = None,
         study.sampler = trial_sampler(optuna, config.seed, trial.number)  # draws at suggest
         state, value = run_trial(optuna, trial, path, overrides, out, config)
         study.tell(trial, value, state=getattr(optuna.trial.TrialState, state))
-    return summarise(study, out, config)
+    return summarise(study, out, config, path, overrides)
 
 
-def summarise(study, out: Path, config: ExperimentConfig) -> dict:
-    """The trials and the best one; its resolved config copied to ``best.yaml``."""
+def best_config(best, path: Path, overrides: list[str]) -> str:
+    """The resolved config of the trial ``best`` as YAML, from the study (the trial's own,
+    kept with it by whichever worker ran it, here or on another machine); for a trial of an
+    older version, which kept none, rebuilt from the config, the overrides and its params."""
+    kept = best.user_attrs.get("config")
+    if isinstance(kept, str):
+        return kept
+    sampled = [f"{key}={json.dumps(value)}" for key, value in best.params.items()]
+    return to_yaml(load_config(path, overrides + sampled, build=False))
+
+
+def summarise(study, out: Path, config: ExperimentConfig, path: Path,
+              overrides: list[str]) -> dict:
+    """The trials and the best one; its resolved config written to ``best.yaml``
+    (:func:`best_config`)."""
     rows = [{"trial": t.number, "state": t.state.name, "value": t.value, "params": t.params,
              "error": t.user_attrs.get("error")} for t in study.trials]
     complete = [t for t in study.trials if t.state.name == "COMPLETE"]
     best = study.best_trial if complete else None
     if best is not None:
-        shutil.copyfile(out / f"trial{best.number:03d}" / "config.yaml", out / "best.yaml")
-    summary = {"metric": config.eval.metric, "direction": config.tune.direction,
-               "trials": rows, "best": None if best is None else {
+        text = best_config(best, path, overrides)
+        atomic_write(out / "best.yaml", lambda file: file.write(text))
+    summary = {"study": study.study_name, "metric": config.eval.metric,
+               "direction": config.tune.direction, "trials": rows,
+               "best": None if best is None else {
                    "trial": best.number, "value": best.value, "params": best.params,
                    "config": str(out / "best.yaml")}}
     write_json(out / "tune.json", summary)
@@ -171,8 +216,9 @@ def summarise(study, out: Path, config: ExperimentConfig) -> dict:
 
 
 def table(summary: dict) -> str:
-    """The trials as aligned text lines, then the best."""
-    lines = [f"{'trial':>5}  {'state':8}  {summary['metric']:>14}  params"]
+    """The study's name, its trials as aligned text lines, then the best."""
+    lines = [f"study {summary.get('study', LOCAL_STUDY)}",
+             f"{'trial':>5}  {'state':8}  {summary['metric']:>14}  params"]
     for row in summary["trials"]:
         value = "—" if row["value"] is None else f"{row['value']:.4g}"
         params = ", ".join(f"{k.split('.')[-1]}={v:.4g}" if isinstance(v, float) else

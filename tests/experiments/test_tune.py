@@ -74,3 +74,58 @@ def test_a_restarted_tune_never_repeats_a_sample_and_the_journal_is_shared_stora
     animat("tune", config, "--trials", "2", "--out", elsewhere, "--storage",
            f"sqlite:///{tmp_path / 'shared.db'}")
     assert (tmp_path / "shared.db").exists() and not (elsewhere / "journal.log").exists()
+
+
+def _space_config(tmp_path):
+    return _config(tmp_path, {"learner.params.cooling": {"low": 0.5, "high": 0.99}})
+
+
+def test_best_yaml_comes_from_the_study_not_from_this_machines_trial_folders(tmp_path):
+    """Two workers share an RDB study (the same command, so the same study by default); the
+    second, whose --out holds none of the trials, still writes the best trial's config."""
+    config, url = _space_config(tmp_path), f"sqlite:///{tmp_path / 'shared.db'}"
+    animat("tune", config, "--trials", "3", "--out", tmp_path / "a", "--storage", url)
+    other = animat("tune", config, "--trials", "3", "--out", tmp_path / "b", "--storage", url)
+    best = json.loads((tmp_path / "b" / "tune.json").read_text())["best"]
+    assert not list((tmp_path / "b").glob("trial*"))  # every trial ran in the first worker's
+    here = tmp_path / "a" / f"trial{best['trial']:03d}" / "config.yaml"
+    assert (tmp_path / "b" / "best.yaml").read_text() == here.read_text()
+    summary = json.loads((tmp_path / "a" / "tune.json").read_text())
+    assert summary["study"] == json.loads((tmp_path / "b" / "tune.json").read_text())["study"]
+    assert summary["study"].startswith("tune-") and f"study {summary['study']}" in other.stdout
+
+
+def test_best_yaml_of_an_older_trial_is_rebuilt_from_the_config_and_its_params(tmp_path):
+    """A trial an older version ran kept no config in the study, and its folder may be gone:
+    the config and the trial's params make it again."""
+    import optuna
+    from optuna.storages.journal import JournalFileBackend
+
+    config, out = _space_config(tmp_path), tmp_path / "study"
+    out.mkdir()
+    storage = optuna.storages.JournalStorage(JournalFileBackend(str(out / "journal.log")))
+    study = optuna.create_study(storage=storage, study_name="tune", direction="maximize")
+    study.add_trial(optuna.trial.create_trial(
+        params={"learner.params.cooling": 0.625}, value=0.1, distributions={
+            "learner.params.cooling": optuna.distributions.FloatDistribution(0.5, 0.99)}))
+    animat("tune", config, "--trials", "1", "--out", out)
+    assert load_config(out / "best.yaml").learner.params["cooling"] == 0.625
+    assert json.loads((out / "tune.json").read_text())["study"] == "tune"  # continued
+
+
+def test_named_studies_share_a_storage_and_an_older_tune_study_there_continues(tmp_path):
+    import optuna
+
+    config, url = _space_config(tmp_path), f"sqlite:///{tmp_path / 'shared.db'}"
+    for name, trials in (("first", 1), ("second", 2)):
+        animat("tune", config, "--trials", str(trials), "--out", tmp_path / name,
+               "--storage", url, "--study", name)
+    names = {s.study_name: s.n_trials for s in optuna.get_all_study_summaries(url)}
+    assert names == {"first": 1, "second": 2}
+    older = tmp_path / "older"  # an older version's study in the RDB, named "tune"
+    optuna.create_study(storage=url, study_name="tune", direction="maximize")
+    (older / "trial000").mkdir(parents=True)
+    animat("tune", config, "--trials", "1", "--out", older, "--storage", url)
+    assert json.loads((older / "tune.json").read_text())["study"] == "tune"
+    refused = animat("tune", config, "--trials", "1", "--study", " ", check=False)
+    assert refused.returncode == 2 and "--study must name the study" in refused.stderr
