@@ -7,7 +7,7 @@
                  [--address ADDR] [--out PARENT]
     animat compare RUN_DIR_OR_PARENT ... [--metric eval/return] [--threshold X] [-o REPORT]
     animat eval RUN_DIR [--episodes N] [--seeds 0-3] [--video DIR]
-    animat tune CONFIG --trials N [--set ...] [--out DIR]
+    animat tune CONFIG --trials N [--set ...] [--out DIR] [--storage URL] [--study NAME]
     animat bench [--seconds S] [--breakdown]
     animat figures --out DIR [--seed S] [--frames N]
     animat stunt-figures --out DIR --leap RUN [--nose-ball RUN] [--tail-ball RUN]
@@ -28,10 +28,12 @@ import argparse
 import json
 import os
 import sys
+import threading
+from contextlib import contextmanager
 from pathlib import Path
 
 from animat.experiments.config import ConfigError, load_config
-from animat.experiments.runs import ERROR_LOG, RunError, create_run, execute, one_line, resume
+from animat.experiments.runs import RunError, create_run, execute, one_line, resume
 from animat.experiments.shipped import find_config, shipped_configs
 
 EXAMPLES = """examples:
@@ -125,6 +127,10 @@ def _parser() -> argparse.ArgumentParser:
     tune.add_argument("--storage", metavar="URL", help="an RDB URL for the study (e.g. "
                       "postgresql://host/db, for workers on several machines; default: a "
                       "journal file in --out)")
+    tune.add_argument("--study", metavar="NAME", help="the study's name in its storage "
+                      "(default: 'tune' in --out's own storage; with --storage, the config "
+                      "file's name and a digest of it and the --set values, so workers given "
+                      "the same command join one study)")
     evaluation = sub.add_parser("eval", help="play a finished run's agent over start states",
                                 description="Load a finished run's agent, play it on seeded "
                                 "start states, print its metric and write eval.json.")
@@ -256,9 +262,11 @@ def cmd_tune(args) -> int:
 
     if args.trials < 1:
         raise RunError(f"--trials must be at least 1, got {args.trials}")
+    if args.study is not None and not args.study.strip():
+        raise RunError("--study must name the study, got an empty name")
     path = _config_path(args.config)
     _single_output(load_config(path, args.overrides, build=False), args.trials, "the study")
-    summary = tune(path, args.trials, args.out, args.overrides, args.storage)
+    summary = tune(path, args.trials, args.out, args.overrides, args.storage, args.study)
     print(table(summary))
     return 0 if summary["best"] is not None else 1
 
@@ -276,6 +284,9 @@ def cmd_eval(args) -> int:
     result = evaluate(args.run_dir, seeds, args.episodes, args.video, args.refine,
                       args.trust_pickles)
     print(report(result))
+    if result.get("not_written"):  # scored, but the folder would not take the file
+        print(f"animat: error: not written: {result['not_written']}", file=sys.stderr)
+        return 1
     print(f"written: {args.run_dir / result_name(args.refine)}" + (
         f"; videos in {args.video}" if args.video else ""))
     return 0
@@ -354,10 +365,36 @@ def cmd_world_video(args) -> int:
     return 0
 
 
+@contextmanager
+def _thread_errors(debug: bool):
+    """Collect the exceptions of background threads (TensorBoard's writer on a full disk)
+    into the yielded list instead of printing their tracebacks (``debug``: printed as
+    usual); such a thread's failure also reaches the run itself, which says it in one line."""
+    failed: list[BaseException] = []
+    previous = threading.excepthook
+    if not debug:
+        threading.excepthook = lambda hook: failed.append(hook.exc_value)
+    try:
+        yield failed
+    finally:
+        threading.excepthook = previous
+
+
 def main(argv: list[str] | None = None) -> int:
     argv = sys.argv[1:] if argv is None else list(argv)
     args = _parser().parse_args(argv)
     args.argv = argv  # recorded in each run folder's command.txt
+    with _thread_errors(args.debug) as failed:
+        code = _dispatch(args)
+    if code == 0 and failed:  # the command ended well, but a thread of it did not
+        print(f"animat: error: in a background thread: {one_line(failed[0])}", file=sys.stderr)
+        return 1
+    return code
+
+
+def _dispatch(args) -> int:
+    """Run the command; a failure is one line on stderr and its exit status (2: what the user
+    gave, 1: while working, 130: interrupted)."""
     handlers = {"run": cmd_run, "sweep": cmd_sweep, "compare": cmd_compare, "list": cmd_list,
                 "bench": cmd_bench, "figures": cmd_figures, "stunt-figures": cmd_stunt_figures,
                 "eval": cmd_eval, "tune": cmd_tune, "world-bench": cmd_world_bench,
@@ -379,8 +416,8 @@ def main(argv: list[str] | None = None) -> int:
         if folder is None and isinstance(error, ConfigError | RunError | FileNotFoundError):
             print(f"animat: error: {error}", file=sys.stderr)  # what the user gave
             return 2
-        where = (f" (traceback in {Path(folder) / ERROR_LOG})" if folder else
-                 " (animat --debug ... shows the traceback)")
+        log = getattr(error, "error_log", None)  # None where the disk would not take it
+        where = (f" (traceback in {log})" if log else " (animat --debug ... shows the traceback)")
         print(f"animat: error: {one_line(error)}{where}", file=sys.stderr)  # while working
         return 1
 

@@ -195,17 +195,29 @@ def check_buildable(config: ExperimentConfig, source: str, params: dict | None =
 
     try:
         gym.make(config.env.id, **config.env.kwargs).close()
-    except (ValueError, TypeError) as error:
-        raise ConfigError(source, "env.kwargs", str(error)) from None
+    except Exception as error:  # whatever the env's constructor refuses is its kwargs' fault
+        raise ConfigError(source, "env.kwargs", _said(error)) from None
     try:
         make_learner(config.learner.name, config.env.id, config.env.kwargs,
                      config.learner.params if params is None else params,
                      config.seed).check_budget(config.budget.env_steps)
     except BudgetError as error:
         raise ConfigError(source, "budget.env_steps", str(error)) from None
-    except (ValueError, TypeError, KeyError, OSError) as error:
-        message = error.args[0] if isinstance(error, KeyError) and error.args else str(error)
-        raise ConfigError(source, "learner.params", str(message)) from None
+    except Exception as error:
+        raise ConfigError(source, "learner.params", _said(error)) from None
+
+
+def _said(error: Exception) -> str:
+    """What a refusal says, on one line: a ValueError's or TypeError's message as it is (they
+    are written for the user), a KeyError's key, else ``Type: message`` (an error the code
+    did not word: its type tells where it came from)."""
+    if isinstance(error, KeyError) and error.args:
+        text = str(error.args[0])
+    elif isinstance(error, ValueError | TypeError | OSError):
+        text = str(error)
+    else:
+        text = f"{type(error).__name__}: {error}"
+    return " ".join(text.split()) or type(error).__name__
 
 
 def migrate(data: dict) -> None:

@@ -125,7 +125,10 @@ def evaluate(run_dir: str | Path, seeds: list[int] | None = None, episodes: int 
         metrics = spread([_figures(r) for r in runs])
     result = {"seeds": seeds, "metric": config.eval.metric, "episodes": runs, "metrics": metrics,
               "physics_step_over": refine}
-    write_json(folder / result_name(refine), result)
+    try:  # a read-only run folder (a shared one) is still scored; the CLI says what is missing
+        write_json(folder / result_name(refine), result)
+    except OSError as error:
+        result["not_written"] = f"{folder / result_name(refine)}: {error.strerror}"
     return result
 
 

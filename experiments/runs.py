@@ -6,13 +6,16 @@
 ``{"status": "running"|"done"|"failed", "env_steps", "wall_seconds", "metrics", ...}``
 (a failed run's ``error`` is one line; its traceback is in ``error.log``)
 (``pending`` for a folder a sweep has prepared but not started).
-A run folder is never overwritten. A run that died without saying so (``running`` with a dead
-process) is reported as ``killed``; ``animat run --resume DIR`` continues any unfinished run
-from its last checkpoint.
+A run folder is never overwritten. A run that died without saying so (``running`` whose folder
+lock is free: killed, or its last status not writable on a full or read-only disk) is reported
+as ``killed``; ``animat run --resume DIR`` continues any unfinished run from its last
+checkpoint. An OS error is one line (exit status 2 for a place that cannot hold a run folder,
+1 while a run works) and leaves no temporary file or half-made folder.
 """
 
 from __future__ import annotations
 
+import errno
 import fcntl
 import json
 import os
@@ -112,6 +115,10 @@ def versions() -> dict[str, str]:
 
 
 LOCK_NAME = ".lock"
+# OS errors that say a place cannot hold a run folder (what the user chose), not that the
+# disk failed while working: a read-only file system, no permission, a file in the path
+UNWRITABLE = {errno.EROFS, errno.EACCES, errno.EPERM, errno.ENOTDIR, errno.EEXIST,
+              errno.ENOENT, errno.ENAMETOOLONG, errno.ELOOP}
 
 
 @contextmanager
@@ -119,35 +126,77 @@ def run_lock(folder: Path):
     """Hold the run folder's exclusive lock for the ``with`` block: ``fcntl.flock`` on its
     ``.lock`` file, taken without waiting (RunError in one line if another process holds it)
     and released by the kernel when this process ends however it ends, so a killed run leaves
-    no stale lock. Held while a folder is made and while it runs: one run per folder."""
-    handle = os.open(Path(folder) / LOCK_NAME, os.O_RDWR | os.O_CREAT, 0o644)
+    no stale lock. Held while a folder is made and while it runs: one run per folder. A folder
+    that cannot be written (read-only) or a file system without locks is a RunError too."""
     try:
+        handle = os.open(Path(folder) / LOCK_NAME, os.O_RDWR | os.O_CREAT, 0o644)
+    except OSError as error:
+        if error.errno not in UNWRITABLE:
+            raise  # a full disk: the OS error itself
+        raise RunError(f"{folder}: cannot write into the run folder ({error.strerror}); a run "
+                       f"needs its folder writable") from None
+    try:
+        _lock_exclusive(handle, folder)
         try:
-            fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except BlockingIOError:
-            raise RunError(f"{folder}: another process is making or running this run (one run "
-                           f"per folder)") from None
-        os.ftruncate(handle, 0)
-        os.write(handle, f"{os.getpid()}\n".encode())  # who holds it, for a person to read
+            os.ftruncate(handle, 0)
+            os.write(handle, f"{os.getpid()}\n".encode())  # who holds it, for a person to read
+        except OSError:  # a full disk: the lock holds without the note
+            pass
         yield
     finally:
         os.close(handle)  # the only descriptor: closing it releases the lock
 
 
-def folder_busy(folder: Path) -> bool:
-    """Whether another process holds the run folder's lock (is making or running it): what a
-    recorded pid cannot tell across hosts or after the pid is reused."""
-    if not (Path(folder) / LOCK_NAME).exists():
-        return False
+NO_LOCKS = {errno.ENOLCK, errno.EOPNOTSUPP, errno.ENOTSUP, errno.ENOSYS}  # flock: no locks here
+
+
+def _lock_exclusive(handle: int, folder: Path) -> None:
+    """``flock`` the open lock file exclusively, without waiting; RunError in one line if
+    another process holds it or the file system has no locks (some network file systems)."""
     try:
-        with run_lock(folder):
-            return False
-    except RunError:
+        fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except BlockingIOError:
+        raise RunError(f"{folder}: another process is making or running this run (one run "
+                       f"per folder)") from None
+    except OSError as error:
+        if error.errno not in NO_LOCKS:
+            raise
+        raise RunError(f"{folder}: the file system does not support file locks (flock: "
+                       f"{error.strerror}), which keep one run per folder; put the run folder "
+                       f"on a local disk (--out)") from None
+
+
+def lock_held(folder: Path) -> bool | None:
+    """Whether a process holds the run folder's lock (is making or running it): True or
+    False, or None when the lock cannot tell (no lock file: an older folder; a file system
+    without locks). Takes a shared lock on a read-only descriptor for an instant, so it writes
+    nothing and works on a read-only folder; what a recorded pid cannot tell across hosts or
+    after the pid is reused."""
+    try:
+        handle = os.open(Path(folder) / LOCK_NAME, os.O_RDONLY)
+    except OSError:
+        return None
+    try:
+        fcntl.flock(handle, fcntl.LOCK_SH | fcntl.LOCK_NB)
+        return False
+    except BlockingIOError:
         return True
+    except OSError:
+        return None
+    finally:
+        os.close(handle)  # releases the shared lock, if taken
+
+
+def folder_busy(folder: Path) -> bool:
+    """Whether another process holds the run folder's lock (:func:`lock_held`; False when it
+    cannot tell)."""
+    return lock_held(folder) is True
 
 
 def _refuse_if_used(folder: Path) -> None:
-    """RunError if ``folder`` holds anything but its lock file."""
+    """RunError if ``folder`` is a file, or holds anything but its lock file."""
+    if folder.exists() and not folder.is_dir():
+        raise RunError(f"{folder}: is a file, not a folder; a run folder is never overwritten")
     if folder.exists() and any(p.name != LOCK_NAME for p in folder.iterdir()):
         raise RunError(f"{folder}: exists and is not empty; a run folder is never overwritten")
 
@@ -156,17 +205,60 @@ def create_run(config: ExperimentConfig, out: Path | None, command: list[str]) -
     """Make a new run folder (``out`` exactly, or the default under ``runs/``), under its lock
     (:func:`run_lock`): of two processes making one folder, one makes it and the other is
     refused. The lock is let go once it is made and taken again to run it, so a ``--resume``
-    in between may be the one that runs it (still one run)."""
+    in between may be the one that runs it (still one run). A folder that cannot be made
+    (a file in its path, a read-only disk) is a RunError; any OS error (a full disk) leaves
+    nothing of it behind."""
     folder = Path(out) if out else default_run_dir(config)
     _refuse_if_used(folder)  # before anything, even a lock file, is written into it
-    folder.mkdir(parents=True, exist_ok=True)
-    with run_lock(folder):
-        _refuse_if_used(folder)  # made meanwhile by another process
-        (folder / "config.yaml").write_text(to_yaml(config))
-        (folder / "command.txt").write_text(shlex.join(command) + "\n")
-        write_json(folder / "versions.json", versions())
-        write_json(folder / "result.json", _status("pending", folder))
+    made = [p for p in (folder, *folder.parents) if not p.exists()]  # deepest first
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+        with run_lock(folder):
+            _refuse_if_used(folder)  # made meanwhile by another process
+            try:
+                _write_new_run(folder, config, command)
+            except OSError:
+                _unmake(folder, made)  # still holding the lock: no other process writes here
+                raise
+    except OSError as error:
+        _remove_empty(made)  # what is left of them: only empty folders are removed
+        if error.errno not in UNWRITABLE:
+            raise
+        raise RunError(f"{folder}: cannot make a run folder there ({error.strerror})") from None
     return folder
+
+
+RUN_FILES = ("config.yaml", "command.txt", "versions.json", "result.json")
+
+
+def _write_new_run(folder: Path, config: ExperimentConfig, command: list[str]) -> None:
+    """A new run folder's files, each written atomically, ``result.json`` ("pending") last."""
+    atomic_write(folder / "config.yaml", lambda file: file.write(to_yaml(config)))
+    atomic_write(folder / "command.txt", lambda file: file.write(shlex.join(command) + "\n"))
+    write_json(folder / "versions.json", versions())
+    write_json(folder / "result.json", _status("pending", folder))
+
+
+def _unmake(folder: Path, made: list[Path]) -> None:
+    """Remove what :func:`create_run` wrote into ``folder`` (whose lock it holds), with the
+    lock file if it made the folder (a folder it did not make keeps its lock file: another
+    process may wait on it), then the folders it made. What cannot be removed is left."""
+    names = RUN_FILES + ((LOCK_NAME,) if folder in made else ())
+    for name in names:
+        try:
+            (folder / name).unlink(missing_ok=True)
+        except OSError:
+            pass
+    _remove_empty(made)
+
+
+def _remove_empty(made: list[Path]) -> None:
+    """Remove the folders of ``made`` (deepest first) while they are empty."""
+    for path in made:
+        try:
+            path.rmdir()
+        except OSError:
+            break
 
 
 def _status(status: str, folder: Path, result: LearnResult | None = None, **extra) -> dict:
@@ -179,19 +271,35 @@ def _status(status: str, folder: Path, result: LearnResult | None = None, **extr
 
 
 def read_status(folder: Path) -> dict:
-    """result.json, with ``status`` "killed" for a run whose process is gone."""
+    """result.json, with ``status`` "killed" for a run whose process is gone: "running" is
+    written only while the folder's lock is held, so a "running" folder whose lock is free
+    died without a word (killed, or its last result.json could not be written on a full or
+    read-only disk); where the lock cannot tell (an older folder), the recorded pid on this
+    host."""
     path = Path(folder) / "result.json"
     if not path.exists():
         raise RunError(f"{folder}: no result.json: not a run folder")
     data = read_json(path)
-    if data.get("status") == "running" and data.get("host") == socket.gethostname():
-        try:
-            os.kill(int(data.get("pid", -1)), 0)
-        except (ProcessLookupError, ValueError):
-            data["status"] = "killed"
-        except PermissionError:
-            pass
+    if data.get("status") == "running" and not _still_running(Path(folder), data):
+        data["status"] = "killed"
     return data
+
+
+def _still_running(folder: Path, data: dict) -> bool:
+    """Whether the process that wrote the "running" ``data`` runs: its folder's lock held;
+    else (no lock to ask) its pid alive on this host (True when it cannot be told)."""
+    held = lock_held(folder)
+    if held is not None:
+        return held
+    if data.get("host") != socket.gethostname():
+        return True
+    try:
+        os.kill(int(data.get("pid", -1)), 0)
+    except (ProcessLookupError, ValueError):
+        return False
+    except PermissionError:
+        pass
+    return True
 
 
 def flat_hparams(config: ExperimentConfig) -> dict[str, object]:
@@ -221,20 +329,61 @@ def execute(folder: Path, progress=None, threads: int | None = None,
     with run_lock(folder):
         if read_status(folder)["status"] == "done":  # finished by whoever held the lock
             raise RunError(f"{folder}: the run is done; nothing to resume")
-        return _execute_locked(folder, progress, threads, trust_pickles)
+        try:
+            return _execute_locked(folder, progress, threads, trust_pickles)
+        except BaseException as error:
+            if getattr(error, "run_folder", None) is None:  # not recorded yet (e.g. an OS
+                _failed(folder, error, threads)  # error writing a status or the artefacts)
+            raise
 
 
 def _failed(folder: Path, error: BaseException, threads: int | None) -> None:
-    """Mark the run failed with the error's one line, its traceback in ``error.log``, and tag
-    the error with the folder (the CLI points at the log)."""
+    """Mark the run failed with the error's one line (result.json first: readers go by it),
+    its traceback in ``error.log``, each as far as the disk lets (:func:`_record`); tag the
+    error with the folder and the log that holds its traceback (the CLI points at it)."""
     trace = traceback.format_exc()
-    (folder / ERROR_LOG).write_text(trace)
-    write_json(folder / "result.json", _status("failed", folder, error=one_line(error),
-                                               traceback=trace, threads=threads))
+    _record(folder, _status("failed", folder, error=one_line(error), traceback=trace,
+                            threads=threads))
+    log: Path | None = folder / ERROR_LOG
     try:
-        error.run_folder = folder
-    except AttributeError:  # an exception type that takes no attributes
+        atomic_write(log, lambda file: file.write(trace))
+    except OSError:
+        log = None
+    for name, value in (("run_folder", folder), ("error_log", log)):
+        try:
+            setattr(error, name, value)
+        except AttributeError:  # an exception type that takes no attributes
+            pass
+
+
+def _record(folder: Path, status: dict) -> bool:
+    """Write ``status`` as result.json, atomically; on a disk too full for a new file,
+    overwrite the one there in place (blocks it already has: no new space), without the
+    traceback. Returns whether it was written; if not, a "running" one left there is read as
+    killed (:func:`read_status`: the lock is free once this process ends)."""
+    path = folder / "result.json"
+    try:
+        write_json(path, status)
+        return True
+    except OSError:
         pass
+    brief = json.dumps({k: v for k, v in status.items() if k != "traceback"},
+                       default=str).encode()
+    try:
+        handle = os.open(path, os.O_WRONLY)
+    except OSError:
+        return False
+    try:
+        if os.fstat(handle).st_blocks * 512 < len(brief):
+            return False  # it would need new blocks
+        os.write(handle, brief)
+        os.ftruncate(handle, len(brief))
+        os.fsync(handle)
+        return True
+    except OSError:
+        return False
+    finally:
+        os.close(handle)
 
 
 def _execute_locked(folder: Path, progress, threads: int | None, trust_pickles: bool) -> dict:

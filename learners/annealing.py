@@ -97,6 +97,12 @@ def population(params: AnnealingParams) -> int:
     return params.chains
 
 
+def state_bytes(params: AnnealingParams, dims: int) -> int:
+    """Memory a round takes over ``dims`` parameters, about: the chains, and the proposal's
+    random numbers, mask, steps and proposals, each (C, D) float64."""
+    return 6 * 8 * params.chains * int(dims)
+
+
 def metrics(params: AnnealingParams, state: AnnealingState) -> dict[str, float]:
     """``train/*`` scalars: the temperature."""
     return {"temperature": float(state.temperature)}

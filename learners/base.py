@@ -57,6 +57,30 @@ def check_scoring_budget(budget_env_steps: int, episodes: int, steps: int) -> No
                           f"scoring takes ({episodes} episodes of {steps})")
 
 
+def machine_memory() -> int | None:
+    """Bytes of memory this process may use: the machine's, or its cgroup's limit where that
+    is lower; None where it cannot be read."""
+    try:
+        total = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
+    except (AttributeError, ValueError, OSError):
+        return None
+    try:
+        limit = Path("/sys/fs/cgroup/memory.max").read_text().strip()
+    except OSError:
+        return total
+    return min(total, int(limit)) if limit.isdigit() else total
+
+
+def check_memory(need: int, what: str) -> None:
+    """ValueError in one line when ``what`` (e.g. ``nodes 100000000 x 6 actuators``) would
+    take more memory (``need`` bytes) than this machine has: a size refused before any work,
+    not a MemoryError (or the kernel's OOM killer) in the middle of the run."""
+    total = machine_memory()
+    if total is not None and need > total:
+        raise ValueError(f"{what} would take {need / 2**30:.3g} GiB of memory, more than this "
+                         f"machine's {total / 2**30:.3g} GiB")
+
+
 class BudgetError(ValueError):
     """The run's budget cannot work for this learner (e.g. less than one round): said in one
     line, before anything runs."""
@@ -156,10 +180,14 @@ def atomic_write(path: str | Path, write, binary: bool = False, replace: bool = 
     """Write a file atomically: ``write(file)`` fills a temporary file beside ``path``, which
     then replaces it, so a reader (or a crash) never sees half a file, and a failure (a full
     disk) leaves no temporary file behind. With ``replace`` False an existing ``path`` is left
-    as it is (FileExistsError), even one made meanwhile."""
+    as it is (FileExistsError), even one made meanwhile. An OS error that names no file (a
+    write on a full disk) is raised naming ``path``."""
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    handle, tmp = tempfile.mkstemp(dir=path.parent, prefix=path.name, suffix=".tmp")
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        handle, tmp = tempfile.mkstemp(dir=path.parent, prefix=path.name, suffix=".tmp")
+    except OSError as error:  # named by the file it was for, not a temporary name
+        raise _naming(error, path, always=True) from None
     try:
         with os.fdopen(handle, "wb" if binary else "w") as file:
             write(file)
@@ -170,9 +198,19 @@ def atomic_write(path: str | Path, write, binary: bool = False, replace: bool = 
             os.replace(tmp, path)
         else:
             _place_new(tmp, path)
+    except OSError as error:
+        raise _naming(error, path) from None
     finally:
         if os.path.exists(tmp):
             os.unlink(tmp)
+
+
+def _naming(error: OSError, path: Path, always: bool = False) -> OSError:
+    """``error``, or the same error (its subclass, by errno) naming ``path`` where it named no
+    file (or ``always``): what a one-line report of it needs."""
+    if error.errno is None or (error.filename is not None and not always):
+        return error
+    return OSError(error.errno, error.strerror, str(path))
 
 
 def _place_new(tmp: str, path: Path) -> None:

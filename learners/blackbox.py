@@ -23,6 +23,7 @@ from pathlib import Path
 from types import ModuleType
 from typing import Any
 
+import gymnasium as gym
 import numpy as np
 
 from animat.learners import annealing, checkpoint_data, cmaes
@@ -33,7 +34,7 @@ from animat.learners.base import (
     Learner,
     LearnResult,
     UntrustedPickle,
-    episode_steps,
+    check_memory,
     episode_timing,
     load_checkpoint,
     save_checkpoint,
@@ -204,11 +205,37 @@ class BlackBoxLearner(Learner):
                              f"({self.population})")
         return {"share": float(share), "threshold": threshold, "params": params}
 
+    def _env_sizes(self) -> tuple[int, int]:
+        """(env steps in an episode, the env's actuators), from the env built once."""
+        if getattr(self, "_sizes", None) is None:
+            env = gym.make(self.env_id, **self.env_kwargs)
+            try:
+                self._sizes = (int(env.unwrapped.episode_steps), int(env.action_space.shape[0]))
+            finally:
+                env.close()
+        return self._sizes
+
     def _episode_cost(self) -> int:
         """Env steps to score one candidate: an episode from every start state."""
-        if getattr(self, "_cost", None) is None:
-            self._cost = episode_steps(self.env_id, self.env_kwargs) * int(self.own.start_states)
-        return self._cost
+        return self._env_sizes()[0] * int(self.own.start_states)
+
+    def _genes(self, actuators: int) -> tuple[int, str]:
+        """The size of a candidate of the encoding (``actuators``: the env's), and what makes
+        it, for a message: ``nodes`` values per actuator here."""
+        return actuators * self.nodes, f"nodes {self.nodes} x {actuators} actuators"
+
+    def _check_memory(self, population: int) -> None:
+        """ValueError in one line (:func:`~animat.learners.base.check_memory`) when a round
+        of ``population`` candidates would not fit in this machine's memory: the optimiser's
+        state over their genes, and their action sequences (float32) over every start
+        state, stacked, then repeated for the batch."""
+        steps, actuators = self._env_sizes()
+        dims, made_of = self._genes(actuators)
+        params = self.optimizer.with_population(self.opt_params, population)
+        need = (self.optimizer.state_bytes(params, dims)
+                + 4 * population * (1 + int(self.own.start_states)) * steps * actuators)
+        check_memory(need, f"learner {self.name!r}: {made_of} ({dims:,} genes) for "
+                           f"{population} candidates")
 
     def plan(self, budget_env_steps: int) -> dict:
         """How this run spends ``budget_env_steps``: the learning phase gets the budget less
@@ -225,9 +252,10 @@ class BlackBoxLearner(Learner):
                 f"{budget_env_steps} is less than one round of {self.name}: "
                 f"the learning phase{phase} needs at least {smallest * cost} env steps "
                 f"({smallest} candidates x {cost} env steps each)")
+        population = min(self.population, learn // cost)
+        self._check_memory(population)
         return {"episode_cost": cost, "learn_env_steps": learn, "refine_env_steps": refine,
-                "population": min(self.population, learn // cost),
-                "configured_population": self.population}
+                "population": population, "configured_population": self.population}
 
     def scored_episodes(self) -> int:
         return int(self.own.start_states)

@@ -58,6 +58,14 @@ def population(params: CMAESParams) -> int:
     return params.popsize
 
 
+def state_bytes(params: CMAESParams, dims: int) -> int:
+    """Memory pycma takes over ``dims`` parameters, about: its full covariance, its
+    eigenvectors and their updates, four (D, D) float64, and a few copies of the population
+    (lambda, D)."""
+    dims = int(dims)
+    return 8 * (4 * dims * dims + 4 * params.popsize * dims)
+
+
 def metrics(params: CMAESParams, state: CMAESState) -> dict[str, float]:
     """``train/*`` scalars: the overall step size sigma."""
     return {"sigma": float(strategy(state).sigma)}

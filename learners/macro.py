@@ -45,6 +45,11 @@ class MacroParams:
             raise ValueError("needs params.repertoire (a repertoire file)")
         if self.slots < 1 or not 0 < self.min_duration <= self.max_duration:
             raise ValueError("need slots >= 1 and 0 < min_duration <= max_duration")
+        if self.skills is not None and not (
+                self.skills and all(isinstance(s, str) for s in self.skills)
+                and len(set(self.skills)) == len(self.skills)):
+            raise ValueError(f"skills must be a non-empty list of distinct skill names (or "
+                             f"null: all of the repertoire's), got {self.skills!r:.80}")
         if self.start_from is not None:
             if not isinstance(self.start_from, list) or len(self.start_from) > self.slots or any(
                     not isinstance(s, dict) or set(s) != {"skill", "duration"}
@@ -121,6 +126,9 @@ class MacroLearner(BlackBoxLearner):
 
     def _fit_encoding(self, opt_params: dict) -> dict:
         return opt_params  # slots are not blocks of nodal values
+
+    def _genes(self, actuators: int) -> tuple[int, str]:
+        return 2 * self.slots, f"slots {self.slots} x 2"
 
     def _x0(self, num_actuators: int) -> np.ndarray:
         if self.own.start_from is not None:

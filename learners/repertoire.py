@@ -58,6 +58,7 @@ DOLPHIN_REGIMEN = [
        "params": {"period": 0.2, "nodes": 6}} for direction in ("down", "up")),
 ]
 REGIMENS = {"fish": FISH_REGIMEN, "dolphin": DOLPHIN_REGIMEN}
+FORMAT = "artificial-animals repertoire 1"  # a repertoire file's "format"
 
 
 @dataclass(frozen=True)
@@ -97,7 +98,7 @@ class Repertoire:
 
     def save(self, path: str | Path, replace: bool = True) -> None:
         """Write atomically as JSON (``replace`` False: FileExistsError if ``path`` exists)."""
-        data = {"format": "artificial-animals repertoire 1",
+        data = {"format": FORMAT,
                 "skills": [{"name": s.name, "metadata": s.metadata,
                             "controller": s.controller.to_dict()}
                            for s in (self.skills[n] for n in self.names)]}
@@ -105,11 +106,41 @@ class Repertoire:
 
     @classmethod
     def load(cls, path: str | Path) -> Repertoire:
-        data = json.loads(Path(path).read_text())
-        if data.get("format") != "artificial-animals repertoire 1":
-            raise ValueError(f"{path}: not a repertoire file")
-        return cls([Skill(s["name"], AbstractController.from_dict(s["controller"]),
-                          s["metadata"]) for s in data["skills"]])
+        """The repertoire file at ``path``; a ValueError in one line naming it for anything
+        else (not JSON, another format, no skills, a skill named twice or unreadable)."""
+        try:
+            data = json.loads(Path(path).read_text())
+        except json.JSONDecodeError as error:
+            raise ValueError(f"{path}: not a repertoire file: not valid JSON ({error.msg} at "
+                             f"line {error.lineno})") from None
+        if not isinstance(data, dict) or data.get("format") != FORMAT:
+            raise ValueError(f"{path}: not a repertoire file (no \"format\": \"{FORMAT}\")")
+        return cls(_read_skills(data.get("skills"), path))
+
+
+def _read_skills(entries, path: str | Path) -> list[Skill]:
+    """The skills of a repertoire file's ``skills`` list (at least one, each name once); a
+    ValueError naming the file and the entry otherwise."""
+    if not isinstance(entries, list) or not entries:
+        raise ValueError(f"{path}: a repertoire file's skills must be a non-empty list, got "
+                         f"{entries!r:.60}")
+    skills: list[Skill] = []
+    for k, entry in enumerate(entries):
+        name = entry.get("name") if isinstance(entry, dict) else None
+        if not isinstance(name, str) or not name:
+            raise ValueError(f"{path}: skill {k} has no name (a string)")
+        if any(skill.name == name for skill in skills):
+            raise ValueError(f"{path}: skill {name!r} appears twice; a repertoire names each "
+                             f"skill once")
+        try:
+            if not isinstance(entry["metadata"], dict):
+                raise TypeError("its metadata is not a mapping")
+            controller = AbstractController.from_dict(entry["controller"])
+        except (KeyError, TypeError, ValueError, IndexError, AttributeError) as error:
+            raise ValueError(f"{path}: skill {name!r} cannot be read ({type(error).__name__}: "
+                             f"{error})") from None
+        skills.append(Skill(name, controller, entry["metadata"]))
+    return skills
 
 
 def kept_in_run(repertoire: Repertoire, checkpoint_dir: str | Path | None) -> Repertoire:
@@ -188,6 +219,24 @@ class BasicTrainingParams:
     force: bool = False
 
 
+def _check_regimen(regimen: list, owner: str) -> None:
+    """ValueError naming ``owner`` unless ``regimen`` is a non-empty list of skills, each a
+    mapping with a ``name`` (given once: the repertoire keeps one skill a name) and an
+    ``env_id``."""
+    if not regimen:
+        raise ValueError(f"{owner}: regimen must name at least one skill, got {regimen!r}")
+    names = []
+    for k, spec in enumerate(regimen):
+        if not (isinstance(spec, dict) and isinstance(spec.get("name"), str) and spec["name"]
+                and isinstance(spec.get("env_id"), str)):
+            raise ValueError(f"{owner}: regimen skill {k} must be a mapping with a name and "
+                             f"an env_id, got {spec!r:.80}")
+        if spec["name"] in names:
+            raise ValueError(f"{owner}: regimen names skill {spec['name']!r} twice; a "
+                             f"repertoire keeps one skill a name")
+        names.append(spec["name"])
+
+
 class BasicTrainingLearner(Learner):
     """Learns every skill of ``regimen`` (default: the fish's) with an equal share of the
     budget and writes ``repertoire.json`` into the checkpoint folder (and, asked, to
@@ -211,6 +260,7 @@ class BasicTrainingLearner(Learner):
                              f"{sorted(REGIMENS)} (or give a list of skills)")
         regimen = own.regimen if own.regimen is not None else "fish"
         self.regimen = REGIMENS[regimen] if isinstance(regimen, str) else regimen
+        _check_regimen(self.regimen, f"learner {self.name!r}")
         self.threshold = None if own.threshold is None else float(own.threshold)
         self.annealing = dict(own.annealing)
         self.output, self.force = own.output, bool(own.force)

@@ -213,6 +213,9 @@ class StrokeLearner(BlackBoxLearner):
     def _x0(self, num_actuators: int) -> np.ndarray:
         return np.full(len(STROKE_NAMES) + NUM_ACTUATORS, 0.5)
 
+    def _genes(self, actuators: int) -> tuple[int, str]:
+        return len(STROKE_NAMES) + NUM_ACTUATORS, "the stroke's numbers"
+
     def decode(self, vector: np.ndarray) -> StrokeParameters:
         """The stroke of genes ``vector`` (14,) in [0, 1] (clipped)."""
         low, high = self.bounds()

@@ -13,8 +13,11 @@ kept as written (they go into run folders as such); :func:`schedule`,
 from __future__ import annotations
 
 import ast
+import inspect
 
-from pydantic import BaseModel, ConfigDict, Field, field_validator
+from pydantic import BaseModel, ConfigDict, Field, ValidationInfo, field_validator
+
+from animat.learners.base import check_memory
 
 NORMALIZE_KEYS = {"norm_obs", "norm_reward", "clip_obs", "clip_reward", "epsilon"}
 
@@ -126,8 +129,47 @@ class PPOParams(BaseModel):
                              f"; known: {sorted(NORMALIZE_KEYS)}")
         return value
 
+    @field_validator("policy")
+    @classmethod
+    def _policy(cls, value):
+        names = sorted(policy_classes())
+        if value not in names:
+            raise ValueError(f"unknown policy {value!r}; PPO takes {', '.join(names)}")
+        return value
+
     @field_validator("policy_kwargs")
     @classmethod
-    def _policy_kwargs(cls, value):
-        policy_kwargs(value)
+    def _policy_kwargs(cls, value, info: ValidationInfo):
+        check_policy_kwargs(info.data.get("policy"), policy_kwargs(value))
         return value
+
+
+def policy_classes() -> dict[str, type]:
+    """SB3 PPO's policies by the names a config gives (``MlpPolicy``, ...)."""
+    from stable_baselines3 import PPO
+
+    return dict(PPO.policy_aliases)
+
+
+def check_policy_kwargs(policy: str | None, kwargs: dict) -> None:
+    """ValueError unless the policy class named ``policy`` (None: not known yet) takes every
+    keyword of ``kwargs``, and ``net_arch`` is layer widths (positive integers: one list for
+    both networks, or ``pi`` and ``vf`` lists) whose networks fit this machine's memory."""
+    if policy in policy_classes():
+        init = inspect.signature(policy_classes()[policy].__init__).parameters
+        taken = set(init) - {"self", "observation_space", "action_space", "lr_schedule"}
+        if set(kwargs) - taken:
+            raise ValueError(f"{policy} takes no {sorted(set(kwargs) - taken)}; it takes "
+                             f"{sorted(taken)}")
+    arch = kwargs.get("net_arch")
+    nets = ([] if arch is None else [arch, arch] if isinstance(arch, list | tuple)
+            else list(arch.values()) if isinstance(arch, dict) and set(arch) <= {"pi", "vf"}
+            else None)
+    if nets is None or not all(isinstance(net, list | tuple) and all(
+            type(width) is int and width >= 1 for width in net) for net in nets):
+        raise ValueError(f"net_arch must be layer widths (integers >= 1), as [64, 64] or "
+                         f"dict(pi=[64], vf=[64]), got {arch!r:.80}")
+    weights = sum(sum(a * b for a, b in zip(net, net[1:])) + (net[0] + net[-1] if net else 0)
+                  for net in nets)  # at least: one input and one output each
+    check_memory(16 * weights, f"net_arch {arch!r:.60} (its weights, gradients and Adam's two "
+                               f"moments, float32)")

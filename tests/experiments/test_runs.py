@@ -7,7 +7,11 @@ import subprocess
 import sys
 import time
 
-from animat.experiments.runs import run_lock
+import pytest
+
+from animat.experiments.config import ConfigError
+from animat.experiments.runs import read_status, run_lock
+from animat.experiments.sweep import load_seed
 from tests.experiments.test_cli import ROOT, TINY, animat, write_config
 
 # both processes import everything first, then start the command at the same instant
@@ -142,3 +146,24 @@ def test_compare_leaves_out_a_run_whose_config_is_malformed(tmp_path):
     (odd / "config.yaml").write_text(text)
     compared = animat("compare", tmp_path / "runs", "--metric", "eval/speed_bl_per_s")
     assert f"{odd}: left out" in compared.stderr and "| annealing | 1 (1) |" in compared.stdout
+
+
+def test_a_running_status_from_another_host_is_read_by_its_lock(tmp_path):
+    """No pid can be asked across hosts; the folder's lock (free once the run's process is
+    gone, however it went) says whether the run still runs."""
+    (folder,) = _finished(tmp_path, "run")
+    _set_status(folder, status="running", host="elsewhere", pid=1)
+    assert read_status(folder)["status"] == "killed"
+    with run_lock(folder):  # held, as by a live run
+        assert read_status(folder)["status"] == "running"
+
+
+def test_a_sweeps_seed_is_read_as_every_config_is(tmp_path):
+    """``load_seed`` refuses YAML aliases (a few nested ones expand to gigabytes) in a run
+    folder's config.yaml, as every config read is."""
+    (folder,) = _finished(tmp_path, "run")
+    assert load_seed(folder) == 0
+    text = (folder / "config.yaml").read_text()
+    (folder / "config.yaml").write_text(text + "x: &a [1, 1]\ny: [*a, *a]\n")
+    with pytest.raises(ConfigError, match="YAML aliases"):
+        load_seed(folder)
