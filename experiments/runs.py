@@ -30,7 +30,7 @@ from importlib import metadata
 from pathlib import Path
 
 from animat.experiments.config import ExperimentConfig, learner_params, load_config, to_yaml
-from animat.learners.base import LearnResult, atomic_write, read_json
+from animat.learners.base import TMP_SUFFIX, LearnResult, atomic_write, read_json
 from animat.learners.logger import CsvSink, Logger, TensorBoardSink
 from animat.learners.registry import make_learner
 
@@ -194,11 +194,30 @@ def folder_busy(folder: Path) -> bool:
 
 
 def _refuse_if_used(folder: Path) -> None:
-    """RunError if ``folder`` is a file, or holds anything but its lock file."""
+    """RunError if ``folder`` is a file, or holds anything but its lock file and what a run
+    killed while its folder was being made left (:func:`_unfinished`, made again)."""
     if folder.exists() and not folder.is_dir():
         raise RunError(f"{folder}: is a file, not a folder; a run folder is never overwritten")
-    if folder.exists() and any(p.name != LOCK_NAME for p in folder.iterdir()):
+    if folder.exists() and not _unfinished(folder):
         raise RunError(f"{folder}: exists and is not empty; a run folder is never overwritten")
+
+
+def _unfinished(folder: Path) -> bool:
+    """Whether ``folder`` holds nothing but its lock and the files :func:`_write_new_run`
+    writes before its last, ``result.json`` (and their temporary files): a folder whose
+    making was killed, which no run has used."""
+    names = {p.name for p in folder.iterdir()} - {LOCK_NAME}
+    return "result.json" not in names and all(
+        name in RUN_FILES or name.endswith(TMP_SUFFIX) for name in names)
+
+
+def clear_debris(folder: Path) -> None:
+    """Remove the temporary files a killed process left in a run folder (``*.tmp``, which
+    :func:`animat.learners.base.atomic_write` writes before it renames one into place); only
+    under the folder's lock, when no other process can be writing them."""
+    for path in Path(folder).rglob(f"*{TMP_SUFFIX}"):
+        if path.is_file():
+            path.unlink(missing_ok=True)
 
 
 def create_run(config: ExperimentConfig, out: Path | None, command: list[str]) -> Path:
@@ -215,6 +234,7 @@ def create_run(config: ExperimentConfig, out: Path | None, command: list[str]) -
         folder.mkdir(parents=True, exist_ok=True)
         with run_lock(folder):
             _refuse_if_used(folder)  # made meanwhile by another process
+            clear_debris(folder)  # a killed making's
             try:
                 _write_new_run(folder, config, command)
             except OSError:
@@ -388,6 +408,7 @@ def _record(folder: Path, status: dict) -> bool:
 
 def _execute_locked(folder: Path, progress, threads: int | None, trust_pickles: bool) -> dict:
     (folder / ERROR_LOG).unlink(missing_ok=True)  # an earlier attempt's
+    clear_debris(folder)  # a killed attempt's
     try:  # a config its folder can no longer build (a file it needs gone) fails the run too
         config = load_config(folder / "config.yaml")
     except Exception as error:

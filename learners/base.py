@@ -176,6 +176,9 @@ class Learner(ABC):
                                                indent=1, default=str))
 
 
+TMP_SUFFIX = ".tmp"  # atomic_write's temporary files: <name><random>.tmp beside the file
+
+
 def atomic_write(path: str | Path, write, binary: bool = False, replace: bool = True) -> None:
     """Write a file atomically: ``write(file)`` fills a temporary file beside ``path``, which
     then replaces it, so a reader (or a crash) never sees half a file, and a failure (a full
@@ -185,7 +188,7 @@ def atomic_write(path: str | Path, write, binary: bool = False, replace: bool = 
     path = Path(path)
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
-        handle, tmp = tempfile.mkstemp(dir=path.parent, prefix=path.name, suffix=".tmp")
+        handle, tmp = tempfile.mkstemp(dir=path.parent, prefix=path.name, suffix=TMP_SUFFIX)
     except OSError as error:  # named by the file it was for, not a temporary name
         raise _naming(error, path, always=True) from None
     try:

@@ -20,7 +20,14 @@ from pydantic import ValidationError
 from animat.envs.tasks import EpisodeSummary
 from animat.learners import ppo_checkpoint
 from animat.learners.agents import PolicyAgent
-from animat.learners.base import BudgetError, Learner, LearnResult, UntrustedPickle, read_json
+from animat.learners.base import (
+    BudgetError,
+    Learner,
+    LearnResult,
+    UntrustedPickle,
+    check_memory,
+    read_json,
+)
 from animat.learners.rollout import START_STATES, score_episode, spread
 from animat.learners.zoo import PPOParams, normalize_kwargs, policy_kwargs, schedule
 
@@ -121,11 +128,31 @@ class PPOLearner(Learner):
         return PolicyAgent(model, self.env_id, self.env_kwargs, normalize)
 
     def check_budget(self, budget_env_steps: int) -> None:
-        """One rollout (``n_envs`` x ``n_steps`` env steps) must fit."""
+        """One rollout (``n_envs`` x ``n_steps`` env steps) must fit the budget, its buffer
+        this machine's memory, and the policy the env's observations."""
         rollout = int(self.hp["n_envs"]) * int(self.hp["n_steps"])
         if budget_env_steps < rollout:
             raise BudgetError(f"{budget_env_steps} is less than one PPO rollout ({rollout} env "
                               f"steps: n_envs {self.hp['n_envs']} x n_steps {self.hp['n_steps']})")
+        self._check_fits_env(rollout)
+
+    def _check_fits_env(self, rollout: int) -> None:
+        """ValueError in one line when the policy cannot take the env's observations (a Dict
+        space takes ``MultiInputPolicy``, and only it does), or when a rollout's buffer (every
+        observation entry as float32, as SB3 keeps them) would not fit this machine's memory."""
+        env = gym.make(self.env_id, **self.env_kwargs)
+        space = env.observation_space
+        env.close()
+        policy, is_dict = self.hp["policy"], isinstance(space, gym.spaces.Dict)
+        if is_dict != (policy == "MultiInputPolicy"):
+            wanted = "MultiInputPolicy" if is_dict else "MlpPolicy (or CnnPolicy for images)"
+            raise ValueError(f"policy {policy} cannot take {self.env_id}'s "
+                             f"{type(space).__name__} observations: use {wanted}")
+        entries = sum(int(np.prod(sub.shape)) for sub in (
+            space.spaces.values() if is_dict else [space]))
+        check_memory(4 * entries * rollout, f"a rollout of n_envs {self.hp['n_envs']} x n_steps "
+                                            f"{self.hp['n_steps']} observations of {entries} "
+                                            f"entries")
 
     def _model(self, venv, legacy: Path | None = None):
         """A fresh model of the config's hyperparameters on ``venv`` (``legacy``: an older,

@@ -167,3 +167,24 @@ def test_a_sweeps_seed_is_read_as_every_config_is(tmp_path):
     (folder / "config.yaml").write_text(text + "x: &a [1, 1]\ny: [*a, *a]\n")
     with pytest.raises(ConfigError, match="YAML aliases"):
         load_seed(folder)
+
+
+def test_a_folder_whose_making_was_killed_is_made_again_and_debris_is_cleared(tmp_path):
+    """Killed while its folder was being made (config.yaml written, result.json not yet, a
+    temporary file half-written), a run is started again into the same folder; killed while
+    it ran, its temporary files are gone once it resumes. A folder a run has used stays
+    refused."""
+    config = write_config(tmp_path / "tiny.yaml", TINY)
+    folder = tmp_path / "run"
+    folder.mkdir()
+    (folder / "config.yaml").write_text("half of a config")
+    (folder / "versions.json1a2b.tmp").write_text("{")
+    animat("run", config, "--out", folder, "--quiet")
+    assert read_status(folder)["status"] == "done"
+    assert not list(folder.rglob("*.tmp"))
+    refused = animat("run", config, "--out", folder, check=False)
+    assert refused.returncode == 2 and "exists and is not empty" in refused.stderr
+    _set_status(folder, status="failed")
+    (folder / "checkpoints" / "checkpoint.jsonx9y8.tmp").write_text('{"format": "art')
+    animat("run", "--resume", folder, "--quiet")
+    assert not list(folder.rglob("*.tmp"))

@@ -78,6 +78,13 @@ CASES = [  # (config, where, what the line says)
      "net_arch must be layer widths (integers >= 1)"),
     (_with(PPO, policy_kwargs="dict(net_arch=[10000000, 10000000])"), "learner.params",
      "net_arch [10000000, 10000000] (its weights"),
+    ({**_with(PPO, n_steps=10**8), "budget": {"env_steps": 10**9}}, "learner.params",
+     "a rollout of n_envs 2 x n_steps 100000000 observations of 150 entries would take"),
+    ({**_with(PPO, policy="MlpPolicy"), "env": {"id": "Animat/FishPursuit-v0"}},
+     "learner.params", "policy MlpPolicy cannot take Animat/FishPursuit-v0's Dict "
+     "observations: use MultiInputPolicy"),
+    (_with(PPO, policy="MultiInputPolicy"), "learner.params",
+     "policy MultiInputPolicy cannot take Animat/FishSwim-v0's Box observations"),
     (_with(BASIC, regimen=[]), "learner.params", "regimen must name at least one skill"),
     (_with(BASIC, regimen=_regimen("a", "a")), "learner.params", "names skill 'a' twice"),
     ({**TINY, "env": {"id": "Test/Overflowing-v0", "kwargs": {"length": float("inf")}}},
