@@ -13,6 +13,7 @@ from animat.learners.base import CorruptFile, UntrustedPickle, read_json
 from animat.learners.logger import Logger, MemorySink
 from animat.learners.registry import make_learner
 from tests.experiments.test_cli import animat, write_config
+from tests.learners.test_learners import _Crash, _CrashingSink
 
 PARAMS = {"n_envs": 4, "n_steps": 16, "batch_size": 32, "n_epochs": 1, "eval_every": 64,
           "checkpoint_every": 64, "policy_kwargs": "dict(net_arch=[16])",
@@ -104,23 +105,6 @@ def test_an_older_pickled_checkpoint_needs_trust_and_a_corrupt_pointer_is_named(
     (checkpoints / "ppo" / "latest.json").write_text('{"folder": "save-0')
     with pytest.raises(CorruptFile, match="not valid JSON"):
         ppo_checkpoint.latest(checkpoints)
-
-
-class _Crash(Exception):
-    pass
-
-
-class _CrashingSink(MemorySink):
-    """Dies (as a killed process would) once the run logs past ``step``."""
-
-    def __init__(self, step: int) -> None:
-        super().__init__()
-        self.step = step
-
-    def scalar(self, tag: str, value: float, step: int) -> None:
-        if step > self.step:
-            raise _Crash
-        super().scalar(tag, value, step)
 
 
 def _numbers(sink: MemorySink, after: int) -> list:
