@@ -255,6 +255,8 @@ def load_config(path: str | Path, overrides: list[str] | None = None, build: boo
         text = Path(path).read_text()
     except OSError as error:
         raise ConfigError(source, "", f"cannot read the file: {error.strerror}") from None
+    except UnicodeDecodeError:
+        raise ConfigError(source, "", "not a text file (not UTF-8)") from None
     try:
         if any(isinstance(event, yaml.AliasEvent) for event in yaml.parse(text)):
             raise ConfigError(source, "", "YAML aliases (*name) are not accepted: a few "

@@ -150,11 +150,22 @@ def run_lock(folder: Path):
 NO_LOCKS = {errno.ENOLCK, errno.EOPNOTSUPP, errno.ENOTSUP, errno.ENOSYS}  # flock: no locks here
 
 
+LOCK_TRIES = 10  # a reader's shared lock (lock_held) lasts an instant: a few tries 10 ms apart
+
+
 def _lock_exclusive(handle: int, folder: Path) -> None:
-    """``flock`` the open lock file exclusively, without waiting; RunError in one line if
-    another process holds it or the file system has no locks (some network file systems)."""
+    """``flock`` the open lock file exclusively (a few short tries, so that a reader asking
+    :func:`lock_held` at that instant does not refuse a run); RunError in one line if another
+    process holds it or the file system has no locks (some network file systems)."""
     try:
-        fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        for attempt in range(LOCK_TRIES):
+            try:
+                fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
+                return
+            except BlockingIOError:
+                if attempt == LOCK_TRIES - 1:
+                    raise
+                time.sleep(0.01)
     except BlockingIOError:
         raise RunError(f"{folder}: another process is making or running this run (one run "
                        f"per folder)") from None
@@ -203,12 +214,15 @@ def _refuse_if_used(folder: Path) -> None:
 
 
 def _unfinished(folder: Path) -> bool:
-    """Whether ``folder`` holds nothing but its lock and the files :func:`_write_new_run`
-    writes before its last, ``result.json`` (and their temporary files): a folder whose
-    making was killed, which no run has used."""
-    names = {p.name for p in folder.iterdir()} - {LOCK_NAME}
-    return "result.json" not in names and all(
-        name in RUN_FILES or name.endswith(TMP_SUFFIX) for name in names)
+    """Whether ``folder`` is empty, or holds the lock file :func:`create_run` makes first and
+    nothing but the files :func:`_write_new_run` writes before its last, ``result.json`` (and
+    their temporary files): a folder whose making was killed, which no run has used. A folder
+    without the lock file is a user's, whatever its files are called."""
+    names = {p.name for p in folder.iterdir()}
+    if not names:
+        return True
+    return LOCK_NAME in names and "result.json" not in names and all(
+        name in RUN_FILES or name.endswith(TMP_SUFFIX) for name in names - {LOCK_NAME})
 
 
 def clear_debris(folder: Path) -> None:
@@ -378,7 +392,7 @@ def _failed(folder: Path, error: BaseException, threads: int | None) -> None:
 
 def _record(folder: Path, status: dict) -> bool:
     """Write ``status`` as result.json, atomically; on a disk too full for a new file,
-    overwrite the one there in place (blocks it already has: no new space), without the
+    overwrite the one there in place (within the blocks it has: no new space), without the
     traceback. Returns whether it was written; if not, a "running" one left there is read as
     killed (:func:`read_status`: the lock is free once this process ends)."""
     path = folder / "result.json"
@@ -394,12 +408,14 @@ def _record(folder: Path, status: dict) -> bool:
     except OSError:
         return False
     try:
-        if os.fstat(handle).st_blocks * 512 < len(brief):
-            return False  # it would need new blocks
-        os.write(handle, brief)
-        os.ftruncate(handle, len(brief))
+        stat = os.fstat(handle)
+        text = brief + b" " * (stat.st_size - len(brief))  # JSON allows trailing spaces
+        if len(text) > stat.st_blocks * 512:
+            return False  # it would need blocks the file does not have
+        # one write and no truncation: no shorter text leaves the old one's tail behind
+        written = os.write(handle, text)
         os.fsync(handle)
-        return True
+        return written == len(text)
     except OSError:
         return False
     finally:

@@ -29,7 +29,6 @@ from animat.experiments.runs import (
     RunError,
     create_run,
     execute,
-    folder_busy,
     read_status,
     write_json,
 )
@@ -173,8 +172,7 @@ def tune(path: str | Path, trials: int, out: str | Path | None = None,
     name = study_name or default_study_name(optuna, path, overrides, storage_url, out)
     study = open_study(optuna, config, out, storage_url, name)
     for stale in study.get_trials(states=(optuna.trial.TrialState.RUNNING,)):
-        folder = out / f"trial{stale.number:03d}"
-        if folder.exists() and not folder_busy(folder):  # a killed tune's, not a live worker's
+        if _killed(out / f"trial{stale.number:03d}"):  # a killed tune's, not a live worker's
             study.tell(stale.number, state=optuna.trial.TrialState.FAIL)
     while sum(t.state.is_finished() for t in study.trials) < trials:
         trial = study.ask()
@@ -182,6 +180,16 @@ def tune(path: str | Path, trials: int, out: str | Path | None = None,
         state, value = run_trial(optuna, trial, path, overrides, out, config)
         study.tell(trial, value, state=getattr(optuna.trial.TrialState, state))
     return summarise(study, out, config, path, overrides)
+
+
+def _killed(folder: Path) -> bool:
+    """Whether a trial's run died while it ran (``running`` with its folder's lock free). A
+    trial whose run is pending, done or failed may belong to a live worker about to run it or
+    to tell the study (telling it first would make that worker's tell fail): it is left."""
+    try:
+        return read_status(folder)["status"] == "killed"
+    except (OSError, ValueError, RunError):  # no run folder, or not one yet
+        return False
 
 
 def best_config(best, path: Path, overrides: list[str]) -> str:

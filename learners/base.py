@@ -107,11 +107,12 @@ class CorruptFile(ValueError):
 def read_json(path: str | Path) -> dict:
     """A JSON object from ``path``; CorruptFile naming it when it is not one (FileNotFoundError
     when it is missing)."""
-    text = Path(path).read_text()
     try:
-        data = json.loads(text)
+        data = json.loads(Path(path).read_text())
     except json.JSONDecodeError as error:
         raise CorruptFile(path, f"not valid JSON ({error.msg} at line {error.lineno})") from None
+    except (UnicodeDecodeError, RecursionError) as error:
+        raise CorruptFile(path, f"not JSON text ({type(error).__name__})") from None
     if not isinstance(data, dict):
         raise CorruptFile(path, f"holds a JSON {type(data).__name__}, not an object")
     return data

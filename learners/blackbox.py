@@ -17,6 +17,7 @@ not actuators x nodes) that the repertoire keeps; what plain truncation kept is 
 
 from __future__ import annotations
 
+import math
 import time
 from dataclasses import dataclass, field, fields, replace
 from pathlib import Path
@@ -76,6 +77,9 @@ class ControllerParams:
             raise ValueError("nodes must be >= 2 and init one of random, relaxed, half")
         if self.checkpoint_every < 1 or self.start_states < 1:
             raise ValueError("checkpoint_every and start_states must be >= 1")
+        if self.period is not None and not 0 < self.period < math.inf:
+            raise ValueError(f"period must be a finite number of seconds > 0 (or null: the "
+                             f"episode), got {self.period!r}")
 
 
 def controller_from_vector(vector: np.ndarray, nodes: int, period: float | None,

@@ -95,9 +95,9 @@ def save(path: str | Path, run, kind: str = FORMAT) -> None:
 
 
 def load(path: str | Path, kind: str = FORMAT, types: dict[str, type] | None = None):
-    """The value saved at ``path`` as a ``kind`` of checkpoint, building only ``types``
-    (default: a black-box learner's), or None when there is none; CorruptFile naming the file
-    when it is not one of these checkpoints."""
+    """The value saved at ``path`` as a ``kind`` of checkpoint, building no class but
+    ``types`` (default: a black-box learner's) and the FFT abstraction, or None when there is
+    none; CorruptFile naming the file when it is not one of these checkpoints."""
     path = Path(path)
     if not path.exists():
         return None
@@ -106,5 +106,6 @@ def load(path: str | Path, kind: str = FORMAT, types: dict[str, type] | None = N
         if not isinstance(data, dict) or data.get("format") != kind:
             raise ValueError(f"not a checkpoint of the format {kind!r}")
         return from_data(data["run"], types)
-    except (ValueError, TypeError, KeyError) as error:  # JSONDecodeError is a ValueError
-        raise CorruptFile(path, f"cannot be read back ({error})") from None
+    except (ValueError, TypeError, KeyError, RecursionError) as error:  # (and JSON, Unicode)
+        raise CorruptFile(path, f"cannot be read back ({type(error).__name__}: "
+                                f"{str(error)[:200]})") from None

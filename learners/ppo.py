@@ -240,8 +240,6 @@ class PPOLearner(Learner):
 
     def learn(self, budget_env_steps: int, checkpoint_dir: str | Path | None = None
               ) -> LearnResult:
-        from stable_baselines3.common.callbacks import BaseCallback
-
         self.check_budget(budget_env_steps)
         folder = Path(checkpoint_dir) if checkpoint_dir else None
         saved = ppo_checkpoint.latest(folder) if folder else None
@@ -257,36 +255,15 @@ class PPOLearner(Learner):
         resumed = saved is not None or legacy is not None
         if not resumed:
             self.log_hparams()
-        learner, start = self, time.perf_counter() - state["wall"]
-
-        class Progress(BaseCallback):
-            def __init__(self) -> None:
-                super().__init__()
-                self.next_eval = _next_multiple(model.num_timesteps, learner.hp["eval_every"])
-                self.next_save = _next_multiple(model.num_timesteps,
-                                                learner.hp["checkpoint_every"])
-
-            def _on_step(self) -> bool:
-                if self.num_timesteps >= self.next_eval:
-                    state["metrics"] = learner.evaluate(model, venv)
-                    learner.logger.scalars(state["metrics"], self.num_timesteps)
-                    self.next_eval = _next_multiple(self.num_timesteps, learner.hp["eval_every"])
-                return True
-
-            def _on_rollout_start(self) -> None:
-                # between rollouts (the last one trained on): a checkpoint at a whole number
-                # of rollouts, so that a resumed run collects exactly what the whole one would
-                if folder and self.num_timesteps >= self.next_save:
-                    learner._save(folder, model, venv, state, start)
-                    self.next_save = _next_multiple(self.num_timesteps,
-                                                    learner.hp["checkpoint_every"])
-
+        start = time.perf_counter() - state["wall"]
         rollout = int(self.hp["n_envs"]) * int(self.hp["n_steps"])
         # SB3 collects whole rollouts: as many as fit, so the budget is never overrun
         remaining = (budget_env_steps - model.num_timesteps) // rollout * rollout
         if remaining > 0:
-            model.learn(remaining, callback=Progress(), reset_num_timesteps=not resumed)
-        state["metrics"] = self.evaluate(model, venv)
+            progress = _progress(self, model, venv, folder, state, start,
+                                 final=model.num_timesteps + remaining)
+            model.learn(remaining, callback=progress, reset_num_timesteps=not resumed)
+        state["metrics"] = self.evaluate(model, venv)  # the policy the run returns
         self.logger.scalars(state["metrics"], model.num_timesteps)
         if folder:
             self._save(folder, model, venv, state, start)
@@ -302,3 +279,35 @@ class PPOLearner(Learner):
         state["wall"] = time.perf_counter() - start
         ppo_checkpoint.save(folder, model, venv, {"wall": state["wall"],
                                                   "metrics": state["metrics"]})
+
+
+def _progress(learner: PPOLearner, model, venv, folder: Path | None, state: dict,
+              start: float, final: int):
+    """SB3's callback for a run: an evaluation every ``eval_every`` env steps (but at the run's
+    ``final`` step, where :meth:`PPOLearner.learn` evaluates the last policy: one value per
+    step), a checkpoint every ``checkpoint_every`` between rollouts."""
+    from stable_baselines3.common.callbacks import BaseCallback
+
+    every_eval, every_save = learner.hp["eval_every"], learner.hp["checkpoint_every"]
+
+    class Progress(BaseCallback):
+        def __init__(self) -> None:
+            super().__init__()
+            self.next_eval = _next_multiple(model.num_timesteps, every_eval)
+            self.next_save = _next_multiple(model.num_timesteps, every_save)
+
+        def _on_step(self) -> bool:
+            if self.next_eval <= self.num_timesteps < final:
+                state["metrics"] = learner.evaluate(model, venv)
+                learner.logger.scalars(state["metrics"], self.num_timesteps)
+                self.next_eval = _next_multiple(self.num_timesteps, every_eval)
+            return True
+
+        def _on_rollout_start(self) -> None:
+            # between rollouts (the last one trained on): a checkpoint at a whole number
+            # of rollouts, so that a resumed run collects exactly what the whole one would
+            if folder and self.num_timesteps >= self.next_save:
+                learner._save(folder, model, venv, state, start)
+                self.next_save = _next_multiple(self.num_timesteps, every_save)
+
+    return Progress()

@@ -29,6 +29,7 @@ import json
 import os
 import pickle
 import random
+import re
 import shutil
 from pathlib import Path
 
@@ -40,6 +41,8 @@ from animat.learners.base import CorruptFile, atomic_write, read_json
 FOLDER = "ppo"
 LATEST = "latest.json"
 RESUME = "resume.json"
+SAVE_NAME = re.compile(r"save-(\d{6})(\.partial)?")  # a checkpoint's folder, or one being written
+ANSI = re.compile(r"\x1b\[[0-9;]*m")  # colour codes in torch's messages
 RESUME_FORMAT = "artificial-animals PPO resume state 1"
 
 
@@ -83,8 +86,8 @@ def save(checkpoint_dir: Path, model, venv, state: dict) -> Path:
 
     root = Path(checkpoint_dir) / FOLDER
     root.mkdir(parents=True, exist_ok=True)
-    index = 1 + max((int(p.name.split("-")[1].split(".")[0]) for p in root.glob("save-*")),
-                    default=0)
+    index = 1 + max((int(match[1]) for p in root.glob("save-*")
+                     if (match := SAVE_NAME.fullmatch(p.name))), default=0)
     final, partial = root / f"save-{index:06d}", root / f"save-{index:06d}.partial"
     partial.mkdir()
     torch.save(model.policy.state_dict(), partial / "policy.pt")
@@ -158,6 +161,23 @@ def _as_laid_out(saved: dict) -> np.ndarray:
     return saved["memory"].transpose(saved["axes"])
 
 
+def _fitting(obs, space, num_envs: int):
+    """``obs``, if it is a batch of ``num_envs`` observations of ``space`` (shapes and
+    dtypes); else ValueError."""
+    import gymnasium as gym
+
+    spaces = space.spaces if isinstance(space, gym.spaces.Dict) else {"": space}
+    arrays = obs if isinstance(obs, dict) else {"": obs}
+    if set(arrays) != set(spaces):
+        raise ValueError(f"an observation of {sorted(arrays)}, not {sorted(spaces)}")
+    for key, sub in spaces.items():
+        if (arrays[key].shape != (num_envs, *sub.shape)
+                or arrays[key].dtype != np.dtype(sub.dtype)):
+            raise ValueError(f"observation {key!r} is {arrays[key].dtype} of shape "
+                             f"{arrays[key].shape}, not {sub.dtype} of {(num_envs, *sub.shape)}")
+    return obs
+
+
 def restore_progress(model, venv, folder: Path) -> bool:
     """Give a freshly built ``model`` and ``venv`` (their weights and statistics restored) the
     rest of a checkpoint (``resume.json``), so that ``model.learn`` goes on exactly where the
@@ -174,7 +194,8 @@ def restore_progress(model, venv, folder: Path) -> bool:
         torch.set_rng_state(torch.from_numpy(saved["rng"]["torch"]))
         np.random.set_state(saved["rng"]["numpy"])
         random.setstate(saved["rng"]["python"])
-        model._last_obs = _obs_from(saved["last_obs"])
+        model._last_obs = _fitting(_obs_from(saved["last_obs"]), model.observation_space,
+                                   model.n_envs)  # (the model's: images channels-first)
         model._last_episode_starts = saved["last_episode_starts"]
         model._last_original_obs = saved["last_original_obs"]
         pending = saved["pending_log"]
@@ -194,7 +215,8 @@ def latest(checkpoint_dir: Path) -> Path | None:
         return None
     name = read_json(pointer).get("folder")
     folder = pointer.parent / str(name)
-    if not isinstance(name, str) or "/" in name or not (folder / "state.json").exists():
+    if not (isinstance(name, str) and SAVE_NAME.fullmatch(name) and not name.endswith(".partial")
+            and (folder / "state.json").exists()):
         raise CorruptFile(pointer, f"names no checkpoint of this run ({name!r})")
     return folder
 
@@ -211,11 +233,19 @@ def restore(model, venv, folder: Path) -> dict:
                                               weights_only=True))
         except (OSError, RuntimeError, ValueError, KeyError, EOFError,
                 pickle.UnpicklingError) as error:
-            message = str(error).strip().splitlines()[0] if str(error).strip() else ""
+            text = ANSI.sub("", str(error)).strip()
+            message = text.splitlines()[0] if text else ""
             raise CorruptFile(folder / name, f"not this run's weights ({type(error).__name__}"
                                              f": {message[:200]})") from None
     if (folder / "normalize.npz").exists():
         _restore_stats(venv, folder / "normalize.npz")
     state = read_json(folder / "state.json")
-    model.num_timesteps, model._n_updates = int(state["num_timesteps"]), int(state["n_updates"])
+    try:
+        model.num_timesteps = int(state["num_timesteps"])
+        model._n_updates = int(state["n_updates"])
+        state["wall"], state["metrics"] = float(state["wall"]), dict(state["metrics"])
+    except (KeyError, TypeError, ValueError) as error:
+        kind = type(error).__name__
+        raise CorruptFile(folder / "state.json", f"not a checkpoint's state ({kind}: "
+                                                 f"{error})") from None
     return state

@@ -234,6 +234,10 @@ def _check_regimen(regimen: list, owner: str) -> None:
         if spec["name"] in names:
             raise ValueError(f"{owner}: regimen names skill {spec['name']!r} twice; a "
                              f"repertoire keeps one skill a name")
+        for key in ("env_kwargs", "params"):
+            if not isinstance(spec.get(key, {}), dict):
+                raise ValueError(f"{owner}: regimen skill {spec['name']!r}: {key} must be a "
+                                 f"mapping, got {spec[key]!r:.60}")
         names.append(spec["name"])
 
 

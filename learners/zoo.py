@@ -14,9 +14,11 @@ from __future__ import annotations
 
 import ast
 import inspect
+import math
 
 from pydantic import BaseModel, ConfigDict, Field, ValidationInfo, field_validator
 
+from animat.envs.fish_core import MAX_NUM_ENVS
 from animat.learners.base import check_memory
 
 NORMALIZE_KEYS = {"norm_obs", "norm_reward", "clip_obs", "clip_reward", "epsilon"}
@@ -84,9 +86,9 @@ class PPOParams(BaseModel):
     ``eval_every`` (env steps between evaluations), ``torch_threads`` and
     ``checkpoint_every`` (env steps)."""
 
-    model_config = ConfigDict(extra="forbid", frozen=True)
+    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
 
-    n_envs: int = Field(64, ge=1)
+    n_envs: int = Field(64, ge=1, le=MAX_NUM_ENVS)
     n_steps: int = Field(64, ge=1)
     batch_size: int = Field(1024, ge=1)
     n_epochs: int = Field(10, ge=1)
@@ -94,9 +96,9 @@ class PPOParams(BaseModel):
     gae_lambda: float = Field(0.95, ge=0.0, le=1.0)
     learning_rate: float | str = 3e-4
     clip_range: float | str = 0.2
-    ent_coef: float = 0.0
-    vf_coef: float = 0.5
-    max_grad_norm: float = 0.5
+    ent_coef: float = Field(0.0, ge=0.0)
+    vf_coef: float = Field(0.5, ge=0.0)
+    max_grad_norm: float = Field(0.5, gt=0.0)
     policy: str = "MlpPolicy"
     policy_kwargs: str | dict = "dict(net_arch=[128, 128], log_std_init=-1.0)"
     normalize: bool | dict | str = True
@@ -109,12 +111,12 @@ class PPOParams(BaseModel):
     def _schedule(cls, value):
         if isinstance(value, str):
             try:
-                if not value.startswith("lin_") or float(value[4:]) <= 0:
+                if not value.startswith("lin_") or not 0 < float(value[4:]) < math.inf:
                     raise ValueError
             except ValueError:
                 raise ValueError(f"use a number or lin_<x> (x > 0), got {value!r}") from None
-        elif value <= 0:
-            raise ValueError(f"must be > 0, got {value!r}")
+        elif not 0 < value < math.inf:
+            raise ValueError(f"must be a finite number > 0, got {value!r}")
         return value
 
     @field_validator("normalize")

@@ -113,6 +113,17 @@ def test_a_corrupt_file_of_a_run_folder_is_named_in_one_line_and_compare_goes_on
     resumed = animat("run", "--resume", good, check=False)
     assert resumed.returncode == 1 and len(resumed.stderr.strip().splitlines()) == 1
     assert f"{good / 'checkpoints' / 'checkpoint.json'}: cannot be read back" in resumed.stderr
+    for text in (b"[" * 100_000, b'{"format": "\xff\xfe"}'):  # too deep; not UTF-8
+        (good / "checkpoints" / "checkpoint.json").write_bytes(text)
+        resumed = animat("run", "--resume", good, check=False)
+        assert resumed.returncode == 1 and len(resumed.stderr.strip().splitlines()) == 1
+        assert "checkpoint.json: cannot be read back" in resumed.stderr, resumed.stderr
+    (good / "result.json").write_bytes(b"\xff\xfe{}")
+    refused = animat("eval", good, check=False)
+    assert refused.returncode == 1 and "result.json: not JSON text" in refused.stderr
+    (good / "config.yaml").write_bytes(b"\xff\xfe: 1")
+    compared = animat("compare", good, check=False)
+    assert "config.yaml: not a text file (not UTF-8)" in compared.stderr
 
 
 def test_inf_and_nan_survive_the_run_folder_and_yaml_aliases_are_refused(tmp_path):
@@ -170,13 +181,20 @@ def test_a_sweeps_seed_is_read_as_every_config_is(tmp_path):
 
 
 def test_a_folder_whose_making_was_killed_is_made_again_and_debris_is_cleared(tmp_path):
-    """Killed while its folder was being made (config.yaml written, result.json not yet, a
-    temporary file half-written), a run is started again into the same folder; killed while
-    it ran, its temporary files are gone once it resumes. A folder a run has used stays
-    refused."""
+    """Killed while its folder was being made (its lock file, config.yaml written, result.json
+    not yet, a temporary file half-written), a run is started again into the same folder;
+    killed while it ran, its temporary files are gone once it resumes. A folder a run has used
+    stays refused, and so does a user's folder that holds a file of the same name."""
     config = write_config(tmp_path / "tiny.yaml", TINY)
+    users = tmp_path / "notes"
+    users.mkdir()
+    (users / "config.yaml").write_text("# my notes")
+    refused = animat("run", config, "--out", users, check=False)
+    assert refused.returncode == 2 and "exists and is not empty" in refused.stderr
+    assert (users / "config.yaml").read_text() == "# my notes"
     folder = tmp_path / "run"
     folder.mkdir()
+    (folder / ".lock").write_text("12345\n")
     (folder / "config.yaml").write_text("half of a config")
     (folder / "versions.json1a2b.tmp").write_text("{")
     animat("run", config, "--out", folder, "--quiet")
@@ -188,3 +206,20 @@ def test_a_folder_whose_making_was_killed_is_made_again_and_debris_is_cleared(tm
     (folder / "checkpoints" / "checkpoint.jsonx9y8.tmp").write_text('{"format": "art')
     animat("run", "--resume", folder, "--quiet")
     assert not list(folder.rglob("*.tmp"))
+
+
+def test_a_reader_asking_at_the_same_instant_does_not_refuse_a_run(tmp_path):
+    """lock_held (what read_status and compare ask) takes a shared lock for an instant: a run
+    taking the folder's lock then waits that instant out instead of refusing."""
+    import fcntl
+    import os
+    import threading
+
+    folder = tmp_path / "run"
+    folder.mkdir()
+    (folder / ".lock").touch()
+    reader = os.open(folder / ".lock", os.O_RDONLY)
+    fcntl.flock(reader, fcntl.LOCK_SH)
+    threading.Timer(0.03, os.close, [reader]).start()
+    with run_lock(folder):
+        assert (folder / ".lock").read_text().strip() == str(os.getpid())

@@ -4,6 +4,7 @@ checkpoint loads only when the caller says it trusts the folder."""
 
 import json
 import pickle
+import shutil
 
 import pytest
 import torch
@@ -49,20 +50,57 @@ def test_a_checkpoint_is_data_and_one_folder(tmp_path):
 
 
 def test_a_planted_pickle_in_a_run_folder_never_runs(tmp_path):
+    """In each file a run folder's checkpoint reads (the weights, the normalisation's .npz),
+    under animat eval, run --resume and compare."""
     folder = tmp_path / "run"
     animat("run", write_config(tmp_path / "ppo.yaml", CONFIG), "--out", folder, "--quiet")
+    status = json.loads((folder / "result.json").read_text())
     saved = ppo_checkpoint.latest(folder / "checkpoints")
     marker = tmp_path / "pwned"
-    for name in ("policy.pt", "optimizer.pt"):
+    commands = {"done": ["eval", folder, "--episodes", "1"],  # what each may open
+                "failed": ["run", "--resume", folder, "--quiet"]}
+    for name in ("policy.pt", "optimizer.pt", "normalize.npz"):
         original = (saved / name).read_bytes()
         (saved / name).write_bytes(pickle.dumps(Planted(marker), protocol=2))
-        for command in (["eval", folder, "--episodes", "1"],):
+        for run_status, command in commands.items():
+            (folder / "result.json").write_text(json.dumps({**status, "status": run_status}))
             refused = animat(*command, check=False)
             assert refused.returncode == 1 and len(refused.stderr.strip().splitlines()) == 1
-            assert f"{saved / name}: not this run's weights" in refused.stderr
+            assert f"{saved / name}: not " in refused.stderr and "\x1b" not in refused.stderr
+        assert animat("compare", folder, check=False).returncode == 0
         assert not marker.exists()
         (saved / name).write_bytes(original)
+    (folder / "result.json").write_text(json.dumps(status))
     animat("eval", folder, "--episodes", "1")  # the genuine checkpoint loads
+
+
+def test_a_checkpoint_that_is_not_one_is_named_in_one_line(tmp_path):
+    """A state.json short of a field, a resume.json whose observation does not fit the envs,
+    a pointer out of the checkpoints, and another folder beside them."""
+    _learner().learn(128, tmp_path)
+    saved = ppo_checkpoint.latest(tmp_path)
+    state = read_json(saved / "state.json")
+    (saved / "state.json").write_text(json.dumps({k: v for k, v in state.items()
+                                                  if k != "n_updates"}))
+    with pytest.raises(CorruptFile, match="state.json: not a checkpoint's state"):
+        _learner().learn(256, tmp_path)
+    (saved / "state.json").write_text(json.dumps(state))
+    resume = json.loads((saved / "resume.json").read_text())
+    memory = resume["run"]["last_obs"][""]["memory"]
+    memory["shape"], memory["data"] = [2, 150], memory["data"][:300]
+    (saved / "resume.json").write_text(json.dumps(resume))
+    with pytest.raises(CorruptFile, match="resume.json: not this run's state .*observation"):
+        _learner().learn(256, tmp_path)
+    pointer = tmp_path / "ppo" / "latest.json"
+    for name in ("..", "save-000001.partial", "elsewhere"):
+        pointer.write_text(json.dumps({"folder": name}))
+        with pytest.raises(CorruptFile, match="names no checkpoint of this run"):
+            ppo_checkpoint.latest(tmp_path)
+    (tmp_path / "ppo" / "save-old").mkdir()
+    pointer.unlink()
+    assert _learner().learn(128, tmp_path / "fresh").env_steps == 128
+    shutil.copytree(tmp_path / "ppo" / "save-old", tmp_path / "fresh" / "ppo" / "save-old")
+    assert _learner().learn(192, tmp_path / "fresh").env_steps == 192  # saved beside it
 
 
 def test_a_save_that_dies_midway_leaves_the_last_checkpoint_whole(tmp_path, monkeypatch):
@@ -145,3 +183,15 @@ def test_a_crashed_ppo_run_resumes_to_the_same_floats(tmp_path, kind):
         assert resumed.metrics == whole.metrics  # bit for bit
         assert resumed.env_steps == whole.env_steps == budget
         assert _numbers(sink, saved) == _numbers(whole_sink, saved)
+
+
+def test_a_step_is_evaluated_once_and_the_last_with_the_policy_returned():
+    """A budget that ends on an evaluation step: the step's eval/* are logged once, by the
+    evaluation of the policy the run returns (not also by the one before its last update)."""
+    sink = MemorySink()
+    learner = make_learner("ppo", "Animat/FishSwim-v0", {"duration": 0.5}, PARAMS, seed=0,
+                           logger=Logger([sink]))
+    result = learner.learn(192)
+    assert sink.series("eval/return")[-1:] == [(192, result.metrics["eval/return"])]
+    steps = [step for step, _ in sink.series("eval/return")]
+    assert steps == [64, 128, 192]
