@@ -9,6 +9,7 @@
     animat eval RUN_DIR [--episodes N] [--seeds 0-3] [--video DIR]
     animat tune CONFIG --trials N [--set ...] [--out DIR] [--storage URL] [--study NAME]
     animat bench [--seconds S] [--breakdown]
+    animat demo [--seconds S] [--video DIR] [--model-sweep]
     animat figures --out DIR [--seed S] [--frames N]
     animat stunt-figures --out DIR --leap RUN [--nose-ball RUN] [--tail-ball RUN]
                          [--somersault RUN] [--belly-flop RUN]
@@ -162,6 +163,10 @@ def _parser() -> argparse.ArgumentParser:
     figures.add_argument("--out", type=Path, required=True, help="folder for the PNG files")
     figures.add_argument("--seed", type=int, default=0, help="the pursuit's seed")
     figures.add_argument("--frames", type=int, default=400, help="frames of the pursuit")
+    from animat.experiments.demo import add_arguments as demo_arguments
+
+    demo_arguments(sub.add_parser("demo", help="swim the fish with its hand-designed motor "
+                                  "controllers and print St, stride, turns, fins"))
     world_bench = sub.add_parser("world-bench", help="the 10-fish world's env steps/s, "
                                  "without and with one fish's eyes")
     world_bench.add_argument("--seconds", type=float, default=3.0,
@@ -336,8 +341,15 @@ def cmd_figures(args) -> int:
     return 0
 
 
+def cmd_demo(args) -> int:
+    from animat.experiments.demo import run
+
+    run(args)
+    return 0
+
+
 def cmd_bench(args) -> int:
-    from animat.envs.bench import report, report_breakdown, run
+    from animat.experiments.bench.physics import report, report_breakdown, run
 
     if args.breakdown:
         print(report_breakdown())
@@ -347,7 +359,7 @@ def cmd_bench(args) -> int:
 
 
 def cmd_world_bench(args) -> int:
-    from animat.envs.world.bench import report, run
+    from animat.experiments.bench.world import report, run
 
     if not args.seconds > 0:
         raise RunError(f"--seconds must be > 0, got {args.seconds}")
@@ -396,7 +408,8 @@ def _dispatch(args) -> int:
     """Run the command; a failure is one line on stderr and its exit status (2: what the user
     gave, 1: while working, 130: interrupted)."""
     handlers = {"run": cmd_run, "sweep": cmd_sweep, "compare": cmd_compare, "list": cmd_list,
-                "bench": cmd_bench, "figures": cmd_figures, "stunt-figures": cmd_stunt_figures,
+                "bench": cmd_bench, "demo": cmd_demo, "figures": cmd_figures,
+                "stunt-figures": cmd_stunt_figures,
                 "eval": cmd_eval, "tune": cmd_tune, "world-bench": cmd_world_bench,
                 "world-video": cmd_world_video}
     try:

@@ -21,7 +21,7 @@ import gymnasium as gym
 import numpy as np
 
 import animat  # noqa: F401
-from animat.envs.retina import composite
+from animat.envs.vision.retina import composite
 from animat.learners.active_vision import ActiveVisionPolicy
 
 

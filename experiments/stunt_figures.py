@@ -25,7 +25,7 @@ import gymnasium as gym
 import numpy as np
 
 import animat  # noqa: F401
-from animat.envs.dolphin import ACTUATOR_NAMES
+from animat.envs.bodies.dolphin import ACTUATOR_NAMES
 from animat.experiments.config import load_config
 from animat.learners.base import read_json
 from animat.learners.concatenation import schedule

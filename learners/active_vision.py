@@ -3,7 +3,8 @@ nothing (like ``handmc``) so that it stands in comparisons on ``Animat/FishPursu
 
 :class:`ActiveVisionPolicy` sees only the observation (the two eyes' levels, the gaze, the
 proprioception), never ``info`` or the simulator. Each frame, each eye detects the target by
-its model histogram (:func:`animat.envs.active_vision.detect`, the finest level that sees all of it)
+its model histogram (:func:`animat.envs.vision.active_vision.detect`, the finest level that sees
+all of it)
 and saccades onto it; an eye that has lost the target sweeps its gaze back toward straight
 ahead. Between frames the head yaws with every tail beat, so the eyes counter-rotate by the
 head's yaw over the next frame, read off proprioception (a vestibulo-ocular reflex; the
@@ -30,12 +31,12 @@ import gymnasium as gym
 import numpy as np
 
 import animat  # noqa: F401
-from animat.envs.active_vision import VisionParams, detect, model_histogram, saccade
-from animat.envs.fish import fish_body
-from animat.envs.perception import translational_flow
-from animat.envs.pursuit import COLOURS, PHI_RANGE, PREY, SEABED_Z, THETA_RANGE
-from animat.envs.render import Scene, fish_skin, posed
-from animat.envs.retina import RetinaParams, gaze_rotation, render_eye
+from animat.envs.bodies.fish import fish_body
+from animat.envs.render.camera import Scene, fish_skin, posed
+from animat.envs.tasks.pursuit import COLOURS, PHI_RANGE, PREY, SEABED_Z, THETA_RANGE
+from animat.envs.vision.active_vision import VisionParams, detect, model_histogram, saccade
+from animat.envs.vision.perception import translational_flow
+from animat.envs.vision.retina import RetinaParams, gaze_rotation, render_eye
 from animat.learners.agents import PolicyAgent
 from animat.learners.base import LearnResult, Scorer, typed_params
 from animat.learners.rollout import score_policy

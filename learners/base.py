@@ -2,7 +2,7 @@
 kwargs), a budget in env steps, a seed and a logger, and can be checkpointed and resumed.
 
 Tags every learner logs, with the global step = env steps consumed: ``eval/return`` and the
-task's summary metrics as ``eval/<name>`` (:class:`animat.envs.tasks.EpisodeSummary`); anything
+task's summary metrics as ``eval/<name>`` (:class:`animat.envs.tasks.base.EpisodeSummary`); anything
 else under ``train/``. Hyperparameters go in as text (``hparams``).
 """
 

@@ -26,7 +26,8 @@ class HandMCParams:
 
 
 class HandMCLearner(Scorer):
-    """Plays the task's hand-designed MC (:meth:`animat.envs.tasks.Task.hand_controller`): swim ->
+    """Plays the task's hand-designed MC (:meth:`animat.envs.tasks.base.Task.hand_controller`):
+    swim ->
     swim-MC at ``speed`` (default 1), ease-in included (scored from t = 0 like every learned
     controller); turn -> the turn-MC for the env's angle and direction. Uses one episode from
     each start state."""

@@ -17,7 +17,7 @@ import gymnasium as gym
 import numpy as np
 from pydantic import ValidationError
 
-from animat.envs.tasks import EpisodeSummary
+from animat.envs.tasks.base import EpisodeSummary
 from animat.learners import ppo_checkpoint
 from animat.learners.agents import PolicyAgent
 from animat.learners.base import (

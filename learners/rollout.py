@@ -17,7 +17,7 @@ import gymnasium as gym
 import numpy as np
 
 import animat  # noqa: F401  (registers Animat/*)
-from animat.envs.tasks import EpisodeSummary
+from animat.envs.tasks.base import EpisodeSummary
 from animat.learners.base import LearnResult
 
 START_STATES = 4  # start states every candidate and every final result is scored over
@@ -45,7 +45,7 @@ class BatchEvaluator:
         self.dt = float(self.env.dt)
         self.steps = int(self.env.episode_steps)
         self.duration = self.steps * self.dt
-        self.task = self.env.task  # the envs.tasks.Task
+        self.task = self.env.task  # the envs.tasks.base.Task
         self.action_size = int(self.env.single_action_space.shape[0])
         self.env_steps = 0
 

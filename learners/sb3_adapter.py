@@ -3,7 +3,7 @@ checkpointed PPO run resumes exactly (:mod:`animat.learners.ppo_checkpoint`).
 
 - :class:`NativeVecEnv`: the native batched fish env (SB3 cannot take a Gymnasium
   ``VectorEnv``): the same batched step, with SB3's same-step reset conventions; its state is
-  the vector env's own (:meth:`animat.envs.fish_env.FishVectorEnv.get_state`).
+  the vector env's own (:meth:`animat.envs.core.env.BodyVectorEnv.get_state`).
 - :class:`ReplayVecEnv`: single envs stepped one after another (SB3's ``DummyVecEnv``), for
   envs without a batched form (the pursuit); an env's state is how its episode began and the
   actions since (:class:`EpisodeReplay`), replayed into a fresh env on restore.
@@ -22,7 +22,7 @@ import animat  # noqa: F401
 
 
 class NativeVecEnv(VecEnv):
-    """``num_envs`` fish of ``env_id`` in one :class:`animat.envs.fish_env.FishVectorEnv`."""
+    """``num_envs`` fish of ``env_id`` in one :class:`animat.envs.core.env.BodyVectorEnv`."""
 
     def __init__(self, env_id: str, num_envs: int, env_kwargs: dict | None = None,
                  seed: int = 0) -> None:

@@ -22,7 +22,7 @@ from dataclasses import dataclass
 import gymnasium as gym
 import numpy as np
 
-from animat.envs.dolphin import (
+from animat.envs.bodies.dolphin import (
     ACTUATOR_NAMES,
     DORSAL_BACK,
     DORSAL_MIDDLE,

@@ -30,7 +30,6 @@ from numba import njit
 from animat.envs.checks import check_vector
 from animat.envs.physics.forces import sphere_submerged
 
-BODY_PART, NOSE_PART, TAIL_PART = 0, 1, 2
 HEAVE_DAMPING = 0.3  # damping ratio of a floating ball's bobbing (wave radiation), 1
 PART_NAMES = ("body", "nose", "tail")
 

@@ -15,7 +15,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from animat.envs.body import BodySpec, frozen_array
+from animat.envs.bodies.spec import BodySpec, frozen_array
 from animat.envs.checks import check_number, check_vector, is_real, shown
 
 REACTION_LAWS = ("crossflow", "paper")
@@ -125,7 +125,8 @@ def vacuum() -> Water:
 
 
 class KernelArgs(NamedTuple):
-    """What the compiled step reads (see :class:`~envs.body.BodySpec` for the body's arrays)."""
+    """What the compiled step reads (see :class:`~envs.bodies.spec.BodySpec` for the body's
+    arrays)."""
 
     masses: np.ndarray
     volumes: np.ndarray

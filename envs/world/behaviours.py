@@ -1,6 +1,6 @@
 """Behaviour routines of world fish (the paper's Section 2, after Tu and Terzopoulos): each turns
 an intention and its focus into a navigation command (speed in [0, 1], turn and pitch in
-[-1, 1]) that :class:`animat.envs.navigation.Navigator` runs through the motor controllers
+[-1, 1]) that :class:`animat.envs.motor.navigation.Navigator` runs through the motor controllers
 (the swim-, turn- and fin-MCs) on the physical body. Nothing here moves a fish: a behaviour
 only chooses what its muscles and fins are told.
 

@@ -3,13 +3,13 @@
 ## Description
 The paper's scenario (its footnote 3): 10 fishes, 15 food particles and 5 static obstacles in a
 6 m x 6 m tank 0.6 m deep (:mod:`animat.envs.world.world`). Every fish is the 0.30 m
-mass-spring fish of :mod:`animat.envs.fish` on one batched physics, and lives by its habits
+mass-spring fish of :mod:`animat.envs.bodies.fish` on one batched physics, and lives by its habits
 (one shark that hunts minnows; six minnows that school, forage and flee it; three angelfish
 that forage, flee and court), its mind (hunger, libido, fear), the perceptual oracle (300 deg,
 1.5 m; food 2.5 m), its intention generator and its behaviour routines, which act only through
 its motor controllers. One fish, ``agent``, can be driven from outside instead (a learner);
 with ``vision`` one predator sees through its real eyes (two foveated retinas,
-:mod:`animat.envs.retina`) and hunts by the paper's active vision
+:mod:`animat.envs.vision.retina`) and hunts by the paper's active vision
 (:class:`animat.learners.active_vision.ActiveVisionPolicy`, its colour model the reddish
 minnow) in place of the oracle; its reflexes (collision avoidance, flight) stay the
 oracle's.
@@ -17,7 +17,7 @@ oracle's.
 ## Action Space
 ``control="behaviour"`` (default): ``Box(-1, 1, (3,))``, ignored: every fish lives by its
 behaviours. ``control="navigation"``: the agent's (speed, turn, pitch), speed mapped from
-[-1, 1] to [0, 1] (:class:`animat.envs.navigation.Navigator`). ``control="muscles"``:
+[-1, 1] to [0, 1] (:class:`animat.envs.motor.navigation.Navigator`). ``control="muscles"``:
 ``Box(-1, 1, (8,))``, the agent's six actuations and two fins, as the fish envs with
 ``fins=True``. A wrong shape or a NaN raises ``ValueError``.
 
@@ -60,7 +60,7 @@ import gymnasium as gym
 import numpy as np
 
 from animat.envs.checks import check_integer, check_number, shown
-from animat.envs.fish_core import MAX_DURATION, OBS_LIMIT
+from animat.envs.core.batch import MAX_DURATION, OBS_LIMIT
 from animat.envs.world.food import FoodParams
 from animat.envs.world.scene import WorldView
 from animat.envs.world.world import ANGELFISH, MINNOW, SHARK, MarineWorld, WorldParams
@@ -96,7 +96,7 @@ def world_params(duration: float, species: dict | None, food: int, obstacles: in
 
 class MarineSummary:
     """Episode figures from each step's info: the totals of :data:`SUMMED` and the mean
-    ``school_cohesion_bl`` (the interface of :class:`animat.envs.tasks.EpisodeSummary`)."""
+    ``school_cohesion_bl`` (the interface of :class:`animat.envs.tasks.base.EpisodeSummary`)."""
 
     def __init__(self) -> None:
         self.totals = dict.fromkeys(SUMMED, 0.0)

@@ -1,15 +1,15 @@
 """What the living world looks like: its fish in their species' skins, the obstacles (stone
 pillars: octagonal prisms from the seabed), the food particles and the seabed; a third-person
-camera over the tank, and the eyes of one fish (:mod:`animat.envs.retina`).
+camera over the tank, and the eyes of one fish (:mod:`animat.envs.vision.retina`).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from animat.envs.render import Camera, Scene, fish_skin, look_at
-from animat.envs.retina import RetinaParams, eye_positions, gaze_rotation, render_eyes
-from animat.envs.scenery import ROCK, food
+from animat.envs.render.camera import Camera, Scene, fish_skin, look_at
+from animat.envs.render.scenery import ROCK, food
+from animat.envs.vision.retina import RetinaParams, eye_positions, gaze_rotation, render_eyes
 
 SIDES = 8
 

@@ -1,10 +1,10 @@
 """The living marine world: F fish of several species on one batched physics
-(:class:`animat.envs.fish_core.FishBatch`), each with a mind, the perceptual oracle, an
+(:class:`animat.envs.core.batch.BodyBatch`), each with a mind, the perceptual oracle, an
 intention generator and behaviour routines; food particles; static obstacles; a tank.
 
 One :meth:`MarineWorld.step` (one env step of ``dt`` s): every fish perceives
 (:func:`~animat.envs.world.percepts.perceive`), its mind advances, its intention is chosen, its
-behaviour gives a navigation command and the :class:`~animat.envs.navigation.Navigator` turns
+behaviour gives a navigation command and the :class:`~animat.envs.motor.navigation.Navigator` turns
 that into muscle and fin actions; the physics steps all fish at once; then the world's events:
 food eaten (head within reach of a particle), prey caught (a predator's head within
 ``catch_radius`` of a prey's body: the prey is taken, and a new one enters at the tank's edge),
@@ -22,10 +22,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from animat.envs.fish_core import FishBatch
-from animat.envs.navigation import Navigator
-from animat.envs.render import yaw_matrix
-from animat.envs.tasks import SwimTask
+from animat.envs.core.batch import BodyBatch
+from animat.envs.motor.navigation import Navigator
+from animat.envs.render.camera import yaw_matrix
+from animat.envs.tasks.locomotion import SwimTask
 from animat.envs.world import food as food_mod
 from animat.envs.world.behaviours import BehaviourParams
 from animat.envs.world.food import FoodParams
@@ -115,7 +115,7 @@ class MarineWorld:
         self.params = params
         self.habits = params.habits
         f = len(self.habits)
-        self.core = FishBatch(f, SwimTask(), duration=params.duration, fins=True)
+        self.core = BodyBatch(f, SwimTask(), duration=params.duration, fins=True)
         self.dt, self.length = self.core.dt, self.core.body.length
         self.navigator = Navigator(f)
         self.intentions = IntentionGenerator(f, params.intention)

@@ -4,10 +4,10 @@ beside it), verge on it, and range it by triangulation."""
 import numpy as np
 import pytest
 
-from animat.envs.active_vision import correlate, detect, foveate, model_histogram, verge
-from animat.envs.fish import fish_body
-from animat.envs.render import Scene, posed
-from animat.envs.retina import RetinaParams, eye_positions, gaze_rotation, render_eye
+from animat.envs.bodies.fish import fish_body
+from animat.envs.render.camera import Scene, posed
+from animat.envs.vision.active_vision import correlate, detect, foveate, model_histogram, verge
+from animat.envs.vision.retina import RetinaParams, eye_positions, gaze_rotation, render_eye
 
 HEAD = np.eye(3)
 LENGTH = 0.30

@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-from animat.envs.body import CROSS, MUSCLE, ORDINARY, BodySpec
-from animat.envs.fish import fish_body
+from animat.envs.bodies.fish import fish_body
+from animat.envs.bodies.spec import CROSS, MUSCLE, ORDINARY, BodySpec
 from animat.envs.physics.forces import add_face_forces
 from animat.envs.physics.system import System, Water
 

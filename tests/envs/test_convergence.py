@@ -8,14 +8,14 @@ and at a step 4x smaller, agree within 5%.
 import numpy as np
 import pytest
 
-from animat.envs.fish_core import DEFAULT_FRAME_SKIP, FishBatch
-from animat.envs.motor import FinParams, fin_mc, swim_mc, to_action, turn_duration, turn_mc
+from animat.envs.core.batch import DEFAULT_FRAME_SKIP, BodyBatch
+from animat.envs.motor.fish import FinParams, fin_mc, swim_mc, to_action, turn_duration, turn_mc
 from animat.envs.physics.system import DEFAULT_DT
-from animat.envs.tasks import SwimTask
+from animat.envs.tasks.locomotion import SwimTask
 
 
 def _figures(refine: int) -> dict[str, float]:
-    core = FishBatch(3, SwimTask(), physics_dt=DEFAULT_DT / refine,
+    core = BodyBatch(3, SwimTask(), physics_dt=DEFAULT_DT / refine,
                      frame_skip=DEFAULT_FRAME_SKIP * refine, duration=100.0, fins=True)
     core.reset_rows(np.arange(3), [np.random.default_rng(0) for _ in range(3)])
     fins = np.zeros((3, 2))

@@ -6,16 +6,16 @@ tissue within limits, and a leap that does not move when the step is halved."""
 import numpy as np
 import pytest
 
-from animat.envs import DOLPHIN_KWARGS
-from animat.envs.dolphin import ACTUATOR_NAMES, LEFT_TIP, RIGHT_TIP, dolphin_body
-from animat.envs.dolphin_motor import dolphin_swim_mc
-from animat.envs.dolphin_tasks import DolphinForwardTask
-from animat.envs.fish_core import FishBatch
-from animat.envs.motor import to_action
+from animat.envs.bodies.dolphin import ACTUATOR_NAMES, LEFT_TIP, RIGHT_TIP, dolphin_body
+from animat.envs.core.batch import BodyBatch
+from animat.envs.motor.dolphin import dolphin_swim_mc
+from animat.envs.motor.fish import to_action
 from animat.envs.physics.integrator import step_batch
 from animat.envs.physics.observe import momenta
 from animat.envs.physics.system import System, Water, stable_step
-from animat.envs.stunts import LeapTask
+from animat.envs.registration import DOLPHIN_KWARGS
+from animat.envs.tasks.dolphin import DolphinForwardTask
+from animat.envs.tasks.stunts import LeapTask
 
 G = 9.81
 BODY = dolphin_body()
@@ -24,7 +24,7 @@ STEP, SKIP = DOLPHIN_KWARGS["physics_dt"], DOLPHIN_KWARGS["frame_skip"]
 
 
 def _core(task, num_envs=1, physics_dt=STEP, frame_skip=SKIP, water=None, noise=0.0):
-    core = FishBatch(num_envs, task, body=BODY, water=water or WATER, physics_dt=physics_dt,
+    core = BodyBatch(num_envs, task, body=BODY, water=water or WATER, physics_dt=physics_dt,
                      frame_skip=frame_skip, duration=120.0, reset_noise_scale=noise)
     core.reset_rows(np.arange(num_envs), [np.random.default_rng(k) for k in range(num_envs)])
     return core

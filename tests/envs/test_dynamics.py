@@ -8,7 +8,7 @@ length and V the largest node speed seen during the run (the body's own momentum
 import numpy as np
 import pytest
 
-from animat.envs.fish import fish_body
+from animat.envs.bodies.fish import fish_body
 from animat.envs.physics.integrator import step_batch
 from animat.envs.physics.observe import body_state, momenta
 from animat.envs.physics.system import STABILITY_MARGIN, System, Water, stable_step, vacuum

@@ -11,12 +11,12 @@ import numpy as np
 import pytest
 import yaml
 
-import animat
 from animat.envs.bodies import make_body
 from animat.envs.physics.system import STABILITY_MARGIN, stable_step
+from animat.envs.registration import DOLPHIN_ENVS, FISH_ENVS
 
 NAN, INF = float("nan"), float("inf")
-FISH_IDS = animat.envs.ENV_IDS + tuple(animat.envs.DOLPHIN_ENVS)  # the FishEnv ids
+FISH_IDS = tuple(FISH_ENVS) + tuple(DOLPHIN_ENVS)  # the BodyEnv ids
 CONFIGS = sorted((Path(__file__).parents[2] / "configs").rglob("*.yaml"))
 
 # (kwargs, the name the message must give, the bad value it must show): any fish or dolphin id

@@ -8,10 +8,10 @@ import pytest
 from gymnasium.utils.env_checker import check_env
 from stable_baselines3.common.env_checker import check_env as sb3_check_env
 
-import animat
-from animat.envs.motor import swim_mc, to_action
+from animat.envs.motor.fish import swim_mc, to_action
+from animat.envs.registration import FISH_ENVS
 
-ENV_IDS = animat.envs.ENV_IDS
+ENV_IDS = tuple(FISH_ENVS)
 VECTOR_IDS = ENV_IDS + ("Animat/DolphinLeap-v0", "Animat/DolphinNoseBall-v0")  # (a ball too)
 
 
@@ -65,7 +65,7 @@ def test_invalid_actions_raise_and_leave_state_unchanged(bad, message):
 def test_native_vector_env_matches_single_envs_step_for_step(env_id):
     num = 4
     vec = gym.make_vec(env_id, num_envs=num, duration=0.5)
-    assert type(vec).__name__ == "FishVectorEnv"
+    assert type(vec).__name__ == "BodyVectorEnv"
     singles = [gym.make(env_id, duration=0.5) for _ in range(num)]
     obs, _ = vec.reset(seed=10)
     single_obs = [env.reset(seed=10 + i)[0] for i, env in enumerate(singles)]

@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-from animat.envs.fish_env import FishEnv
-from animat.envs.motor import FinParams, fin_mc, swim_mc, to_action, turn_duration, turn_mc
+from animat.envs.core.env import BodyEnv
+from animat.envs.motor.fish import FinParams, fin_mc, swim_mc, to_action, turn_duration, turn_mc
 
 
 def _run(env, actuation, seconds, fins=None):
@@ -21,7 +21,7 @@ def _run(env, actuation, seconds, fins=None):
 
 
 def test_swim_mc_swims_head_first_and_holds_heading():
-    env = FishEnv("swim", duration=10.0)
+    env = BodyEnv("swim", duration=10.0)
     infos = _run(env, lambda t: swim_mc(1.0, t), 10.0)
     com = np.array([i["com"] for i in infos])
     per_second = int(round(1.0 / env.dt))
@@ -38,7 +38,7 @@ def test_swim_mc_swims_head_first_and_holds_heading():
 def test_swim_speed_grows_with_the_speed_parameter():
     speeds = []
     for s in (0.3, 0.6, 1.0):
-        infos = _run(FishEnv("swim", duration=6.0), lambda t, s=s: swim_mc(s, t), 6.0)
+        infos = _run(BodyEnv("swim", duration=6.0), lambda t, s=s: swim_mc(s, t), 6.0)
         speeds.append(infos[-1]["distance_bl"])
     assert speeds[0] < speeds[1] < speeds[2]
 
@@ -46,7 +46,7 @@ def test_swim_speed_grows_with_the_speed_parameter():
 @pytest.mark.parametrize("left", [True, False])
 def test_turn_mc_ends_within_10_degrees_of_90_and_holds_it(left):
     sign = 1.0 if left else -1.0
-    infos = _run(FishEnv("turn", duration=6.0), lambda t: turn_mc(np.pi / 2, t, left), 6.0)
+    infos = _run(BodyEnv("turn", duration=6.0), lambda t: turn_mc(np.pi / 2, t, left), 6.0)
     headings = sign * np.array([i["heading_deg"] for i in infos])
     end = int(round(turn_duration(np.pi / 2) / 0.05)) - 1
     assert abs(headings[end] - 90.0) <= 10.0, headings[end]
@@ -58,7 +58,7 @@ def test_turn_angle_grows_with_the_parameter(left):
     sign, reached = (1.0 if left else -1.0), []
     for degrees in (30.0, 60.0, 90.0, 120.0):
         angle = np.radians(degrees)
-        infos = _run(FishEnv("turn", duration=5.0), lambda t, a=angle: turn_mc(a, t, left),
+        infos = _run(BodyEnv("turn", duration=5.0), lambda t, a=angle: turn_mc(a, t, left),
                      turn_duration(angle))
         reached.append(sign * infos[-1]["heading_deg"])  # when the controller has finished
     assert 0 < reached[0] < reached[1] < reached[2] < reached[3], reached
@@ -66,7 +66,7 @@ def test_turn_angle_grows_with_the_parameter(left):
 
 @pytest.mark.parametrize("pitch", [1.0, -1.0])
 def test_fin_pitch_changes_depth_in_the_commanded_direction(pitch):
-    env = FishEnv("swim", duration=6.0, fins=True)
+    env = BodyEnv("swim", duration=6.0, fins=True)
     infos = _run(env, lambda t: swim_mc(1.0, t), 6.0, fins=fin_mc(pitch=pitch))
     depth_change = infos[-1]["com"][2] - infos[0]["com"][2]
     assert np.sign(depth_change) == np.sign(pitch)
@@ -75,7 +75,7 @@ def test_fin_pitch_changes_depth_in_the_commanded_direction(pitch):
 
 @pytest.mark.parametrize("roll", [1.0, -1.0])
 def test_fin_roll_rolls_the_fish_to_the_commanded_side(roll):
-    env = FishEnv("swim", duration=6.0, fins=True)
+    env = BodyEnv("swim", duration=6.0, fins=True)
     _run(env, lambda t: swim_mc(1.0, t), 6.0, fins=fin_mc(roll=roll))
     frames = env.core.kinematics().frames
     up, heading = frames[0, 2], frames[0, 0]  # the body's up and forward, world frame

@@ -4,8 +4,9 @@ import cv2
 import numpy as np
 import pytest
 
-from animat.envs.fish import fish_body
-from animat.envs.perception import (
+from animat.envs.bodies.fish import fish_body
+from animat.envs.render.camera import Scene, posed
+from animat.envs.vision.perception import (
     colour_histogram,
     intersection,
     locate,
@@ -13,8 +14,7 @@ from animat.envs.perception import (
     translational_flow,
     triangulate,
 )
-from animat.envs.render import Scene, posed
-from animat.envs.retina import RetinaParams, gaze_rotation, render_eye
+from animat.envs.vision.retina import RetinaParams, gaze_rotation, render_eye
 
 
 def _textured(seed=0, size=64):
@@ -70,7 +70,7 @@ def test_triangulated_range_of_a_verged_target_at_two_body_lengths_is_within_ten
 
 def test_backprojection_keeps_fractional_ratios():
     """A colour the model has half as often as the image gets evidence 0.5, not 0."""
-    from animat.envs.perception import backproject
+    from animat.envs.vision.perception import backproject
 
     image = np.zeros((16, 16, 3), np.uint8)
     image[:, :8] = (200, 30, 30)

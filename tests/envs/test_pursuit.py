@@ -8,9 +8,9 @@ import pytest
 from gymnasium.utils.env_checker import check_env
 
 import animat  # noqa: F401
-from animat.envs.fish_env import FishEnv
-from animat.envs.navigation import Navigator
-from animat.envs.pursuit import PursuitSummary
+from animat.envs.core.env import BodyEnv
+from animat.envs.motor.navigation import Navigator
+from animat.envs.tasks.pursuit import PursuitSummary
 
 
 def test_pursuit_passes_both_checkers_without_warnings():
@@ -44,7 +44,7 @@ def test_pursuit_observation_info_and_renders():
 
 
 def test_a_left_turn_command_turns_the_fish_left_then_it_swims_on():
-    env = FishEnv("swim", duration=8.0, fins=True)
+    env = BodyEnv("swim", duration=8.0, fins=True)
     env.reset(seed=0)
     navigator = Navigator(1)
     headings = []

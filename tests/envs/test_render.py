@@ -2,8 +2,8 @@
 
 import numpy as np
 
-from animat.envs.fish import fish_body
-from animat.envs.render import Camera, Scene, look_at
+from animat.envs.bodies.fish import fish_body
+from animat.envs.render.camera import Camera, Scene, look_at
 
 
 def _camera(eye, target, size=200):

@@ -3,9 +3,9 @@
 import numpy as np
 import pytest
 
-from animat.envs.fish import fish_body
-from animat.envs.render import Scene, posed
-from animat.envs.retina import RetinaParams, composite, gaze_rotation, render_eye
+from animat.envs.bodies.fish import fish_body
+from animat.envs.render.camera import Scene, posed
+from animat.envs.vision.retina import RetinaParams, composite, gaze_rotation, render_eye
 
 HEAD = np.eye(3)  # rows forward (+x), left (+y), up (+z)
 EYE = np.zeros(3)

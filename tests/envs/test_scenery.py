@@ -4,11 +4,11 @@ texture that optical flow locks onto."""
 import numpy as np
 import pytest
 
-from animat.envs.fish import fish_body
-from animat.envs.perception import translational_flow
-from animat.envs.render import WATER_BOTTOM, WATER_TOP, Scene, fish_skin, posed
-from animat.envs.retina import RetinaParams, gaze_rotation, render_eye
-from animat.envs.scenery import SceneryParams, furnish, scatter
+from animat.envs.bodies.fish import fish_body
+from animat.envs.render.camera import WATER_BOTTOM, WATER_TOP, Scene, fish_skin, posed
+from animat.envs.render.scenery import SceneryParams, furnish, scatter
+from animat.envs.vision.perception import translational_flow
+from animat.envs.vision.retina import RetinaParams, gaze_rotation, render_eye
 
 HEAD, EYE = np.eye(3), np.zeros(3)
 

@@ -7,7 +7,7 @@ import pytest
 from gymnasium.utils.env_checker import check_env
 
 import animat  # noqa: F401
-from animat.envs.sensors import Proprioception
+from animat.envs.core.sensors import Proprioception
 
 
 class DepthGauge:

@@ -10,10 +10,10 @@ import pytest
 from gymnasium.utils.env_checker import check_env
 from stable_baselines3.common.env_checker import check_env as sb3_check_env
 
-from animat.envs import DOLPHIN_ENVS
-from animat.envs.dolphin_motor import dolphin_swim_mc, dolphin_turn_mc
-from animat.envs.motor import to_action
-from animat.envs.physics.ball import NOSE_PART
+from animat.envs.bodies.spec import NOSE_PART
+from animat.envs.motor.dolphin import dolphin_swim_mc, dolphin_turn_mc
+from animat.envs.motor.fish import to_action
+from animat.envs.registration import DOLPHIN_ENVS
 
 DOLPHIN_IDS = sorted(DOLPHIN_ENVS)
 
@@ -89,7 +89,7 @@ def test_a_somersault_is_one_flights_turn_not_the_sum_of_several_leaps():
     """Two flights that each turn 0.3 of a circle score 0.3 turns, not 0.6: the memory
     keeps each flight's rotation and the best of them."""
     from animat.envs.bodies import make_body
-    from animat.envs.stunts import ROTATION, SomersaultTask, World
+    from animat.envs.tasks.stunts import ROTATION, SomersaultTask, World
 
     task, body = SomersaultTask(), make_body("dolphin")
     memory = np.tile(task.initial_memory(), (1, 1))
@@ -159,7 +159,7 @@ def test_a_start_at_speed_glides_along_the_pitched_heading_and_bad_speeds_are_re
 def test_the_arc_pays_the_speed_round_its_circle():
     """E_v = -u_arc: the full speed on the circle's tangent, none moving along the radius,
     and a straight swim from the circle's top makes ever less of its speed."""
-    from animat.envs.dolphin_tasks import DolphinArcTask
+    from animat.envs.tasks.dolphin import DolphinArcTask
 
     length, radius = 2.5, 2.0 * 2.5
     frames = np.tile(np.eye(3), (3, 1, 1))
@@ -188,8 +188,8 @@ def test_the_spin_pays_the_bodys_pitch_rate_whatever_it_moves_along():
     """A body turning rigidly nose-up at w rad/s about its centre of mass, and gliding, has a
     pitch rate of w (signed by the direction asked for); a glide alone has none."""
     from animat.envs.bodies import make_body
-    from animat.envs.dolphin_tasks import DolphinSpinTask
-    from animat.envs.stunts import World
+    from animat.envs.tasks.dolphin import DolphinSpinTask
+    from animat.envs.tasks.stunts import World
 
     body = make_body("dolphin")
     x = body.rest_positions - body.masses @ body.rest_positions / body.total_mass

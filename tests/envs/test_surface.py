@@ -6,7 +6,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from animat.envs.fish import fish_body
+from animat.envs.bodies.fish import fish_body
 from animat.envs.physics.forces import sphere_submerged, wet_fraction
 from animat.envs.physics.integrator import step_batch
 from animat.envs.physics.system import System, Water

@@ -5,16 +5,16 @@ from pathlib import Path
 
 import numpy as np
 
-from animat.envs.fish_core import FishBatch
-from animat.envs.motor import swim_mc, to_action, turn_mc
-from animat.envs.tasks import SwimTask
+from animat.envs.core.batch import BodyBatch
+from animat.envs.motor.fish import swim_mc, to_action, turn_mc
+from animat.envs.tasks.locomotion import SwimTask
 
 REPERTOIRE = Path(__file__).resolve().parents[2] / "repertoires" / "fish.json"
 
 
 def _passive_strain_range(actions: np.ndarray) -> tuple[float, float]:
     """Min and max passive strain over an episode of actions (T, B, 6), seeded starts."""
-    core = FishBatch(actions.shape[1], SwimTask(), duration=1e3)
+    core = BodyBatch(actions.shape[1], SwimTask(), duration=1e3)
     core.reset_rows(np.arange(actions.shape[1]),
                     [np.random.default_rng(k) for k in range(actions.shape[1])])
     body, low, high = core.body, np.inf, 0.0

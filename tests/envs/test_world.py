@@ -181,7 +181,7 @@ def test_a_fish_with_eyes_hunts_by_active_vision_and_the_agent_takes_its_command
 
 
 def test_the_world_bench_measures_every_configuration_and_prints_the_ratios():
-    from animat.envs.world.bench import report, run
+    from animat.experiments.bench.world import report, run
 
     result = run(seconds=0.05, rounds=1)
     assert set(result) >= {"10 fishes, oracle perception", "10 fishes, one with eyes"}

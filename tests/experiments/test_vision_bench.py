@@ -2,7 +2,7 @@
 
 import re
 
-from animat.experiments.vision_bench import main
+from animat.experiments.bench.vision import main
 
 
 def test_the_pursuit_benchmark_prints_every_rate(capsys):

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import animat  # noqa: F401
-from animat.envs.active_vision import VisionParams, detect
+from animat.envs.vision.active_vision import VisionParams, detect
 from animat.learners.active_vision import (
     MODEL_VIEWS,
     ActiveVisionParams,

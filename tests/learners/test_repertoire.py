@@ -61,7 +61,7 @@ def _skill_score(skill, refine: int) -> float:
     """A shipped skill's score from the 4 seeded start states, at the default step refined
     ``refine`` times (same env step, so the same actions): swims their mean speed (BL/s),
     turns the degrees of the 90 they achieve (90 - |final heading error|)."""
-    from animat.envs.fish_core import DEFAULT_FRAME_SKIP
+    from animat.envs.core.batch import DEFAULT_FRAME_SKIP
     from animat.envs.physics.system import DEFAULT_DT
     from animat.learners.rollout import BatchEvaluator
 

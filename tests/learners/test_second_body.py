@@ -7,7 +7,7 @@ import numpy as np
 from gymnasium.utils.env_checker import check_env
 
 import animat  # noqa: F401
-from animat.envs.body import CROSS, MUSCLE, ORDINARY, BodySpec
+from animat.envs.bodies.spec import CROSS, MUSCLE, ORDINARY, BodySpec
 from animat.envs.physics.system import DEFAULT_DT, STABILITY_MARGIN, stable_step
 from animat.learners.registry import make_learner
 

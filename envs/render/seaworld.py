@@ -1,7 +1,7 @@
 """Pictures of the air-water world: the dolphin, its beach ball and support, the sky, the water
 surface and the water below it, seen from beside the pool.
 
-The bodies go through the shared rasterizer (:func:`animat.envs.raster.rasterize_world`, a
+The bodies go through the shared rasterizer (:func:`animat.envs.render.raster.rasterize_world`, a
 depth buffer); then :func:`surface_into` colours each pixel by where its ray goes: a ray that
 meets nothing shows the sky above the horizon and the water's colour below it; the part of a
 ray's path under the surface hazes what it meets (``exp(-d / visibility)`` kept, d the path
@@ -14,10 +14,10 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from animat.envs.body import BodySpec
+from animat.envs.bodies.spec import BodySpec
 from animat.envs.physics.ball import BallParams
-from animat.envs.raster import _ray, rasterize_world
-from animat.envs.render import Camera, Scene, box, look_at
+from animat.envs.render.camera import Camera, Scene, box, look_at
+from animat.envs.render.raster import _ray, rasterize_world
 
 DOLPHIN_COLOUR = (105, 120, 140)
 BALL_COLOURS = ((230, 40, 40), (250, 250, 250), (40, 90, 230), (250, 210, 40))

@@ -1,9 +1,9 @@
 """The batched core of every fish environment: state, step, observation, reward.
 
-:class:`FishBatch` holds B fish (B = 1 for a single env) and advances them together with
+:class:`BodyBatch` holds B fish (B = 1 for a single env) and advances them together with
 :func:`animat.envs.physics.integrator.step_batch`. The single env
-(:class:`animat.envs.fish_env.FishEnv`) and the native vector env
-(:class:`animat.envs.fish_env.FishVectorEnv`) are thin shells around it, so the physics, the
+(:class:`animat.envs.core.env.BodyEnv`) and the native vector env
+(:class:`animat.envs.core.env.BodyVectorEnv`) are thin shells around it, so the physics, the
 observation and the reward exist once.
 
 Reward (the paper's Eq. 1, per env step of ``dt`` seconds):
@@ -19,14 +19,14 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from animat.envs.body import BodySpec
+from animat.envs.bodies.fish import fish_body
+from animat.envs.bodies.spec import BodySpec
 from animat.envs.checks import check_flag, check_integer, check_number, shown
-from animat.envs.fish import fish_body
-from animat.envs.motor import FinParams
+from animat.envs.motor.fish import FinParams
 from animat.envs.physics.integrator import step_batch
 from animat.envs.physics.observe import body_state, momenta, proprioception
 from animat.envs.physics.system import DEFAULT_DT, System, Water
-from animat.envs.tasks import Task, World
+from animat.envs.tasks.base import Task, World
 
 OBS_LIMIT = 1e4  # observation entries are clipped to +-OBS_LIMIT
 DEFAULT_FRAME_SKIP = 40  # integration steps per env step: 40 x 1.25 ms = 0.05 s
@@ -114,9 +114,9 @@ def control_energy(u, u_prev, u_prev2, dt, nu1, nu2):
 
 
 @dataclass
-class FishState:
+class BodyState:
     """Everything that changes while B fish move (arrays changed in place by
-    :meth:`FishBatch.step` and :meth:`FishBatch.reset_rows`).
+    :meth:`BodyBatch.step` and :meth:`BodyBatch.reset_rows`).
 
     Attributes:
         x, v: (B, N, 3) node positions (m) and velocities (m/s), world frame.
@@ -124,7 +124,7 @@ class FishState:
         fins: (B, P) fin angles held over the current env step, rad.
         steps: (B,) env steps since each episode began.
         origin: (B, 3) centre of mass at each episode's start, m.
-        targets: (B, T) each episode's task parameters (:meth:`animat.envs.tasks.Task.sample`).
+        targets: (B, T) each episode's task parameters (:meth:`animat.envs.tasks.base.Task.sample`).
         splash: (B,) the splash of the last env step: the impact momentum of the faces that
             went under the surface, kg m/s (:func:`animat.envs.physics.forces.add_face_forces`).
         memory: (B, M) what the task keeps over an episode (``Task.memory_size``).
@@ -146,7 +146,7 @@ class FishState:
     touch: np.ndarray
 
     @classmethod
-    def zeros(cls, num_envs: int, body: BodySpec, task: Task) -> FishState:
+    def zeros(cls, num_envs: int, body: BodySpec, task: Task) -> BodyState:
         n, a, p = body.num_nodes, body.num_actuators, body.fin_nodes.shape[0]
         return cls(np.zeros((num_envs, n, 3)), np.zeros((num_envs, n, 3)),
                    np.zeros((num_envs, a)), np.zeros((num_envs, a)), np.zeros((num_envs, p)),
@@ -157,7 +157,7 @@ class FishState:
 
 
 class Kinematics(NamedTuple):
-    """What :meth:`FishBatch.measure` computed and :meth:`FishBatch.observe` reuses: centre of
+    """What :meth:`BodyBatch.measure` computed and :meth:`BodyBatch.observe` reuses: centre of
     mass (B, 3) m, its velocity (B, 3) m/s, body frames (B, 3, 3) (rows forward, left, up)."""
 
     com: np.ndarray
@@ -167,7 +167,7 @@ class Kinematics(NamedTuple):
 
 def check_arguments(num_envs: int, physics_dt: float, frame_skip: int, duration: float,
                     reset_noise_scale: float, fins: bool, fin_max_angle: float) -> None:
-    """Check a batch's arguments (:class:`FishBatch`), each a ValueError of one line naming
+    """Check a batch's arguments (:class:`BodyBatch`), each a ValueError of one line naming
     it: ``num_envs`` an integer in [1, 65536]; ``physics_dt`` a finite number in [1e-6, 1] s
     (:class:`~envs.physics.system.System` refuses one above the body's stability bound);
     ``frame_skip`` an integer in [1, 10000]; ``duration`` a finite number in (0, 86400] s
@@ -185,15 +185,15 @@ def check_arguments(num_envs: int, physics_dt: float, frame_skip: int, duration:
     check_number("fin_max_angle", fin_max_angle, 0.0, np.pi / 2, "rad")
 
 
-class FishBatch:
+class BodyBatch:
     """B fish doing one task: a :class:`~envs.physics.system.System` (fixed), a
-    :class:`FishState` (``state``, what changes) and the step, measurement and observation
+    :class:`BodyState` (``state``, what changes) and the step, measurement and observation
     functions on them.
 
     Args:
         num_envs: B.
-        task: the :class:`~envs.tasks.Task`.
-        body: the body description (default: :func:`animat.envs.fish.fish_body`).
+        task: the :class:`~envs.tasks.base.Task`.
+        body: the body description (default: :func:`animat.envs.bodies.fish.fish_body`).
         water: the medium, a :class:`~envs.physics.system.Water` or a dict of its fields
             (default: still fresh water, no surface).
         physics_dt: integration step, s.
@@ -224,7 +224,7 @@ class FishBatch:
         self.dt = self.system.dt * self.frame_skip
         self.episode_steps = max(1, int(round(duration / self.dt)))
         self.reset_noise_scale = float(reset_noise_scale)
-        self.state = FishState.zeros(num_envs, self.body, task)
+        self.state = BodyState.zeros(num_envs, self.body, task)
         self.ball = task.ball
         self._ball_args = None if self.ball is None else self.ball.as_args()
         n, a = self.body.num_nodes, self.body.num_actuators
@@ -258,15 +258,15 @@ class FishBatch:
         state.origin[rows] = self.kinematics().com[rows]
 
     def get_state(self) -> dict[str, np.ndarray]:
-        """A copy of everything that changes (:class:`FishState`'s arrays by name): given to
+        """A copy of everything that changes (:class:`BodyState`'s arrays by name): given to
         :meth:`set_state` of a batch of the same config, it continues exactly from here."""
-        return {f.name: getattr(self.state, f.name).copy() for f in fields(FishState)}
+        return {f.name: getattr(self.state, f.name).copy() for f in fields(BodyState)}
 
     def set_state(self, saved: dict[str, np.ndarray]) -> None:
         """Continue from ``saved`` (:meth:`get_state`'s dict); ValueError naming the first
         entry that does not fit this batch (wrong name, dtype or shape; bodies not finite), before
         anything is changed."""
-        names = [f.name for f in fields(FishState)]
+        names = [f.name for f in fields(BodyState)]
         if sorted(saved) != sorted(names):
             raise ValueError(f"a fish state has the entries {names}, got {sorted(saved)}")
         arrays = {}
@@ -316,7 +316,7 @@ class FishBatch:
         return self.state.steps >= self.episode_steps
 
     def world(self, kinematics: Kinematics) -> World:
-        """What a task may read of the current state (:class:`animat.envs.tasks.World`)."""
+        """What a task may read of the current state (:class:`animat.envs.tasks.base.World`)."""
         state, (com, com_vel, frames) = self.state, kinematics
         return World(com - state.origin, com_vel, frames, state.targets, self.body.length,
                      com, state.x, state.v, state.splash, state.memory, state.ball,

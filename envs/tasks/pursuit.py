@@ -1,14 +1,14 @@
 """``Animat/FishPursuit-v0``: an observer fish with eyes pursues a reddish prey fish.
 
 ## Description
-Three fish of :mod:`animat.envs.fish` share the water (one batched simulation): the observer
-(orange), whose two eyes (:mod:`animat.envs.retina`) are the only way it sees; a reddish prey
+Three fish of :mod:`animat.envs.bodies.fish` share the water (one batched simulation): the observer
+(orange), whose two eyes (:mod:`animat.envs.vision.retina`) are the only way it sees; a reddish prey
 and a yellow passer that live by the living world's mind and behaviours
 (:mod:`animat.envs.world`): the prey swims on at ``prey_speed`` and flees the observer, which
 it fears as a predator (its fear is 0.5, the threshold of flight, with the observer
 ``flee_distance_bl`` away, and decays once it is far), and the passer, of the same size,
 swims straight across, passing behind the prey a few seconds in. Every fish moves only
-through its motor controllers (:mod:`animat.envs.navigation`).
+through its motor controllers (:mod:`animat.envs.motor.navigation`).
 
 ## Action Space
 ``Box(-1, 1, (7,), float32)``: swim speed (mapped to [0, 1]), turn (positive: left; above
@@ -34,9 +34,10 @@ entries). It takes stable-baselines3's ``MultiInputPolicy`` as it is.
 
 ## Scene
 A sand-tiled seabed 0.5 m below, water with depth haze, and a seeded scenery per episode
-(:mod:`animat.envs.scenery`): 5 rocks and 12 plants on the seabed (below the swimming layer) and 15
+(:mod:`animat.envs.render.scenery`): 5 rocks and 12 plants on the seabed (below the swimming layer)
+and 15
 food particles floating, over 6 m x 6 m ahead of the start. The fish wear textured skins
-(:func:`animat.envs.render.fish_skin`): countershading, bands and a checker.
+(:func:`animat.envs.render.camera.fish_skin`): countershading, bands and a checker.
 
 ## Starting State
 The observer at the origin heading +x; the prey ``start_distance_bl`` ahead at a bearing
@@ -61,13 +62,19 @@ import gymnasium as gym
 import numpy as np
 
 from animat.envs.checks import check_number, check_range
-from animat.envs.fish_core import OBS_LIMIT, FishBatch
-from animat.envs.navigation import Navigator
-from animat.envs.perception import triangulate
-from animat.envs.render import Camera, Scene, fish_skin, look_at, yaw_matrix
-from animat.envs.retina import RetinaParams, composite, eye_positions, gaze_rotation, render_eyes
-from animat.envs.scenery import SceneryParams, furnish, scatter
-from animat.envs.tasks import SwimTask
+from animat.envs.core.batch import OBS_LIMIT, BodyBatch
+from animat.envs.motor.navigation import Navigator
+from animat.envs.render.camera import Camera, Scene, fish_skin, look_at, yaw_matrix
+from animat.envs.render.scenery import SceneryParams, furnish, scatter
+from animat.envs.tasks.locomotion import SwimTask
+from animat.envs.vision.perception import triangulate
+from animat.envs.vision.retina import (
+    RetinaParams,
+    composite,
+    eye_positions,
+    gaze_rotation,
+    render_eyes,
+)
 from animat.envs.world.behaviours import BehaviourParams
 from animat.envs.world.intention import IntentionGenerator
 from animat.envs.world.life import Lives
@@ -86,7 +93,8 @@ SCENERY = SceneryParams(rocks=5, plants=12, food=15, low=(-1.5, -3.0), high=(4.5
 
 class PursuitSummary:
     """Episode metrics of a pursuit from each step's info (the same interface as
-    :class:`animat.envs.tasks.EpisodeSummary`, one episode): ``fovea_fraction`` (share of the frames
+    :class:`animat.envs.tasks.base.EpisodeSummary`, one episode): ``fovea_fraction`` (share of the
+    frames
     after the first foveation with the prey in both foveas), ``fovea_fraction_150`` (the same
     over the ``WINDOW`` = 150 frames after it, or as many as the episode has),
     ``distance_closed_bl``,
@@ -152,7 +160,7 @@ class FishPursuitEnv(gym.Env):
             raise ValueError(f"render_mode must be None, 'rgb_array' or 'retina', got "
                              f"{render_mode!r}")
         self.render_mode = render_mode
-        self.core = FishBatch(3, SwimTask(), duration=duration, fins=True)
+        self.core = BodyBatch(3, SwimTask(), duration=duration, fins=True)
         self.dt, self.body_length = self.core.dt, self.core.body.length
         self.start_distance_bl = check_range("start_distance_bl", start_distance_bl, 1.0,
                                              MAX_DISTANCE_BL, "BL")

@@ -1,6 +1,7 @@
 """The still part of the marine world the eyes see: rocks on the seabed, plants, food particles.
 
-Each thing is a rigid mesh of quads (:meth:`animat.envs.render.Scene.add_mesh`) with a colour per
+Each thing is a rigid mesh of quads (:meth:`animat.envs.render.camera.Scene.add_mesh`) with a
+colour per
 face, so that it has texture for optical flow and shading for shape. :func:`scatter` lays out a
 seeded set of them over an area; the envs add it to their scene every frame. Nothing here
 takes part in the physics yet: rocks stand on the seabed below the swimming layer, food drifts
@@ -13,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from animat.envs.render import BOX_FACES, Scene, box, box_corners
+from animat.envs.render.camera import BOX_FACES, Scene, box, box_corners
 
 ROCK, PLANT, FOOD = (115, 105, 95), (45, 125, 55), (235, 225, 150)  # RGB
 

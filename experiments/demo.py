@@ -1,12 +1,12 @@
 """Swim demo: the hand-designed motor controllers drive the fish; prints what they achieve.
 
-``python -m animat.envs.demo [--seconds 10] [--video DIR]``: swims at full speed with the
-swim-MC and prints the biology figures of its cruise (tail-beat frequency f, peak-to-peak tail
-amplitude A, speed U along the start heading, Strouhal number fA/U, stride U/f), turns left and
-right with the turn-MCs, and rises and dives with the fin-MC (fin angles through the action
-space); with ``--video`` it records the swim to DIR. ``--model-sweep`` prints how the Strouhal
-number and stride respond to the force model and the swim-MC's gains (the measurements behind
-the README's note that a resistive model alone cannot reach fish-like St).
+``animat demo [--seconds 10] [--video DIR]`` (or ``python -m animat.experiments.demo``): swims
+at full speed with the swim-MC and prints the biology figures of its cruise (tail-beat frequency
+f, peak-to-peak tail amplitude A, speed U along the start heading, Strouhal number fA/U, stride
+U/f), turns left and right with the turn-MCs, and rises and dives with the fin-MC (fin angles
+through the action space); with ``--video`` it records the swim to DIR. ``--model-sweep`` prints
+how the Strouhal number and stride respond to the force model and the swim-MC's gains (the
+measurements behind the README's note that a resistive model alone cannot reach fish-like St).
 """
 
 from __future__ import annotations
@@ -17,8 +17,8 @@ import gymnasium as gym
 import numpy as np
 
 import animat  # noqa: F401
-from animat.envs.fish_env import FishEnv
-from animat.envs.motor import SwimParams, fin_mc, swim_mc, to_action, turn_duration, turn_mc
+from animat.envs.core.env import BodyEnv
+from animat.envs.motor.fish import SwimParams, fin_mc, swim_mc, to_action, turn_duration, turn_mc
 
 TAIL_TIPS = [21, 22]
 
@@ -72,27 +72,36 @@ def model_sweep(seconds: float = 10.0) -> list[tuple[str, dict[str, float]]]:
     rows = []
     for label, water, gains in SWEEP:
         params = SwimParams(**gains)
-        env = FishEnv("swim", duration=seconds, water=water)
+        env = BodyEnv("swim", duration=seconds, water=water)
         infos, tail = play(env, lambda t, params=params: swim_mc(1.0, t, params), seconds)
         rows.append((label, cruise_figures(infos, tail, env.dt, env.body_length, params.max_hz,
                                            seconds / 2)))
     return rows
 
 
-def main(argv: list[str] | None = None) -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """The demo's options (its own command line and ``animat demo``)."""
     parser.add_argument("--seconds", type=float, default=10.0)
     parser.add_argument("--video", default=None, help="folder for an mp4 of the swim")
     parser.add_argument("--model-sweep", action="store_true",
                         help="print St and stride across force models and swim-MC gains")
-    args = parser.parse_args(argv)
+
+
+def main(argv: list[str] | None = None) -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    add_arguments(parser)
+    run(parser.parse_args(argv))
+
+
+def run(args: argparse.Namespace) -> None:
+    """Print the swim, turns and fins' figures (see the module's docstring)."""
     if args.model_sweep:
         print(f"{'variant':<32} {'U BL/s':>7} {'A BL':>6} {'f Hz':>5} {'St':>5} {'stride':>7}")
         for label, fig in model_sweep(args.seconds):
             print(f"{label:<32} {fig['U']:>7.2f} {fig['A']:>6.2f} {fig['f']:>5.1f} "
                   f"{fig['St']:>5.2f} {fig['stride']:>7.2f}")
         return
-    env = FishEnv("swim", duration=args.seconds, render_mode="rgb_array" if args.video else None)
+    env = BodyEnv("swim", duration=args.seconds, render_mode="rgb_array" if args.video else None)
     if args.video:
         env = gym.wrappers.RecordVideo(env, args.video, episode_trigger=lambda e: e == 0,
                                        disable_logger=True)
@@ -109,14 +118,14 @@ def main(argv: list[str] | None = None) -> None:
     end = turn_duration(np.pi / 2)
     for left in (True, False):
         sign = 1.0 if left else -1.0
-        turn = FishEnv("turn", duration=end + 3.0)
+        turn = BodyEnv("turn", duration=end + 3.0)
         turn_infos, _ = play(turn, lambda t, left=left: turn_mc(np.pi / 2, t, left), end + 3.0)
         headings = sign * np.array([i["heading_deg"] for i in turn_infos])
         at_end = headings[int(round(end / dt)) - 1]
         print(f"{'left' if left else 'right'}-turn-MC, 90 deg: {at_end:.1f} deg when it ends at "
               f"{end:.1f} s, {headings.max():.1f} at most, {headings[-1]:.1f} 3 s later")
     for pitch in (1.0, -1.0):
-        dive = FishEnv("swim", duration=6.0, fins=True)
+        dive = BodyEnv("swim", duration=6.0, fins=True)
         fin_infos, _ = play(dive, lambda t: swim_mc(1.0, t), 6.0,
                             fins=fin_mc(pitch=pitch) / fin_mc(pitch=1.0)[0])
         z = np.array([i["com"][2] for i in fin_infos]) / length

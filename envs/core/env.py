@@ -1,9 +1,10 @@
 """Gymnasium environments of the artificial fish: a single env and a native batched vector env,
-both thin shells over :class:`animat.envs.fish_core.FishBatch` (the same step code).
+both thin shells over :class:`animat.envs.core.batch.BodyBatch` (the same step code).
 
 ## Description
 A 0.30 m, 0.52 kg mass-spring fish (23 nodes, 91 Voigt elements, 12 muscles in 6 actuators;
-:mod:`animat.envs.fish`) in still water. It moves only by pushing water with its body faces (the
+:mod:`animat.envs.bodies.fish`) in still water. It moves only by pushing water with its body faces
+(the
 reaction force on faces moving into the water, in its cross-flow form by default, plus skin
 friction; :mod:`animat.envs.physics.forces`). Tasks: ``swim`` (forward, optionally at a target
 speed), ``turn`` (by an angle, left or right), ``reach`` (a goal point). World frame: right
@@ -18,7 +19,7 @@ linear in time). Out-of-range values are clipped; a wrong shape, NaN or infinity
 the left and right pectoral fin angles, ``30 deg`` times the entry (held over the env step).
 
 ## Observation Space
-With the default sensor (:class:`animat.envs.sensors.Proprioception`):
+With the default sensor (:class:`animat.envs.core.sensors.Proprioception`):
 ``Box(-1e4, 1e4, (150 + task entries,), float32)`` (clipped): the 23 node positions and velocities
 relative to the centre of mass, in the body frame (BL and BL/s, 69 + 69), the centre-of-mass
 velocity in the body frame (BL/s, 3), the world's up direction in the body frame (3), the six
@@ -56,7 +57,7 @@ No termination; truncation after ``duration`` simulated seconds.
 | ``water`` | dict | fresh water | ``Water`` fields (:mod:`~envs.physics.system`) over the base |
 | ``base_water`` | dict | none | a registered world's water (the dolphin's pool), field by field |
 | ``fins`` | bool | False | the pectoral fin angles in the action space |
-| ``sensors`` | list | proprioception | :mod:`animat.envs.sensors`; several give a Dict space |
+| ``sensors`` | list | proprioception | :mod:`animat.envs.core.sensors`; several give a Dict space |
 | ``reset_noise_scale`` | float, BL | 0.005 | uniform noise on each start node coordinate |
 | ``reward_weights`` | dict | see text | ``mu1`` 1e-4, ``mu2`` 1, ``nu1`` 1, ``nu2`` 0.01 |
 | ``render_mode`` | str, None | None | ``"rgb_array"`` |
@@ -70,16 +71,16 @@ Every argument is checked as it enters, and a bad one is a ``ValueError`` of one
 it and its value: ``duration`` in (0, 86400] s (and at most 1e9 integration steps of
 ``physics_dt``), ``physics_dt`` in [1e-6, 1] s, ``frame_skip`` an integer in [1, 10000],
 ``num_envs`` in [1, 65536], ``reset_noise_scale`` in [0, 0.1] BL, each reward weight in
-[0, 1e6] (:func:`animat.envs.fish_core.check_arguments`), the water's fields
+[0, 1e6] (:func:`animat.envs.core.batch.check_arguments`), the water's fields
 (:class:`~envs.physics.system.Water`) and the task's arguments in their ranges (each task's
 docstring): so that no argument gives NaN, and a step and an episode have a bounded cost.
 
 Public attributes (single env through ``env.unwrapped``; the vector env directly): ``dt`` (s),
-``body_length`` (m), ``body`` (the ``BodySpec``), ``task`` (the :class:`~envs.tasks.Task`),
+``body_length`` (m), ``body`` (the ``BodySpec``), ``task`` (the :class:`~envs.tasks.base.Task`),
 ``episode_steps`` (env steps per episode) and ``node_positions`` (world frame, m: (N, 3), or
 (B, N, 3) for the vector env; a copy). ``get_state()`` and ``set_state(state)``: everything
 that changes (the bodies, the random generators), as arrays and plain values, to continue
-exactly from a saved moment (:meth:`FishVectorEnv.get_state`).
+exactly from a saved moment (:meth:`BodyVectorEnv.get_state`).
 """
 
 from __future__ import annotations
@@ -93,20 +94,21 @@ from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
 from animat.envs.bodies import make_body
-from animat.envs.body import BodySpec
+from animat.envs.bodies.spec import BodySpec
 from animat.envs.checks import check_integer, shown
-from animat.envs.fish_core import (
+from animat.envs.core.batch import (
     DEFAULT_FRAME_SKIP,
     MAX_NUM_ENVS,
-    FishBatch,
+    BodyBatch,
     RewardWeights,
     validate_actions,
 )
+from animat.envs.core.sensors import Observer
 from animat.envs.physics.system import DEFAULT_DT
-from animat.envs.render import BodyRenderer
-from animat.envs.seaworld_render import SeaWorldRenderer
-from animat.envs.sensors import Observer
-from animat.envs.tasks import SingleEpisodeSummary, Task, make_task
+from animat.envs.render.camera import BodyRenderer
+from animat.envs.render.seaworld import SeaWorldRenderer
+from animat.envs.tasks import make_task
+from animat.envs.tasks.base import SingleEpisodeSummary, Task
 
 RENDER_FPS = 20
 
@@ -114,14 +116,14 @@ RENDER_FPS = 20
 def _make_core(num_envs: int, task: str, task_kwargs: dict, body: str | BodySpec | None,
                duration: float | None, physics_dt: float, frame_skip: int,
                reset_noise_scale: float, reward_weights: RewardWeights | dict | None,
-               water: dict | None, fins: bool, base_water: dict | None = None) -> FishBatch:
+               water: dict | None, fins: bool, base_water: dict | None = None) -> BodyBatch:
     for name, value in (("water", water), ("base_water", base_water)):
         if value is not None and not isinstance(value, dict):
             raise ValueError(f"{name} must be a dict of Water fields, got {shown(value)}")
     water = {**(base_water or {}), **(water or {})} or None  # water changes fields of the base
     task_object = make_task(task, **task_kwargs)
     weights = RewardWeights.from_value(reward_weights)
-    return FishBatch(num_envs, task_object, body=make_body(body), water=water,
+    return BodyBatch(num_envs, task_object, body=make_body(body), water=water,
                      physics_dt=physics_dt, frame_skip=frame_skip,
                      reset_noise_scale=reset_noise_scale,
                      duration=task_object.default_duration if duration is None else duration,
@@ -131,7 +133,7 @@ def _make_core(num_envs: int, task: str, task_kwargs: dict, body: str | BodySpec
 class _PublicSurface:
     """What learners, demos and tests may read of a fish env (both kinds share it)."""
 
-    core: FishBatch
+    core: BodyBatch
 
     @property
     def task(self) -> Task:
@@ -147,22 +149,22 @@ class _PublicSurface:
         return self.core.episode_steps
 
 
-def _renderer(core: FishBatch):
+def _renderer(core: BodyBatch):
     """The third-person view: beside the pool, with sky and surface, for a world with a water
-    surface (:class:`~envs.seaworld_render.SeaWorldRenderer`); else behind and above the body."""
+    surface (:class:`~envs.render.seaworld.SeaWorldRenderer`); else behind and above the body."""
     surface = core.system.water.surface_z
     if np.isfinite(surface):
         return SeaWorldRenderer(core.body, core.ball, surface_z=surface)
     return BodyRenderer(core.body)
 
 
-def _render_row(renderer, core: FishBatch, row: int) -> np.ndarray:
+def _render_row(renderer, core: BodyBatch, row: int) -> np.ndarray:
     if isinstance(renderer, SeaWorldRenderer):
         return renderer.render(core.state.x[row], core.state.ball[row])
     return renderer.render(core.state.x[row])
 
 
-def _action_space(core: FishBatch) -> gym.spaces.Box:
+def _action_space(core: BodyBatch) -> gym.spaces.Box:
     return gym.spaces.Box(-1.0, 1.0, (core.action_size,), np.float32)
 
 
@@ -177,7 +179,7 @@ def _generator(state: dict) -> np.random.Generator:
     return generator
 
 
-class FishEnv(_PublicSurface, gym.Env):
+class BodyEnv(_PublicSurface, gym.Env):
     """One fish doing one task (see the module docstring for the full description)."""
 
     metadata = {"render_modes": ["rgb_array"], "render_fps": RENDER_FPS}
@@ -235,7 +237,7 @@ class FishEnv(_PublicSurface, gym.Env):
 
     def get_state(self) -> dict:
         """Everything that changes, as arrays and plain values: the fish's state
-        (:meth:`FishBatch.get_state`) and the random generator that the next reset draws
+        (:meth:`BodyBatch.get_state`) and the random generator that the next reset draws
         from. :meth:`set_state` on an env of the same arguments continues exactly from here."""
         return {"core": self.core.get_state(), "rng": self.np_random.bit_generator.state,
                 "started": self._started}
@@ -262,10 +264,10 @@ def _autoreset_mode(value: str | AutoresetMode) -> AutoresetMode:
     return names[value]
 
 
-class FishVectorEnv(_PublicSurface, VectorEnv):
+class BodyVectorEnv(_PublicSurface, VectorEnv):
     """B fish in one batched simulation.
 
-    Sub-env i seeded with ``seed + i`` draws exactly what a single :class:`FishEnv` reset with
+    Sub-env i seeded with ``seed + i`` draws exactly what a single :class:`BodyEnv` reset with
     that seed draws, and steps bit for bit like it. ``autoreset_mode``: Gymnasium's
     ``next_step`` (default: the step after an episode's end resets it) or ``same_step`` (it is
     reset at once; the last observation is in ``info["final_obs"]``, masked by
@@ -371,7 +373,7 @@ class FishVectorEnv(_PublicSurface, VectorEnv):
 
     def get_state(self) -> dict:
         """Everything that changes, as arrays and plain values: the batch's state
-        (:meth:`FishBatch.get_state`), each sub-env's random generator (what its next reset
+        (:meth:`BodyBatch.get_state`), each sub-env's random generator (what its next reset
         draws) and the pending next-step autoresets. :meth:`set_state` on a vector env of the
         same arguments continues exactly from here (a checkpointed PPO run resumes with it)."""
         return {"core": self.core.get_state(), "rngs": [g.bit_generator.state for g in self._rngs],

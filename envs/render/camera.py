@@ -4,7 +4,8 @@
   or with a textured skin), rigid meshes (obstacles, plants, food), the seabed and the water's
   haze, all in the world frame, m.
 * :class:`Camera`: a pinhole camera (image size, focal length, pose) that draws a scene
-  through :mod:`animat.envs.raster`: the sand-tiled seabed, then the shadows and faces, flat shaded,
+  through :mod:`animat.envs.render.raster`: the sand-tiled seabed, then the shadows and faces, flat
+  shaded,
   through a depth buffer (per-pixel occlusion), then the water and its depth haze.
 
 :class:`BodyRenderer` is the envs' third-person view: a camera that follows one body's centre of
@@ -19,8 +20,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-from animat.envs.body import BodySpec
-from animat.envs.raster import quads_to_triangles, rasterize_world, seabed_into, water_into
+from animat.envs.bodies.spec import BodySpec
+from animat.envs.render.raster import quads_to_triangles, rasterize_world, seabed_into, water_into
 
 FISH_COLOUR = (250, 140, 60)  # RGB
 SHADOW_COLOUR = (25, 40, 45)
@@ -201,7 +202,8 @@ class Camera:
 
     def draw(self, frame: Frame) -> np.ndarray:
         """The picture of a prepared scene: the seabed (ray-cast), then the triangles through
-        the depth buffer (:func:`animat.envs.raster.rasterize`), then the water and its haze."""
+        the depth buffer (:func:`animat.envs.render.raster.rasterize`), then the water and its
+        haze."""
         image = np.zeros((self.height, self.width, 3), np.uint8)
         zbuffer = np.full((self.height, self.width), np.inf)
         eye = np.asarray(self.eye, float)

@@ -6,7 +6,7 @@ the angle of the one before, so level 3 (15 deg) is the fovea. An eye sits on th
 ``offset`` in the body frame (the left eye at +y, the right at -y) and is turned by its gaze
 angles relative to the head: theta about the head's up axis (positive: to the left), phi about
 its lateral axis (positive: up). Rendering is a pure function of the scene and the eye poses,
-through the same :class:`~envs.render.Camera` and rasterizer as the third-person view.
+through the same :class:`~envs.render.camera.Camera` and rasterizer as the third-person view.
 
 The composite of an eye (Fig. 5(b)) is 2^(levels-1) * size pixels square: level l magnified
 2^(levels-1-l) times and centred, finer levels on top, so every pixel shows the finest level
@@ -19,7 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from animat.envs.render import Camera, Frame, Scene
+from animat.envs.render.camera import Camera, Frame, Scene
 
 
 @dataclass(frozen=True)

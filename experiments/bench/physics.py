@@ -1,6 +1,6 @@
 """Simulator benchmark: simulated seconds per wall second, ours against MuJoCo's Swimmer-v5.
 
-Run ``python -m animat.envs.bench`` or ``animat bench``. It measures, in the
+Run ``python -m animat.experiments.bench.physics`` or ``animat bench``. It measures, in the
 same process and in interleaved rounds (median of each), ``Animat/FishSwim-v0`` as one env and
 as the native batch of 256, and, when ``mujoco`` is installed (the ``bench`` extra),
 Gymnasium's ``Swimmer-v5`` as one env and as a sync vector of 256, all with uniformly random

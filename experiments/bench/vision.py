@@ -1,13 +1,13 @@
 """Pursuit benchmark: full ``Animat/FishPursuit-v0`` steps per second, and what they are made of.
 
-``python -m animat.experiments.vision_bench``: in the same rounds, on one core,
+``python -m animat.experiments.bench.vision``: in the same rounds, on one core,
 
 * the physics alone (the three fish's batched step, through the navigator);
 * an env step (physics, then both retinas rendered: 8 cameras over the scene with its
   scenery), with a fixed action;
 * a full step with the vision: the :class:`~learners.active_vision.ActiveVisionPolicy`
   reading the observation (detection in both eyes, saccades) and the env stepping;
-* both retinas over the paper's 10-fish scene (:mod:`animat.envs.retina_bench`);
+* both retinas over the paper's 10-fish scene (:mod:`animat.experiments.bench.retina`);
 
 each as a median over rounds, with the ratios, and the paper's 1995 figure beside them.
 """
@@ -20,8 +20,8 @@ import gymnasium as gym
 import numpy as np
 
 import animat  # noqa: F401
-from animat.envs.retina import RetinaParams
-from animat.envs.retina_bench import eyes_once, paper_scene, rate
+from animat.envs.vision.retina import RetinaParams
+from animat.experiments.bench.retina import eyes_once, paper_scene, rate
 from animat.learners.active_vision import ActiveVisionPolicy
 
 

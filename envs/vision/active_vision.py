@@ -1,6 +1,7 @@
 """Foveation, vergence and range: the paper's active-vision loop (Fig. 4) for one target.
 
-An eye looks through :func:`animat.envs.retina.render_eye` at gaze angles (theta, phi). To foveate a
+An eye looks through :func:`animat.envs.vision.retina.render_eye` at gaze angles (theta, phi). To
+foveate a
 target known by a model image (its colour histogram), the eye searches its levels from the
 fovea outward: the first level whose histogram intersection with the model (scaled to the
 target's expected size at that level) passes ``detect_threshold`` is the one the target is
@@ -8,7 +9,7 @@ located in, by backprojection; the eye then saccades by the angle of that locati
 image centre. After a saccade from the periphery, a second pass in the fovea centres the
 target precisely; a target too big for the fovea is centred in the finest level that sees all
 of it. With both eyes foveated, the vergence angle is theta_R - theta_L and the
-range follows by triangulation (:func:`animat.envs.perception.triangulate`).
+range follows by triangulation (:func:`animat.envs.vision.perception.triangulate`).
 
 ``look(theta, phi)`` stands for the world: it returns the eye's levels (L, S, S, 3) at those
 gaze angles, so the same code runs on a static scene (tests, figures) and in an env.
@@ -21,7 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from animat.envs.perception import (
+from animat.envs.vision.perception import (
     backproject,
     colour_histogram,
     intersection,
@@ -29,7 +30,7 @@ from animat.envs.perception import (
     translational_flow,
     triangulate,
 )
-from animat.envs.retina import RetinaParams
+from animat.envs.vision.retina import RetinaParams
 
 
 @dataclass(frozen=True)
@@ -143,7 +144,8 @@ def correlate(left_fovea: np.ndarray, look_right: Callable[[float, float], np.nd
     """The right eye turned onto the point the left eye fixates (the paper: "the two retinal
     images must be correlated to keep them verged accurately"): the translational offset of
     the left fovea's image ``left_fovea`` (S, S, 3) in the right one
-    (:func:`animat.envs.perception.translational_flow`) taken as a saccade in the fovea, repeated
+    (:func:`animat.envs.vision.perception.translational_flow`) taken as a saccade in the fovea,
+    repeated
     up to ``moves`` times until it is below ``tolerance`` pixels."""
     theta, phi, fovea, centre = right.theta, right.phi, retina.levels - 1, 0.5 * retina.size
     for _ in range(moves):

@@ -1,8 +1,9 @@
-"""The artificial dolphin: a :class:`~envs.body.BodySpec` on the fish's topology, in SI units.
+"""The artificial dolphin: a :class:`~envs.bodies.spec.BodySpec` on the fish's topology, in SI
+units.
 
 The paper's dolphin (Section 4.2) is a marine mammal: it swims by beating horizontal tail
 flukes up and down, and it breathes air. This body keeps the fish's 23 nodes and 91 Voigt
-elements (:mod:`animat.envs.fish`), re-shaped and re-muscled:
+elements (:mod:`animat.envs.bodies.fish`), re-shaped and re-muscled:
 
 * **Shape** (model units of 26 per body length, as the fish): a rostrum, a melon, the girth
   behind the flippers, a tall, thin tail stock (peduncle), and the two caudal tips placed left
@@ -36,8 +37,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from animat.envs.body import CROSS, MUSCLE, ORDINARY, BodySpec
-from animat.envs.fish import (
+from animat.envs.bodies.fish import (
     _CROSS,
     _DAMPING,
     _ORDINARY,
@@ -50,7 +50,7 @@ from animat.envs.fish import (
     _pairs,
     ring_faces,
 )
-from animat.envs.physics.ball import NOSE_PART, TAIL_PART
+from animat.envs.bodies.spec import CROSS, MUSCLE, NOSE_PART, ORDINARY, TAIL_PART, BodySpec
 
 FISH_LENGTH = 0.30  # m: the fish whose forces the dolphin scales
 PRESSURE_HEAD = 101325.0 / (WATER_DENSITY * 9.81)  # m of water per atmosphere

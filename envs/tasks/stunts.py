@@ -1,8 +1,8 @@
 """The dolphin's SeaWorld stunts (the paper's Section 4.2), and the registry of all its tasks
-(the basic ones are :mod:`animat.envs.dolphin_tasks`).
+(the basic ones are :mod:`animat.envs.tasks.dolphin`).
 
-Every stunt starts as the basic tasks do (:class:`animat.envs.dolphin_tasks.Underwater`).
-Shapes and units as in :mod:`animat.envs.tasks`.
+Every stunt starts as the basic tasks do (:class:`animat.envs.tasks.dolphin.Underwater`).
+Shapes and units as in :mod:`animat.envs.tasks.base`.
 
 Stunts, each a score S that the reward pays out as it grows (``E_v = -(S_t - S_t-1) / dt``
 from the second step on, so the task part of an episode's return is ``mu2`` times S at its
@@ -36,18 +36,15 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from animat.envs.bodies.dolphin import LEFT_TIP, RIGHT_TIP
+from animat.envs.bodies.spec import NOSE_PART, TAIL_PART
 from animat.envs.checks import check_number, shown
-from animat.envs.dolphin import LEFT_TIP, RIGHT_TIP
-from animat.envs.dolphin_tasks import (
-    DolphinArcTask,
-    DolphinForwardTask,
-    DolphinSpinTask,
-    DolphinTurnTask,
+from animat.envs.physics.ball import BallParams
+from animat.envs.tasks.base import Task, World, world_to_body
+from animat.envs.tasks.dolphin import (
     Underwater,
     pitch_of,
 )
-from animat.envs.physics.ball import NOSE_PART, TAIL_PART, BallParams
-from animat.envs.tasks import TASKS, Task, World, world_to_body
 
 NOSE_NODES = (0,)
 TAIL_NODES = (17, 18, 19, 20, LEFT_TIP, RIGHT_TIP)
@@ -263,11 +260,3 @@ class BellyFlopTask(StuntTask):
 
     def score(self, m, world):
         return m[:, SPLASH] / splash_unit_of(world) + _below(m[:, APEX] / world.length)
-
-
-DOLPHIN_TASKS: dict[str, type[Task]] = {
-    "dolphin_forward": DolphinForwardTask, "dolphin_turn": DolphinTurnTask,
-    "dolphin_arc": DolphinArcTask, "dolphin_spin": DolphinSpinTask, "leap": LeapTask,
-    "ball": BallTask, "somersault": SomersaultTask, "belly_flop": BellyFlopTask,
-}
-TASKS.update(DOLPHIN_TASKS)

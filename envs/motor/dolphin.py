@@ -1,9 +1,9 @@
 """The dolphin's hand-designed motor controllers: fluke strokes and turns, as pure functions of
 time returning actuations u (..., 6) in [0, 1] in the order of
-:data:`animat.envs.dolphin.ACTUATOR_NAMES` (dorsal middle, dorsal back, ventral middle,
+:data:`animat.envs.bodies.dolphin.ACTUATOR_NAMES` (dorsal middle, dorsal back, ventral middle,
 ventral back, left front, right front).
 
-The swim-MC is the fish's (:func:`animat.envs.motor.swim_mc`) turned into the vertical plane:
+The swim-MC is the fish's (:func:`animat.envs.motor.fish.swim_mc`) turned into the vertical plane:
 the fish's left segments become the dorsal ones, its right segments the ventral ones, and the
 fluke beats at up to 5 Hz (the body measured 1.9 BL/s at 5 Hz, 1.2 BL/s at 3 Hz: a dolphin's
 stroke is fast and short). Pitch turns are one-sided strokes as for the fish: dorsal strokes
@@ -17,7 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from animat.envs.dolphin import (
+from animat.envs.bodies.dolphin import (
     DORSAL_BACK,
     DORSAL_MIDDLE,
     LEFT_FRONT,
@@ -25,7 +25,7 @@ from animat.envs.dolphin import (
     VENTRAL_BACK,
     VENTRAL_MIDDLE,
 )
-from animat.envs.motor import (
+from animat.envs.motor.fish import (
     LEFT_BACK,
     LEFT_MIDDLE,
     RIGHT_BACK,
@@ -67,7 +67,7 @@ def dolphin_swim_mc(speed: float, t: np.ndarray | float,
 def dolphin_turn_mc(direction: str, angle: float, t: np.ndarray | float,
                     params: TurnParams = TurnParams()) -> np.ndarray:
     """Turn ``direction`` (up, down, left, right) by ``angle`` rad. Up and down: the fish's
-    stroke train (:func:`animat.envs.motor.turn_mc`) on the dorsal or ventral actuators.
+    stroke train (:func:`animat.envs.motor.fish.turn_mc`) on the dorsal or ventral actuators.
     Left and right: steer, the head bent to that side by its front muscles while the flukes
     beat at full speed, for ``angle / STEER_RATE`` s, then glide (alone, a one-sided stroke
     of the front segment barely yaws the body: measured 1.5 deg the wrong way over 4 s).

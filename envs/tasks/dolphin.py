@@ -1,6 +1,6 @@
 """The dolphin's basic motor tasks (the paper's Section 4.2), which basic training learns into
-its repertoire, and the start under water that they and the stunts (:mod:`animat.envs.stunts`)
-share. Shapes and units as in :mod:`animat.envs.tasks`.
+its repertoire, and the start under water that they and the stunts (:mod:`animat.envs.tasks.stunts`)
+share. Shapes and units as in :mod:`animat.envs.tasks.base`.
 
 Every dolphin task starts the body ``start_depth`` m under the surface (z = 0; in [-100, 1000]
 m), heading +x, pitched by ``start_pitch_deg`` (in [-90, 90]), at ``start_speed`` (0: at rest;
@@ -22,9 +22,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from animat.envs.checks import check_number
-from animat.envs.dolphin_motor import dolphin_swim_mc, dolphin_turn_mc
+from animat.envs.motor.dolphin import dolphin_swim_mc, dolphin_turn_mc
 from animat.envs.physics.observe import momenta
-from animat.envs.tasks import SwimTask, Task, TurnTask, World, heading_yaw, wrap_angle
+from animat.envs.tasks.base import Task, World, heading_yaw, wrap_angle
+from animat.envs.tasks.locomotion import SwimTask, TurnTask
 
 MAX_HEIGHT, MAX_DEPTH = 100.0, 1000.0  # m, a start above and under the surface
 MAX_START_SPEED = 20.0  # m/s

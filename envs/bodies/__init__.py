@@ -1,6 +1,8 @@
-"""The bodies an env can be given by name: ``body="fish"`` or any :class:`~envs.body.BodySpec`.
+"""The bodies an env can be given by name: ``body="fish"`` or any
+:class:`~envs.bodies.spec.BodySpec`.
 
-A new animal is its own module that builds a ``BodySpec`` (like :mod:`animat.envs.fish`) and one
+A new animal is its own module that builds a ``BodySpec`` (like :mod:`animat.envs.bodies.fish`) and
+one
 line in :data:`BODIES`; a body made in a script or a test is passed as the spec itself.
 """
 
@@ -8,10 +10,10 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
-from animat.envs.body import BodySpec
+from animat.envs.bodies.dolphin import dolphin_body
+from animat.envs.bodies.fish import fish_body
+from animat.envs.bodies.spec import BodySpec
 from animat.envs.checks import shown
-from animat.envs.dolphin import dolphin_body
-from animat.envs.fish import fish_body
 
 BODIES: dict[str, Callable[[], BodySpec]] = {"fish": fish_body, "dolphin": dolphin_body}
 

@@ -1,4 +1,5 @@
-"""The artificial fish of Tu & Terzopoulos (1994), as a :class:`~envs.body.BodySpec` in SI units.
+"""The artificial fish of Tu & Terzopoulos (1994), as a :class:`~envs.bodies.spec.BodySpec` in SI
+units.
 
 Topology (23 nodes, 91 elements, 12 muscles in 6 actuators) is that of Tu & Terzopoulos,
 "Artificial fishes" (1994) and X. Tu's thesis (1996), as the paper fixes it. The model's 26
@@ -16,7 +17,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from animat.envs.body import CROSS, MUSCLE, ORDINARY, BodySpec
+from animat.envs.bodies.spec import CROSS, MUSCLE, ORDINARY, BodySpec
 
 MODEL_LENGTH_UNITS = 26.0
 WATER_DENSITY = 1000.0  # kg/m^3

@@ -3,8 +3,10 @@
 Each MC is a small pure function of its parameters and time ``t`` (s, scalar or array of
 shape (T,)) returning actuations ``u`` in [0, 1], shape (..., 6) in the actuator order
 left-front, left-middle, left-back, right-front, right-middle, right-back (or fin angles,
-shape (..., 2), rad, for the fin MCs), for the fish body (:mod:`animat.envs.fish`). The tasks' hand
-controllers (:mod:`animat.envs.tasks`), the ``handmc`` learner and the demo use them. ``to_action``
+shape (..., 2), rad, for the fin MCs), for the fish body (:mod:`animat.envs.bodies.fish`). The
+tasks' hand
+controllers (:mod:`animat.envs.tasks.base`), the ``handmc`` learner and the demo use them.
+``to_action``
 maps actuations to an env action ``a = 2u - 1``.
 
 Biomechanics (Tu's thesis): the middle and back segments drive swimming, the back one lagging

@@ -1,6 +1,7 @@
 """Retina benchmark: both eyes (8 cameras) over the paper's scene, frame-sets per second.
 
-``python -m animat.envs.retina_bench``: 10 fishes in textured skins (their nodes jittered by a few
+``python -m animat.experiments.bench.retina``: 10 fishes in textured skins (their nodes jittered by
+a few
 mm), 15 food particles, 5 rocks and 12 plants over a sand seabed, seen by the two eyes of the
 first fish; frame-sets (all 8
 cameras) per wall second on one core, beside the third-person 480x360 view of the same scene
@@ -15,15 +16,15 @@ import time
 
 import numpy as np
 
-from animat.envs.fish import fish_body
-from animat.envs.render import Camera, Scene, fish_skin, look_at, posed
-from animat.envs.retina import RetinaParams, eye_positions, gaze_rotation, render_eyes
-from animat.envs.scenery import SceneryParams, furnish, scatter
+from animat.envs.bodies.fish import fish_body
+from animat.envs.render.camera import Camera, Scene, fish_skin, look_at, posed
+from animat.envs.render.scenery import SceneryParams, furnish, scatter
+from animat.envs.vision.retina import RetinaParams, eye_positions, gaze_rotation, render_eyes
 
 
 def paper_scene(seed: int = 0) -> Scene:
     """10 fishes in textured skins, 15 food particles, 5 rocks and 12 plants within a 3 m
-    square (:mod:`animat.envs.scenery`), over a sand seabed 1 m down."""
+    square (:mod:`animat.envs.render.scenery`), over a sand seabed 1 m down."""
     rng, body = np.random.default_rng(seed), fish_body()
     scene = furnish(Scene(seabed_z=-1.0), scatter(rng, -1.0, SceneryParams(
         rock_height=0.8, plant_height=0.9)))

@@ -2,7 +2,7 @@
 
 A sensor has a ``name``, the observation ``space`` it gives for one body, and ``read``: its
 reading of every body in the batch, (B, *shape), from the env's core and the current
-:class:`~envs.fish_core.Kinematics`. With one sensor (the default, :class:`Proprioception`)
+:class:`~envs.core.batch.Kinematics`. With one sensor (the default, :class:`Proprioception`)
 the observation is that sensor's array, a ``Box``; with several it is a ``Dict`` keyed by
 their names. The retina (the eyes) is a sensor like any other: a new sensor is one class and
 ``sensors=[Proprioception(), MySensor()]`` in the env's arguments.
@@ -16,7 +16,7 @@ import gymnasium as gym
 import numpy as np
 
 from animat.envs.checks import shown
-from animat.envs.fish_core import OBS_LIMIT, FishBatch, Kinematics
+from animat.envs.core.batch import OBS_LIMIT, BodyBatch, Kinematics
 
 
 class Sensor(Protocol):
@@ -24,39 +24,39 @@ class Sensor(Protocol):
 
     name: str
 
-    def space(self, core: FishBatch) -> gym.spaces.Space:
+    def space(self, core: BodyBatch) -> gym.spaces.Space:
         """The observation space of one body's reading."""
 
-    def read(self, core: FishBatch, kinematics: Kinematics) -> np.ndarray:
+    def read(self, core: BodyBatch, kinematics: Kinematics) -> np.ndarray:
         """(B, *shape) the reading of every body in the batch."""
 
 
 class Proprioception:
     """The body's own state and the task's entries
-    (:meth:`animat.envs.fish_core.FishBatch.observe`): node positions and velocities in the body
+    (:meth:`animat.envs.core.batch.BodyBatch.observe`): node positions and velocities in the body
     frame, centre-of-mass velocity, up direction, activations, then the task's observation;
     float32, clipped to +-``OBS_LIMIT``."""
 
     name = "proprioception"
 
-    def space(self, core: FishBatch) -> gym.spaces.Box:
+    def space(self, core: BodyBatch) -> gym.spaces.Box:
         return gym.spaces.Box(-OBS_LIMIT, OBS_LIMIT, (core.obs_size,), np.float32)
 
-    def read(self, core: FishBatch, kinematics: Kinematics) -> np.ndarray:
+    def read(self, core: BodyBatch, kinematics: Kinematics) -> np.ndarray:
         return core.observe(kinematics)
 
 
 class Observer:
     """Assembles the observation of a batch from ``sensors`` (default: proprioception)."""
 
-    def __init__(self, core: FishBatch, sensors: list | None = None) -> None:
+    def __init__(self, core: BodyBatch, sensors: list | None = None) -> None:
         if sensors is not None and not isinstance(sensors, (list, tuple)):
             raise ValueError(f"sensors must be a list of sensors, got {shown(sensors)}")
         self.sensors = list(sensors) if sensors else [Proprioception()]
         for sensor in self.sensors:
             if not all(hasattr(sensor, a) for a in ("name", "space", "read")):
                 raise ValueError(f"sensors: each must have a name, space() and read() "
-                                 f"(animat.envs.sensors.Sensor), got {shown(sensor)}")
+                                 f"(animat.envs.core.sensors.Sensor), got {shown(sensor)}")
         names = [s.name for s in self.sensors]
         if len(set(names)) != len(names):
             raise ValueError(f"sensor names must be unique, got {names}")
@@ -65,7 +65,7 @@ class Observer:
         else:
             self.single_space = gym.spaces.Dict({s.name: s.space(core) for s in self.sensors})
 
-    def observe(self, core: FishBatch, kinematics: Kinematics):
+    def observe(self, core: BodyBatch, kinematics: Kinematics):
         """(B, ...) array, or a dict of them by sensor name."""
         if len(self.sensors) == 1:
             return self.sensors[0].read(core, kinematics)

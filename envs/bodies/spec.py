@@ -19,6 +19,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+# the part of the body a face belongs to (BodySpec.face_parts): what a contact reports
+BODY_PART, NOSE_PART, TAIL_PART = 0, 1, 2
+
 CROSS, ORDINARY, MUSCLE = 0, 1, 2
 KIND_NAMES = ("cross", "ordinary", "muscle")
 

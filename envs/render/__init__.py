@@ -1,0 +1,1 @@
+"""Rendering: the rasteriser, cameras and the third-person views, the seeded scenery."""

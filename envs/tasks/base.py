@@ -1,0 +1,162 @@
+"""What every task is: :class:`Task` (its terms as pure functions on batched arrays), the
+:class:`World` it reads, how an episode is summed up (:class:`EpisodeSummary`), and the
+geometry helpers the tasks share.
+
+A task supplies the paper's trajectory term E_v (Eq. 1) and its own metrics, from the body's
+centre of mass, its velocity and its frame; its default episode length; how an episode
+is summed up (:class:`EpisodeSummary`); and the hand-designed motor controller that solves
+it. A new task is one class (e.g. :mod:`animat.envs.tasks.locomotion`) and one line in
+:data:`animat.envs.tasks.TASKS`. Shapes: ``com`` (B, 3) the
+centre of mass relative to where the episode started, m; ``com_vel`` (B, 3) m/s;
+``frames`` (B, 3, 3) rows forward, left, up; ``targets`` (B, T) the task's per-episode
+parameters drawn by :meth:`Task.sample`; ``length`` the body length (m). Distances and speeds
+are reported in body lengths (BL) and BL/s, angles in degrees.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any, NamedTuple
+
+import numpy as np
+
+
+def heading_yaw(frames: np.ndarray) -> np.ndarray:
+    """(B,) yaw of the forward vector about +z, rad (0: +x, positive: to the left)."""
+    return np.arctan2(frames[:, 0, 1], frames[:, 0, 0])
+
+
+def wrap_angle(angle: np.ndarray) -> np.ndarray:
+    """Angles wrapped to [-pi, pi)."""
+    return (angle + np.pi) % (2.0 * np.pi) - np.pi
+
+
+def world_to_body(vectors: np.ndarray, frames: np.ndarray) -> np.ndarray:
+    """(B, 3) world-frame vectors expressed in each body frame (forward, left, up)."""
+    return np.einsum("bij,bj->bi", frames, vectors)
+
+
+class World(NamedTuple):
+    """Everything a task may read of B bodies' current state (the arrays are the core's own:
+    a task reads them, and changes only the copy of ``memory`` it returns).
+
+    ``com`` (B, 3) relative to each episode's start, m; ``com_vel`` (B, 3) m/s; ``frames``
+    (B, 3, 3); ``targets`` (B, T); ``length`` m; ``position`` (B, 3) the centre of mass in the
+    world frame, m; ``x``, ``v`` (B, N, 3) the nodes; ``splash`` (B,) the last env step's
+    splash, kg m/s; ``memory`` (B, M) the task's episode memory; ``ball`` (B, 6) and
+    ``touch`` (B, 3) (:class:`animat.envs.core.batch.BodyState`); ``surface_z`` m; ``body`` the
+    ``BodySpec``; ``dt`` the env step, s.
+    """
+
+    com: np.ndarray
+    com_vel: np.ndarray
+    frames: np.ndarray
+    targets: np.ndarray
+    length: float
+    position: np.ndarray
+    x: np.ndarray
+    v: np.ndarray
+    splash: np.ndarray
+    memory: np.ndarray
+    ball: np.ndarray
+    touch: np.ndarray
+    surface_z: float
+    body: Any
+    dt: float
+
+
+class Task:
+    """Base class: a task has ``target_size`` parameters per episode, ``obs_size`` extra
+    observation entries, a ``default_duration`` (s) and episode metrics: the per-step metrics
+    named in ``mean_metrics`` averaged over the episode, and what :meth:`final_metrics` reads
+    off its last step.
+
+    Tasks that need more than the centre of mass and the frame (the dolphin's stunts,
+    :mod:`animat.envs.tasks.stunts`) override :meth:`world_terms` and :meth:`world_observe`, which
+    see the whole :class:`World`, keep ``memory_size`` numbers per episode (from
+    :meth:`initial_memory`), may start the body elsewhere (:meth:`place`) and may put a beach
+    ball in the world (``ball``, a :class:`animat.envs.physics.ball.BallParams`)."""
+
+    name = "task"
+    target_size = 0
+    obs_size = 0
+    memory_size = 0
+    default_duration = 10.0
+    mean_metrics: tuple[str, ...] = ()
+    ball = None
+
+    def place(self, body) -> np.ndarray:
+        """(N, 3) the body's start (``body`` a ``BodySpec``), before the reset noise: the rest
+        shape where it lies."""
+        return body.rest_positions
+
+    def start_velocity(self, body) -> np.ndarray:
+        """(N, 3) the nodes' velocity at the start, m/s (``body`` a ``BodySpec``): at rest."""
+        return np.zeros_like(body.rest_positions)
+
+    def initial_memory(self) -> np.ndarray:
+        """(memory_size,) the episode memory at a reset."""
+        return np.zeros(self.memory_size)
+
+    def world_terms(self, world: World, last: np.ndarray):
+        """E_v (B,), metrics (B,) each, and the updated memory (B, M), from the world."""
+        e_v, metrics = self.terms(world.com, world.com_vel, world.frames, world.targets,
+                                  world.length, last)
+        return e_v, metrics, world.memory
+
+    def world_observe(self, world: World) -> np.ndarray:
+        """(B, obs_size) task part of the observation, from the world."""
+        return self.observe(world.com, world.com_vel, world.frames, world.targets,
+                            world.length)
+
+    def sample(self, rng: np.random.Generator) -> np.ndarray:
+        """(target_size,) parameters of a new episode."""
+        return np.zeros(self.target_size)
+
+    def observe(self, com, com_vel, frames, targets, length) -> np.ndarray:
+        """(B, obs_size) task part of the observation."""
+        return np.zeros((com.shape[0], self.obs_size))
+
+    def terms(self, com, com_vel, frames, targets, length, last):
+        """E_v (B,) and a dict of metrics (B,) each; ``last`` (B,) marks an episode's last step."""
+        raise NotImplementedError
+
+    def final_metrics(self, last: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+        """Episode metrics (B,) each read off the info of the episode's last step."""
+        return {}
+
+    def hand_controller(self, speed: float = 1.0) -> Callable[[np.ndarray], np.ndarray]:
+        """The hand-designed motor controller for this task: ``t (s) -> u (..., 6)``."""
+        raise ValueError(f"no hand-designed motor controller for task {self.name!r}")
+
+
+class EpisodeSummary:
+    """Accumulates a task's episode metrics over the steps of B episodes run in lockstep:
+    the means of ``task.mean_metrics`` (prefixed by nothing: ``speed_bl_per_s`` is the mean
+    swimming speed) and ``task.final_metrics`` of the last step."""
+
+    def __init__(self, task: Task, num_envs: int) -> None:
+        self.task, self.steps = task, 0
+        self.sums = {k: np.zeros(num_envs) for k in task.mean_metrics}
+        self.last: dict[str, np.ndarray] = {}
+
+    def update(self, info: dict[str, np.ndarray]) -> None:
+        self.steps += 1
+        self.last = info
+        for key in self.sums:
+            self.sums[key] = self.sums[key] + info[key]
+
+    def summary(self) -> dict[str, np.ndarray]:
+        means = {k: v / max(self.steps, 1) for k, v in self.sums.items()}
+        return {**means, **self.task.final_metrics(self.last)}
+
+
+class SingleEpisodeSummary(EpisodeSummary):
+    """:class:`EpisodeSummary` of one episode in a single env (``info`` of scalars): the
+    summary as floats (the interface of :class:`animat.envs.tasks.pursuit.PursuitSummary`)."""
+
+    def __init__(self, task: Task) -> None:
+        super().__init__(task, 1)
+
+    def summary(self) -> dict[str, float]:
+        return {k: float(np.asarray(v).reshape(-1)[0]) for k, v in super().summary().items()}

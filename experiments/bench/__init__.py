@@ -1,0 +1,2 @@
+"""Benchmarks: physics (against MuJoCo's Swimmer), the retina, the living world and vision, each
+printing ratios against a reference measured in the same run."""
