@@ -1,13 +1,13 @@
 """artificial-animals environments, in rooms: ``bodies`` (the animals), ``physics`` (the
 solver), ``motor`` (the motor controllers), ``core`` (the batched bodies and the Gymnasium
 envs), ``tasks``, ``render``, ``vision``, ``world`` (the living world), and ``registration``
-(every id in one table). Dependencies run one way: registration -> tasks, core -> motor,
-render, vision, world -> bodies, physics (docs/architecture.md).
+(every id in one table). Dependencies run one way: registration -> world -> core, tasks ->
+vision -> motor, render -> physics -> bodies -> checks (docs/architecture.md).
 
 Importing ``animat`` (or ``animat.envs``) registers the Gymnasium environments under ``Animat``:
 ``Animat/FishSwim-v0``, ``Animat/FishTurn-v0`` and ``Animat/FishReach-v0``, each with a native
 batched vector env (``gym.make_vec(id, num_envs=256)``), ``Animat/FishPursuit-v0``
-(vision-guided pursuit; :mod:`animat.envs.tasks.pursuit`) and ``Animat/MarineWorld-v0`` (the living
+(vision-guided pursuit; :mod:`animat.envs.world.pursuit`) and ``Animat/MarineWorld-v0`` (the living
 world of 10 fishes; :mod:`animat.envs.world`); and the dolphin's tasks
 (:mod:`animat.envs.tasks.dolphin`, :mod:`animat.envs.tasks.stunts`): ``Animat/DolphinForward-v0``,
 ``Animat/DolphinTurn-v0`` (up, down, left, right), ``Animat/DolphinArc-v0`` (a turn taken at

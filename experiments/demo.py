@@ -81,7 +81,7 @@ def model_sweep(seconds: float = 10.0) -> list[tuple[str, dict[str, float]]]:
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """The demo's options (its own command line and ``animat demo``)."""
-    parser.add_argument("--seconds", type=float, default=10.0)
+    parser.add_argument("--seconds", type=float, default=10.0, help="simulated seconds of the swim")
     parser.add_argument("--video", default=None, help="folder for an mp4 of the swim")
     parser.add_argument("--model-sweep", action="store_true",
                         help="print St and stride across force models and swim-MC gains")

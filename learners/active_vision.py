@@ -33,10 +33,10 @@ import numpy as np
 import animat  # noqa: F401
 from animat.envs.bodies.fish import fish_body
 from animat.envs.render.camera import Scene, fish_skin, posed
-from animat.envs.tasks.pursuit import COLOURS, PHI_RANGE, PREY, SEABED_Z, THETA_RANGE
 from animat.envs.vision.active_vision import VisionParams, detect, model_histogram, saccade
 from animat.envs.vision.perception import translational_flow
 from animat.envs.vision.retina import RetinaParams, gaze_rotation, render_eye
+from animat.envs.world.pursuit import COLOURS, PHI_RANGE, PREY, SEABED_Z, THETA_RANGE
 from animat.learners.agents import PolicyAgent
 from animat.learners.base import LearnResult, Scorer, typed_params
 from animat.learners.rollout import score_policy

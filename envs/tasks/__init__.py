@@ -1,6 +1,6 @@
 """Tasks: what a body is asked to do (locomotion, the dolphin's tasks and stunts) as pure
-functions on batched arrays, and the vision-guided pursuit env. :data:`TASKS` is the one
-table of tasks by name (a new task: its class, and one line here)."""
+functions on batched arrays. :data:`TASKS` is the one table of tasks by name (a new task: its
+class, and one line here)."""
 
 from __future__ import annotations
 

@@ -10,7 +10,7 @@ from gymnasium.utils.env_checker import check_env
 import animat  # noqa: F401
 from animat.envs.core.env import BodyEnv
 from animat.envs.motor.navigation import Navigator
-from animat.envs.tasks.pursuit import PursuitSummary
+from animat.envs.world.pursuit import PursuitSummary
 
 
 def test_pursuit_passes_both_checkers_without_warnings():
