@@ -1,26 +1,15 @@
 """The Gymnasium environments: checkers, contracts, vector equivalence, bad input, video."""
 
-import warnings
 
 import gymnasium as gym
 import numpy as np
 import pytest
-from gymnasium.utils.env_checker import check_env
-from stable_baselines3.common.env_checker import check_env as sb3_check_env
 
 from animat.envs.motor.fish import swim_mc, to_action
 from animat.envs.registration import FISH_ENVS
 
 ENV_IDS = tuple(FISH_ENVS)
 VECTOR_IDS = ENV_IDS + ("Animat/DolphinLeap-v0", "Animat/DolphinNoseBall-v0")  # (a ball too)
-
-
-@pytest.mark.parametrize("env_id", ENV_IDS)
-def test_gymnasium_and_sb3_checkers_pass_without_warnings(env_id):
-    with warnings.catch_warnings():
-        warnings.simplefilter("error")
-        check_env(gym.make(env_id, render_mode="rgb_array").unwrapped)
-        sb3_check_env(gym.make(env_id))
 
 
 @pytest.mark.parametrize("env_id", ENV_IDS)
@@ -59,31 +48,6 @@ def test_invalid_actions_raise_and_leave_state_unchanged(bad, message):
         env.step(bad)
     assert np.array_equal(state.x, before[0]) and np.array_equal(state.v, before[1])
     assert np.array_equal(state.steps, before[2])
-
-
-@pytest.mark.parametrize("env_id", VECTOR_IDS)
-def test_native_vector_env_matches_single_envs_step_for_step(env_id):
-    num = 4
-    vec = gym.make_vec(env_id, num_envs=num, duration=0.5)
-    assert type(vec).__name__ == "BodyVectorEnv"
-    singles = [gym.make(env_id, duration=0.5) for _ in range(num)]
-    obs, _ = vec.reset(seed=10)
-    single_obs = [env.reset(seed=10 + i)[0] for i, env in enumerate(singles)]
-    np.testing.assert_array_equal(obs, np.stack(single_obs))
-    rng = np.random.default_rng(0)
-    done = np.zeros(num, dtype=bool)
-    for _ in range(25):  # crosses an episode end (10 steps) and the autoreset after it
-        actions = rng.uniform(-1, 1, (num, 6)).astype(np.float32)
-        obs, reward, term, trunc, info = vec.step(actions)
-        for i, env in enumerate(singles):
-            if done[i]:
-                o, _ = env.reset()
-                r, t = 0.0, False
-            else:
-                o, r, _, t, _ = env.step(actions[i])
-            np.testing.assert_array_equal(obs[i], o)
-            assert reward[i] == r and trunc[i] == t
-        done = trunc
 
 
 @pytest.mark.parametrize("env_id", VECTOR_IDS)

@@ -1,26 +1,14 @@
 """The pursuit env and the navigation layer under it."""
 
-import warnings
 
 import gymnasium as gym
 import numpy as np
 import pytest
-from gymnasium.utils.env_checker import check_env
 
 import animat  # noqa: F401
 from animat.envs.core.env import BodyEnv
 from animat.envs.motor.navigation import Navigator
 from animat.envs.world.pursuit import PursuitSummary
-
-
-def test_pursuit_passes_both_checkers_without_warnings():
-    from stable_baselines3.common.env_checker import check_env as sb3_check_env
-
-    env = gym.make("Animat/FishPursuit-v0", duration=2.0)
-    with warnings.catch_warnings():
-        warnings.simplefilter("error")
-        check_env(env.unwrapped)
-        sb3_check_env(env.unwrapped, warn=True)
 
 
 def test_pursuit_observation_info_and_renders():

@@ -2,13 +2,10 @@
 (stays on its support until touched; knows what touched it). The native vector env's match
 with single envs is tested with the fish's (``tests/envs/test_envs.py``)."""
 
-import warnings
 
 import gymnasium as gym
 import numpy as np
 import pytest
-from gymnasium.utils.env_checker import check_env
-from stable_baselines3.common.env_checker import check_env as sb3_check_env
 
 from animat.envs.bodies.spec import NOSE_PART
 from animat.envs.motor.dolphin import dolphin_swim_mc, dolphin_turn_mc
@@ -23,11 +20,8 @@ def _swim(k: int) -> np.ndarray:
 
 
 @pytest.mark.parametrize("env_id", DOLPHIN_IDS)
-def test_checkers_and_the_contract(env_id):
-    with warnings.catch_warnings():
-        warnings.simplefilter("error")
-        check_env(gym.make(env_id, render_mode="rgb_array").unwrapped)
-        sb3_check_env(gym.make(env_id))
+def test_the_dolphin_s_scale_reward_and_pool_view(env_id):
+    """(The checkers and the common contract: tests/envs/test_contract.py.)"""
     env = gym.make(env_id, render_mode="rgb_array")
     env.reset(seed=0)
     assert env.unwrapped.dt == pytest.approx(0.05)
