@@ -41,7 +41,7 @@ ENVS: dict[str, dict] = {
     **{env_id: {**CORE, "kwargs": kwargs} for env_id, kwargs in FISH_ENVS.items()},
     **{env_id: {**CORE, "kwargs": {**DOLPHIN_KWARGS, **kwargs}}
        for env_id, kwargs in DOLPHIN_ENVS.items()},
-    "Animat/FishPursuit-v0": {"entry_point": "animat.envs.world.pursuit:FishPursuitEnv"},
+    "Animat/FishPursuit-v0": {"entry_point": "animat.envs.world.pursuit.env:FishPursuitEnv"},
     "Animat/MarineWorld-v0": {"entry_point": "animat.envs.world.marine_env:MarineWorldEnv"},
 }
 

@@ -1,7 +1,7 @@
 """The paper's vision figures, re-made from a pursuit with the active-vision policy.
 
 ``animat figures --out DIR [--seed S] [--frames N]`` plays ``Animat/FishPursuit-v0`` with
-:class:`animat.learners.active_vision.ActiveVisionPolicy` for N frames (default 150) and writes:
+:class:`animat.envs.world.pursuit.policy.ActiveVisionPolicy` for N frames (default 150) and writes:
 
 * ``fig5_retinas.png``: the 4 component images and the composite of each eye (Fig. 5) at the
   frame where the prey is nearest the middle of the pursuit;
@@ -22,7 +22,7 @@ import numpy as np
 
 import animat  # noqa: F401
 from animat.envs.vision.retina import composite
-from animat.learners.active_vision import ActiveVisionPolicy
+from animat.envs.world.pursuit.policy import ActiveVisionPolicy
 
 
 def play_pursuit(seed: int, frames: int) -> tuple[list[dict], list[np.ndarray]]:

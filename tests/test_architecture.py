@@ -19,9 +19,6 @@ LEVELS = {"checks": 0, "bodies": 1, "physics": 2, "motor": 3, "render": 3, "visi
           "core": 5, "tasks": 5, "world": 6, "registration": 7, "": 8}
 MAX_MODULES = 12
 KNOWN = {
-    # the eye-driven hunter of the living world is the pursuit's active-vision policy, which
-    # lives with its learner: it must move into envs (a policy of envs/vision or envs/world)
-    "backward: animat.envs.world.marine_env -> animat.learners.active_vision",
     # the launcher, the learners: more than 12 modules each, rooms still to be made
     "crowded: experiments (17 modules)",
     "crowded: learners (23 modules)",

@@ -153,7 +153,7 @@ class EpisodeSummary:
 
 class SingleEpisodeSummary(EpisodeSummary):
     """:class:`EpisodeSummary` of one episode in a single env (``info`` of scalars): the
-    summary as floats (the interface of :class:`animat.envs.world.pursuit.PursuitSummary`)."""
+    summary as floats (the interface of :class:`animat.envs.world.pursuit.env.PursuitSummary`)."""
 
     def __init__(self, task: Task) -> None:
         super().__init__(task, 1)

@@ -1,7 +1,7 @@
 """The inner lives of F world fish, one step at a time: what :class:`MarineWorld` and the
-pursuit's prey and passer (:mod:`animat.envs.world.pursuit`) both run. From a step's percepts the
-mind advances (:func:`~animat.envs.world.mind.advance`), the intention generator chooses
-(:class:`~animat.envs.world.intention.IntentionGenerator`), the wanderers' headings are
+pursuit's prey and passer (:mod:`animat.envs.world.pursuit.env`) both run. From a step's
+percepts the mind advances (:func:`~animat.envs.world.mind.advance`), the intention generator
+chooses (:class:`~animat.envs.world.intention.IntentionGenerator`), the wanderers' headings are
 renewed when due, and the behaviour routines give each fish its navigation command
 (:func:`~animat.envs.world.behaviours.commands`).
 """

@@ -10,7 +10,7 @@ that forage, flee and court), its mind (hunger, libido, fear), the perceptual or
 its motor controllers. One fish, ``agent``, can be driven from outside instead (a learner);
 with ``vision`` one predator sees through its real eyes (two foveated retinas,
 :mod:`animat.envs.vision.retina`) and hunts by the paper's active vision
-(:class:`animat.learners.active_vision.ActiveVisionPolicy`, its colour model the reddish
+(:class:`animat.envs.world.pursuit.policy.ActiveVisionPolicy`, its colour model the reddish
 minnow) in place of the oracle; its reflexes (collision avoidance, flight) stay the
 oracle's.
 
@@ -147,7 +147,7 @@ class MarineWorldEnv(gym.Env):
                                                 (self.world.core.obs_size + 12,), np.float32)
         self.policy = None
         if vision is not None:
-            from animat.learners.active_vision import ActiveVisionPolicy
+            from animat.envs.world.pursuit.policy import ActiveVisionPolicy
 
             self.policy = ActiveVisionPolicy(retina=self.view.retina)
         self.gaze = np.zeros(4)

@@ -5,7 +5,7 @@
 * the physics alone (the three fish's batched step, through the navigator);
 * an env step (physics, then both retinas rendered: 8 cameras over the scene with its
   scenery), with a fixed action;
-* a full step with the vision: the :class:`~learners.active_vision.ActiveVisionPolicy`
+* a full step with the vision: the :class:`~animat.envs.world.pursuit.policy.ActiveVisionPolicy`
   reading the observation (detection in both eyes, saccades) and the env stepping;
 * both retinas over the paper's 10-fish scene (:mod:`animat.experiments.bench.retina`);
 
@@ -21,8 +21,8 @@ import numpy as np
 
 import animat  # noqa: F401
 from animat.envs.vision.retina import RetinaParams
+from animat.envs.world.pursuit.policy import ActiveVisionPolicy
 from animat.experiments.bench.retina import eyes_once, paper_scene, rate
-from animat.learners.active_vision import ActiveVisionPolicy
 
 
 def _pursuit(seed: int = 0):

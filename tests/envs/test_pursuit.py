@@ -8,7 +8,7 @@ import pytest
 import animat  # noqa: F401
 from animat.envs.core.env import BodyEnv
 from animat.envs.motor.navigation import Navigator
-from animat.envs.world.pursuit import PursuitSummary
+from animat.envs.world.pursuit.env import PursuitSummary
 
 
 def test_pursuit_observation_info_and_renders():

@@ -9,7 +9,7 @@ import pytest
 
 import animat  # noqa: F401
 from animat.envs.vision.active_vision import VisionParams, detect
-from animat.learners.active_vision import (
+from animat.envs.world.pursuit.policy import (
     MODEL_VIEWS,
     ActiveVisionParams,
     ActiveVisionPolicy,

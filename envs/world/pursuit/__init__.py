@@ -1,0 +1,3 @@
+"""The vision-guided pursuit in the living world, ``Animat/FishPursuit-v0``: the env
+(:mod:`.env`: an observer with eyes, a prey and a passer that live by the world's minds) and the
+paper's active-vision policy that pursues by its eyes alone (:mod:`.policy`)."""
