@@ -28,7 +28,7 @@ import animat  # noqa: F401
 from animat.envs.bodies.dolphin import ACTUATOR_NAMES
 from animat.experiments.config import load_config
 from animat.learners.base import read_json
-from animat.learners.concatenation import schedule
+from animat.learners.controllers.concatenation import schedule
 from animat.learners.macro import MacroSequence
 from animat.learners.repertoire import Repertoire
 

@@ -6,7 +6,8 @@ episode; ``env_id`` and ``env_kwargs`` name the env it was learned in.
 
 * :class:`OpenLoopAgent`: a motor controller played open loop (the learned tent controller or
   its FFT abstraction, a macro sequence of skills, a hand-designed MC), the action of step k
-  being the activation it asks for at the step's end (:func:`animat.learners.controller.play`).
+  being the activation it asks for at the step's end
+  (:func:`animat.learners.controllers.tent.play`).
 * :class:`PolicyAgent`: a closed-loop policy (PPO's network with its observation
   normalisation, the active-vision controller).
 * :class:`SkillSet`: a repertoire, one open-loop agent per skill, each in its own env.
@@ -18,7 +19,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from animat.learners.controller import play
+from animat.learners.controllers.tent import play
 
 
 class OpenLoopAgent:

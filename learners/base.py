@@ -251,14 +251,21 @@ def load_checkpoint(path: str | Path) -> Any | None:
                                     f"{error})") from None
 
 
+# modules an older version's pickled checkpoints name, and where they are now
+MOVED = {"animat.learners.annealing": "animat.learners.optimizers.annealing",
+         "animat.learners.cmaes": "animat.learners.optimizers.cmaes",
+         "animat.learners.abstraction": "animat.learners.controllers.abstraction",
+         "animat.learners.controller": "animat.learners.controllers.tent"}
+
+
 class _Unpickler(pickle.Unpickler):
-    """Reads checkpoints written before the code moved under ``animat.``: their
-    ``learners.*`` and ``envs.*`` classes are this package's."""
+    """Reads checkpoints written before the code moved under ``animat.`` (their ``learners.*``
+    and ``envs.*`` classes are this package's) and before the learners' rooms (:data:`MOVED`)."""
 
     def find_class(self, module: str, name: str):
         if module.split(".")[0] in ("envs", "learners", "experiments"):
             module = f"animat.{module}"
-        return super().find_class(module, name)
+        return super().find_class(MOVED.get(module, module), name)
 
 
 def unknown_params(params: dict, allowed: set[str], learner: str) -> None:

@@ -27,8 +27,7 @@ from typing import Any
 import gymnasium as gym
 import numpy as np
 
-from animat.learners import annealing, checkpoint_data, cmaes
-from animat.learners.abstraction import AbstractController, abstract, most_compact
+from animat.learners import checkpoint_data
 from animat.learners.agents import OpenLoopAgent
 from animat.learners.base import (
     BudgetError,
@@ -42,7 +41,9 @@ from animat.learners.base import (
     typed_params,
     unknown_params,
 )
-from animat.learners.controller import TentController, play
+from animat.learners.controllers.abstraction import AbstractController, abstract, most_compact
+from animat.learners.controllers.tent import TentController, play
+from animat.learners.optimizers import annealing, cmaes
 from animat.learners.rollout import START_STATES, BatchEvaluator
 
 REFINE_KEYS = {"share", "threshold"}
@@ -144,7 +145,8 @@ class Run:
 class BlackBoxLearner(Learner):
     """Optimises a parameter vector with an ask/tell ``optimizer`` module (``init``, ``ask``,
     ``tell``, ``finished``, ``population``, ``metrics``, ``fit_encoding``,
-    ``refine_options``; see :mod:`animat.learners.annealing`) configured by ``params_class``. What
+    ``refine_options``; see :mod:`animat.learners.optimizers.annealing`) configured by
+    ``params_class``. What
     the vector means is the subclass's: ``own_keys`` (its parameters), :meth:`_configure`,
     :meth:`_x0`, :meth:`controller` (vector -> something with ``actions(dt, steps)``),
     :meth:`_artefacts`. This base reads the tent-controller encoding; nothing here is

@@ -25,7 +25,8 @@ FORMAT = "artificial-animals black-box checkpoint 1"
 
 
 def _types() -> dict[str, type]:
-    from animat.learners import annealing, blackbox, cmaes
+    from animat.learners import blackbox
+    from animat.learners.optimizers import annealing, cmaes
 
     return {cls.__name__: cls for cls in (blackbox.Run, blackbox.Phase, annealing.AnnealingParams,
                                           annealing.AnnealingState, cmaes.CMAESParams,
@@ -34,7 +35,7 @@ def _types() -> dict[str, type]:
 
 def to_data(value: Any) -> Any:
     """``value`` as JSON-able data (see the module's docstring)."""
-    from animat.learners.abstraction import AbstractController
+    from animat.learners.controllers.abstraction import AbstractController
 
     if isinstance(value, AbstractController):
         return {"__type__": "AbstractController", "data": value.to_dict()}
@@ -62,7 +63,7 @@ def to_data(value: Any) -> Any:
 
 def from_data(data: Any, types: dict[str, type] | None = None) -> Any:
     """The value :func:`to_data` wrote; ValueError for a type it does not know."""
-    from animat.learners.abstraction import AbstractController
+    from animat.learners.controllers.abstraction import AbstractController
 
     types = _types() if types is None else types
     if isinstance(data, list):

@@ -2,10 +2,11 @@
 selection, ordering and durations of repertoire skills, evaluated by simulation.
 
 A candidate is ``slots`` (skill, duration) pairs, encoded in [0, 1]^(2 slots) so that the
-unchanged annealing optimiser of :mod:`animat.learners.annealing` can search it: gene ``2k`` picks
+unchanged annealing optimiser of :mod:`animat.learners.optimizers.annealing` can search it: gene
+``2k`` picks
 slot k's skill (or none: the slot is empty), gene ``2k + 1`` its duration in
 [``min_duration``, ``max_duration``] s. The filled slots, in order, are concatenated with 5%
-blends (:mod:`animat.learners.concatenation`); after the sequence the muscles relax.
+blends (:mod:`animat.learners.controllers.concatenation`); after the sequence the muscles relax.
 """
 
 from __future__ import annotations
@@ -14,10 +15,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from animat.learners import annealing
 from animat.learners.blackbox import BlackBoxLearner
-from animat.learners.concatenation import concatenate
-from animat.learners.controller import play
+from animat.learners.controllers.concatenation import concatenate
+from animat.learners.controllers.tent import play
+from animat.learners.optimizers import annealing
 from animat.learners.repertoire import Repertoire, kept_in_run
 from animat.learners.rollout import START_STATES
 

@@ -2,15 +2,15 @@
 
 from __future__ import annotations
 
-from animat.learners.active_vision import ActiveVisionLearner
 from animat.learners.base import Learner
-from animat.learners.behaviours import BehavioursLearner
 from animat.learners.blackbox import AnnealingLearner, CMAESLearner
-from animat.learners.handmc import HandMCLearner
 from animat.learners.logger import Logger
 from animat.learners.macro import MacroLearner
-from animat.learners.ppo import PPOLearner
+from animat.learners.ppo.learner import PPOLearner
 from animat.learners.repertoire import BasicTrainingLearner
+from animat.learners.scorers.active_vision import ActiveVisionLearner
+from animat.learners.scorers.behaviours import BehavioursLearner
+from animat.learners.scorers.handmc import HandMCLearner
 from animat.learners.stroke import StrokeCMAESLearner, StrokeLearner
 
 LEARNERS: dict[str, type[Learner]] = {

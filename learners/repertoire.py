@@ -16,10 +16,10 @@ from pathlib import Path
 
 import numpy as np
 
-from animat.learners.abstraction import AbstractController
 from animat.learners.agents import OpenLoopAgent, SkillSet
 from animat.learners.base import Learner, LearnResult, atomic_write, episode_timing, typed_params
 from animat.learners.blackbox import AnnealingLearner
+from animat.learners.controllers.abstraction import AbstractController
 from animat.learners.logger import Logger
 
 FISH_REGIMEN = [

@@ -29,10 +29,10 @@ from animat.envs.bodies.dolphin import (
     VENTRAL_BACK,
     VENTRAL_MIDDLE,
 )
-from animat.learners import annealing, cmaes
 from animat.learners.blackbox import BlackBoxLearner
-from animat.learners.controller import play
+from animat.learners.controllers.tent import play
 from animat.learners.macro import MacroSequence, check_sequence
+from animat.learners.optimizers import annealing, cmaes
 from animat.learners.repertoire import Repertoire, kept_in_run
 from animat.learners.rollout import START_STATES
 

@@ -47,7 +47,7 @@ def test_hand_motor_controllers_keep_passive_elements_within_tissue_limits():
 
 
 def test_repertoire_skills_keep_passive_elements_within_tissue_limits():
-    from animat.learners.controller import play
+    from animat.learners.controllers.tent import play
     from animat.learners.repertoire import Repertoire
 
     skills = Repertoire.load(REPERTOIRE).skills.values()

@@ -71,7 +71,7 @@ def test_an_older_pickled_checkpoint_is_read_only_when_trusted(tmp_path):
 
 def test_a_cma_es_replay_that_asks_other_candidates_is_refused_and_old_states_still_tell(
         tmp_path):
-    from animat.learners import cmaes
+    from animat.learners.optimizers import cmaes
 
     make_learner("cmaes", ENV, KWARGS, {"nodes": 4, "popsize": 8, "checkpoint_every": 1},
                  seed=2).learn(1600, tmp_path)
@@ -87,3 +87,17 @@ def test_a_cma_es_replay_that_asks_other_candidates_is_refused_and_old_states_st
     candidates, old = cmaes.ask(params, old)
     cmaes.tell(params, old, candidates, np.arange(4.0))
     assert not hasattr(old, "told")
+
+
+def test_an_older_pickle_naming_a_module_before_the_move_still_loads(tmp_path):
+    """A trusted older checkpoint names ``learners.annealing`` (before the package moved under
+    ``animat.`` and the optimisers into their room): the unpickler finds the class where it is
+    now."""
+    from animat.learners.base import load_checkpoint
+    from animat.learners.optimizers.annealing import AnnealingParams
+
+    text = pickle.dumps(AnnealingParams(chains=3), protocol=2)
+    assert b"animat.learners.optimizers.annealing" in text
+    old = text.replace(b"animat.learners.optimizers.annealing", b"learners.annealing")
+    (tmp_path / "checkpoint.pkl").write_bytes(old)
+    assert load_checkpoint(tmp_path / "checkpoint.pkl") == AnnealingParams(chains=3)

@@ -5,9 +5,9 @@ import json
 import numpy as np
 import pytest
 
-from animat.learners.abstraction import AbstractController, abstract
-from animat.learners.concatenation import concatenate, schedule
-from animat.learners.controller import TentController
+from animat.learners.controllers.abstraction import AbstractController, abstract
+from animat.learners.controllers.concatenation import concatenate, schedule
+from animat.learners.controllers.tent import TentController
 
 A = 6  # channels of the test controllers (any number; controllers are body-agnostic)
 

@@ -6,10 +6,10 @@ import gymnasium as gym
 import numpy as np
 import pytest
 
-from animat.learners import annealing
-from animat.learners.abstraction import AbstractController
 from animat.learners.blackbox import PeriodicPlayer
+from animat.learners.controllers.abstraction import AbstractController
 from animat.learners.logger import Logger, MemorySink
+from animat.learners.optimizers import annealing
 from animat.learners.registry import LEARNERS, make_learner
 from animat.learners.rollout import BatchEvaluator
 

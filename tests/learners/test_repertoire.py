@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-from animat.learners.abstraction import abstract
-from animat.learners.controller import TentController
+from animat.learners.controllers.abstraction import abstract
+from animat.learners.controllers.tent import TentController
 from animat.learners.macro import MacroLearner, MacroSequence
 from animat.learners.repertoire import Repertoire, Skill
 

@@ -3,8 +3,8 @@
 import pytest
 import torch.nn as nn
 
+from animat.learners.ppo.zoo import normalize_kwargs, policy_kwargs, schedule
 from animat.learners.registry import make_learner
-from animat.learners.zoo import normalize_kwargs, policy_kwargs, schedule
 
 ZOO = {  # rl-baselines3-zoo's hyperparams/ppo.yml style, as written there
     "n_envs": 2, "n_steps": 16, "batch_size": 32, "n_epochs": 1, "gamma": 0.999,
@@ -28,7 +28,7 @@ def test_the_zoo_value_forms_parse_to_what_sb3_takes():
 
 
 def test_ppo_learns_with_zoo_values_and_uses_them(tmp_path):
-    from animat.learners import ppo_checkpoint
+    from animat.learners.ppo import checkpoint as ppo_checkpoint
 
     learner = make_learner("ppo", "Animat/FishSwim-v0", {"duration": 0.5}, ZOO)
     result = learner.learn(64, tmp_path)
@@ -57,7 +57,7 @@ def test_bad_ppo_values_are_named(params, message):
 def test_a_resumed_ppo_run_collects_exactly_its_budget(tmp_path, monkeypatch):
     """Checkpoints fall between rollouts, so the resumed run neither overruns its budget nor
     differs in length from the uninterrupted one."""
-    from animat.learners import ppo
+    from animat.learners.ppo import learner as ppo
 
     params = {"n_envs": 4, "n_steps": 16, "batch_size": 32, "n_epochs": 1, "eval_every": 1000,
               "checkpoint_every": 100}
@@ -75,7 +75,7 @@ def test_a_resumed_ppo_run_collects_exactly_its_budget(tmp_path, monkeypatch):
         make_learner("ppo", "Animat/FishSwim-v0", {"duration": 0.5}, params).learn(320, tmp_path)
     monkeypatch.setattr(ppo.PPOLearner, "_save", staticmethod(save))
     from animat.learners.base import read_json
-    from animat.learners.ppo_checkpoint import latest
+    from animat.learners.ppo.checkpoint import latest
 
     assert read_json(latest(tmp_path) / "state.json")["num_timesteps"] % 64 == 0  # whole rollouts
     resumed = make_learner("ppo", "Animat/FishSwim-v0", {"duration": 0.5}, params).learn(

@@ -11,7 +11,7 @@ A checkpoint is a folder ``checkpoints/ppo/save-<k>/``:
 - ``resume.json`` (:mod:`animat.learners.checkpoint_data`'s JSON, arrays bit for bit): what
   continues the run exactly besides the weights: the random generators (torch's, NumPy's
   global one and Python's, which SB3 seeds and draws from), the envs' state (their
-  ``get_state()``: :mod:`animat.learners.sb3_adapter`), the observation and episode starts
+  ``get_state()``: :mod:`animat.learners.ppo.vec_envs`), the observation and episode starts
   SB3 steps on from, and the SB3 logger's records not yet written (the last update's
   ``train/*``). A checkpoint is taken between rollouts, so a resumed run collects and trains
   on exactly what the whole run would, and logs the same numbers.

@@ -9,7 +9,7 @@ from pathlib import Path
 
 from animat.learners.agents import OpenLoopAgent
 from animat.learners.base import LearnResult, Scorer, typed_params
-from animat.learners.controller import play
+from animat.learners.controllers.tent import play
 from animat.learners.rollout import START_STATES, BatchEvaluator
 
 

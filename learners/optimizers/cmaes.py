@@ -1,4 +1,5 @@
-"""CMA-ES (pycma) behind the same ask/tell interface as :mod:`animat.learners.annealing` (and
+"""CMA-ES (pycma) behind the same ask/tell interface as :mod:`animat.learners.optimizers.annealing`
+(and
 the same ``population``/``metrics``/``fit_encoding``/``refine_options`` answers), over the same
 controller parameters: the baseline that answers "was annealing a good choice?"."""
 

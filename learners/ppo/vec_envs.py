@@ -1,5 +1,5 @@
 """stable-baselines3 VecEnvs whose state can be saved and restored as data, so that a
-checkpointed PPO run resumes exactly (:mod:`animat.learners.ppo_checkpoint`).
+checkpointed PPO run resumes exactly (:mod:`animat.learners.ppo.checkpoint`).
 
 - :class:`NativeVecEnv`: the native batched fish env (SB3 cannot take a Gymnasium
   ``VectorEnv``): the same batched step, with SB3's same-step reset conventions; its state is

@@ -1,6 +1,6 @@
 """PPO (stable-baselines3) on the native batch, the modern baseline.
 
-Hyperparameters take rl-baselines3-zoo's names and value forms (:mod:`animat.learners.zoo`:
+Hyperparameters take rl-baselines3-zoo's names and value forms (:mod:`animat.learners.ppo.zoo`:
 ``lin_3e-4`` schedules, ``policy_kwargs`` strings with ``nn.Tanh``, a ``normalize`` mapping).
 The policy is
 evaluated every ``eval_every`` env steps, deterministically, from the same seeded start state
@@ -18,7 +18,6 @@ import numpy as np
 from pydantic import ValidationError
 
 from animat.envs.tasks.base import EpisodeSummary
-from animat.learners import ppo_checkpoint
 from animat.learners.agents import PolicyAgent
 from animat.learners.base import (
     BudgetError,
@@ -28,8 +27,9 @@ from animat.learners.base import (
     check_memory,
     read_json,
 )
+from animat.learners.ppo import checkpoint as ppo_checkpoint
+from animat.learners.ppo.zoo import PPOParams, normalize_kwargs, policy_kwargs, schedule
 from animat.learners.rollout import START_STATES, score_episode, spread
-from animat.learners.zoo import PPOParams, normalize_kwargs, policy_kwargs, schedule
 
 OWN_KEYS = {"eval_every", "torch_threads", "checkpoint_every"}
 
@@ -89,7 +89,7 @@ class PPOLearner(Learner):
     def agent(self, artefacts: dict, folder: Path) -> PolicyAgent:
         """The saved network, deterministic, with the run's observation normalisation: the
         model rebuilt from the config, its weights and statistics read as data
-        (:mod:`animat.learners.ppo_checkpoint`)."""
+        (:mod:`animat.learners.ppo.checkpoint`)."""
         checkpoints = Path(folder) / "checkpoints"
         saved = ppo_checkpoint.latest(checkpoints)
         if saved is None and self._legacy(checkpoints):
@@ -185,7 +185,7 @@ class PPOLearner(Learner):
         config says."""
         from stable_baselines3.common.vec_env import VecNormalize
 
-        from animat.learners.sb3_adapter import NativeVecEnv, ReplayVecEnv
+        from animat.learners.ppo.vec_envs import NativeVecEnv, ReplayVecEnv
 
         n_envs = int(self.hp["n_envs"])
         kind = NativeVecEnv if self._native() else ReplayVecEnv
@@ -274,7 +274,7 @@ class PPOLearner(Learner):
 
     @staticmethod
     def _save(folder: Path, model, venv, state: dict, start: float) -> None:
-        """A new checkpoint (:func:`animat.learners.ppo_checkpoint.save`: data, written whole
+        """A new checkpoint (:func:`animat.learners.ppo.checkpoint.save`: data, written whole
         before it replaces the last)."""
         state["wall"] = time.perf_counter() - start
         ppo_checkpoint.save(folder, model, venv, {"wall": state["wall"],

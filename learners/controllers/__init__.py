@@ -1,0 +1,2 @@
+"""What the black-box learners search and play: tent controllers (nodal values), their FFT
+abstraction, and blended concatenation of abstracted controllers."""

@@ -1,0 +1,2 @@
+"""PPO (stable-baselines3), the modern baseline: the learner, its checkpoints as data, the
+VecEnvs whose state is saved with them, rl-baselines3-zoo's hyperparameter forms."""

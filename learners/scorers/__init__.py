@@ -1,0 +1,2 @@
+"""Learners that learn nothing, so that a fixed controller stands in comparisons: the hand-
+designed MCs, the living world's behaviours, the active-vision pursuit policy."""
