@@ -4,7 +4,7 @@ Everything else is in ``pyproject.toml``. The repository's top-level folders ins
 import namespace: ``envs/`` as ``animat.envs``, ``learners/`` as ``animat.learners``,
 ``experiments/`` as ``animat.experiments``; every folder below them with an ``__init__.py`` is
 a subpackage. The shipped configs and repertoires are package data, ``animat.configs`` and
-``animat.repertoires`` (:mod:`animat.experiments.shipped` finds them installed or in a
+``animat.repertoires`` (:mod:`animat.experiments.launch.shipped` finds them installed or in a
 checkout).
 """
 

@@ -33,9 +33,9 @@ import threading
 from contextlib import contextmanager
 from pathlib import Path
 
-from animat.experiments.config import ConfigError, load_config
-from animat.experiments.runs import RunError, create_run, execute, one_line, resume
-from animat.experiments.shipped import find_config, shipped_configs
+from animat.experiments.launch.config import ConfigError, load_config
+from animat.experiments.launch.folders import RunError, create_run, execute, one_line, resume
+from animat.experiments.launch.shipped import find_config, shipped_configs
 
 EXAMPLES = """examples:
   animat run quickstart                                    # a shipped config, from anywhere
@@ -182,7 +182,7 @@ def _parser() -> argparse.ArgumentParser:
 
 
 def _progress(args, config):
-    from animat.experiments.progress import ProgressSink
+    from animat.experiments.launch.progress import ProgressSink
 
     if getattr(args, "quiet", False) or not config.logging.progress:
         return None
@@ -323,7 +323,7 @@ def cmd_list(args) -> int:
 
 
 def cmd_stunt_figures(args) -> int:
-    from animat.experiments.stunt_figures import make_stunt_figures
+    from animat.experiments.figures.stunts import make_stunt_figures
 
     result = make_stunt_figures(args.out, args.leap, args.nose_ball, args.tail_ball,
                                 args.somersault, args.belly_flop)
@@ -332,7 +332,7 @@ def cmd_stunt_figures(args) -> int:
 
 
 def cmd_figures(args) -> int:
-    from animat.experiments.figures import make_figures
+    from animat.experiments.figures.vision import make_figures
 
     if args.frames < 8:
         raise RunError(f"--frames must be at least 8, got {args.frames}")
@@ -368,7 +368,7 @@ def cmd_world_bench(args) -> int:
 
 
 def cmd_world_video(args) -> int:
-    from animat.experiments.world_video import world_video
+    from animat.experiments.figures.world_video import world_video
 
     if not args.seconds > 0:
         raise RunError(f"--seconds must be > 0, got {args.seconds}")

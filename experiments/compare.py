@@ -3,7 +3,7 @@ keeping every scalar; a run's ``scalars.csv`` when it has no events), group runs
 (its ``label`` where the config gives one), aggregate over seeds (mean, std and a 95%
 bootstrap interval of the mean) and write a Markdown table and a PNG plot (mean curve with a
 shaded +-std band per learner, x = env steps), then the runs' abstractions
-(:mod:`animat.experiments.abstraction_table`).
+(:mod:`animat.experiments.figures.abstraction_table`).
 
 Every learner logs ``eval/*`` with one meaning: its current incumbent (PPO's current policy,
 a black-box learner's best candidate of the latest round), scored over the evaluation start
@@ -21,9 +21,9 @@ from pathlib import Path
 import numpy as np
 import yaml
 
-from animat.experiments.abstraction_table import abstraction_markdown, abstraction_rows
-from animat.experiments.config import load_config
-from animat.experiments.runs import RunError, one_line, read_status
+from animat.experiments.figures.abstraction_table import abstraction_markdown, abstraction_rows
+from animat.experiments.launch.config import load_config
+from animat.experiments.launch.folders import RunError, one_line, read_status
 
 
 @dataclass

@@ -30,8 +30,8 @@ import gymnasium as gym
 import numpy as np
 
 import animat  # noqa: F401
-from animat.experiments.config import learner_params, load_config
-from animat.experiments.runs import RunError, read_status, write_json
+from animat.experiments.launch.config import learner_params, load_config
+from animat.experiments.launch.folders import RunError, read_status, write_json
 from animat.learners.agents import SkillSet
 from animat.learners.base import read_json
 from animat.learners.registry import make_learner
@@ -55,7 +55,7 @@ def load(run_dir: str | Path, trust_pickles: bool = False):
 
 def _learner(folder: Path, config):
     """The run's learner, built from its config and its own copy of a repertoire
-    (:func:`animat.experiments.config.learner_params`)."""
+    (:func:`animat.experiments.launch.config.learner_params`)."""
     return make_learner(config.learner.name, config.env.id, config.env.kwargs,
                         learner_params(folder, config), config.seed)
 

@@ -24,8 +24,8 @@ import json
 import time
 from pathlib import Path
 
-from animat.experiments.config import ConfigError, ExperimentConfig, load_config, to_yaml
-from animat.experiments.runs import (
+from animat.experiments.launch.config import ConfigError, ExperimentConfig, load_config, to_yaml
+from animat.experiments.launch.folders import (
     RunError,
     create_run,
     execute,

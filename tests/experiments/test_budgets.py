@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-from animat.experiments.config import ConfigError, load_config
+from animat.experiments.launch.config import ConfigError, load_config
 from tests.experiments.test_cli import animat
 
 ROOT = Path(__file__).resolve().parents[2]

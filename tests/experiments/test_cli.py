@@ -20,7 +20,7 @@ import pytest
 import yaml
 
 from animat.experiments import cli
-from animat.experiments.config import ConfigError, load_config
+from animat.experiments.launch.config import ConfigError, load_config
 
 ROOT = Path(__file__).resolve().parents[2]
 TINY = {

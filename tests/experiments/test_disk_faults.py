@@ -17,8 +17,8 @@ from functools import cache
 
 import pytest
 
-from animat.experiments import runs
-from animat.experiments.runs import read_status
+from animat.experiments.launch import folders
+from animat.experiments.launch.folders import read_status
 from tests.experiments.test_cli import ROOT, TINY, animat, write_config
 
 # animat's CLI whose progress sink acts once, at the run's first scalar: "fill" fills the
@@ -66,7 +66,7 @@ sys.exit(cli.main(sys.argv[3:]))
 HARNESS = """
 import json, subprocess, sys
 from pathlib import Path
-from animat.experiments.runs import read_status
+from animat.experiments.launch.folders import read_status
 
 hook, disk, plan = sys.argv[1], Path(sys.argv[2]), json.loads(sys.argv[3])
 steps = []
@@ -229,7 +229,7 @@ def test_a_file_system_without_locks_is_named_in_one_line(tmp_path, monkeypatch)
     def flock(handle, operation):
         raise OSError(errno.ENOLCK, os.strerror(errno.ENOLCK))
 
-    monkeypatch.setattr(runs.fcntl, "flock", flock)
+    monkeypatch.setattr(folders.fcntl, "flock", flock)
     config = write_config(tmp_path / "tiny.yaml", TINY)
     refused = animat("run", config, "--out", tmp_path / "run", check=False)
     _one_line(_said(refused), 2, "the file system does not support file locks",

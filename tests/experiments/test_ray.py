@@ -4,7 +4,7 @@ from pathlib import Path
 
 import pytest
 
-from animat.experiments.config import validate
+from animat.experiments.launch.config import validate
 from animat.experiments.sweep import prepare, run_ray
 
 ray = pytest.importorskip("ray")

@@ -13,8 +13,8 @@ import pytest
 import yaml
 
 from animat.experiments import cli
-from animat.experiments.config import load_config
-from animat.experiments.shipped import CONFIGS, find_config, shipped_configs
+from animat.experiments.launch.config import load_config
+from animat.experiments.launch.shipped import CONFIGS, find_config, shipped_configs
 from tests.experiments.test_cli import TINY, animat, write_config
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -140,7 +140,7 @@ def test_a_work_time_file_error_is_a_failure_of_the_run_not_of_the_users_input(
 
 
 def test_a_run_folder_that_can_no_longer_build_is_marked_failed_with_the_reason(tmp_path):
-    from animat.experiments.runs import create_run
+    from animat.experiments.launch.folders import create_run
 
     repertoire = tmp_path / "fish.json"
     shutil.copyfile(ROOT / "repertoires" / "fish.json", repertoire)

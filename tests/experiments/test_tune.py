@@ -4,7 +4,7 @@ import json
 
 import yaml
 
-from animat.experiments.config import load_config
+from animat.experiments.launch.config import load_config
 from tests.experiments.test_cli import TINY, animat, write_config
 
 SPACE = {"learner.params.cooling": {"low": 0.5, "high": 0.99},

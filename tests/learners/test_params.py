@@ -126,7 +126,7 @@ def test_a_macro_run_refuses_a_bad_repertoire_file_before_its_folder(tmp_path, t
 def test_the_memory_bound_refuses_absurd_sizes_only(tmp_path):
     """Sizes a machine holds are taken: 400 nodes per actuator run, a network of two 512-wide
     layers validates; 10^10 nodes per actuator do not."""
-    from animat.experiments.config import ConfigError, load_config
+    from animat.experiments.launch.config import ConfigError, load_config
 
     with pytest.raises(ConfigError, match="GiB of memory"):
         load_config(write_config(tmp_path / "big.yaml", _with(TINY, nodes=10**10)))

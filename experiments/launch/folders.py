@@ -29,7 +29,7 @@ from contextlib import contextmanager
 from importlib import metadata
 from pathlib import Path
 
-from animat.experiments.config import ExperimentConfig, learner_params, load_config, to_yaml
+from animat.experiments.launch.config import ExperimentConfig, learner_params, load_config, to_yaml
 from animat.learners.base import TMP_SUFFIX, LearnResult, atomic_write, read_json
 from animat.learners.logger import CsvSink, Logger, TensorBoardSink
 from animat.learners.registry import make_learner
@@ -90,7 +90,7 @@ def source_revision() -> dict[str, object]:
     """The git commit of the code that runs, and whether it has uncommitted changes
     (``{}`` outside a git checkout: an installed wheel, even in a venv inside some
     repository, has no commit of its own)."""
-    root = Path(__file__).resolve().parents[1]
+    root = Path(__file__).resolve().parents[2]
     if not (root / ".git").exists():
         return {}
     try:

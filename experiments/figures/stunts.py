@@ -26,7 +26,7 @@ import numpy as np
 
 import animat  # noqa: F401
 from animat.envs.bodies.dolphin import ACTUATOR_NAMES
-from animat.experiments.config import load_config
+from animat.experiments.launch.config import load_config
 from animat.learners.base import read_json
 from animat.learners.controllers.concatenation import schedule
 from animat.learners.macro import MacroSequence

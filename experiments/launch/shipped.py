@@ -2,15 +2,16 @@
 
 In a source checkout they are the top-level folders ``configs/`` and ``repertoires/``; in an
 installed wheel, the package data ``animat/configs/`` and ``animat/repertoires/``. Either way
-they sit beside the ``experiments`` package's own folder, so one rule finds them, and a shipped
-config's relative paths (``../repertoires/fish.json``) resolve against its folder in both.
+they sit beside the ``experiments`` package's folder (two folders above this module), so one
+rule finds them, and a shipped config's relative paths (``../repertoires/fish.json``)
+resolve against its folder in both.
 """
 
 from __future__ import annotations
 
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parent.parent  # the checkout, or the installed animat/ folder
+ROOT = Path(__file__).resolve().parents[2]  # the checkout, or the installed animat/ folder
 CONFIGS = ROOT / "configs"
 REPERTOIRES = ROOT / "repertoires"
 
