@@ -29,6 +29,7 @@ from numba import njit
 
 from animat.envs.checks import check_vector
 from animat.envs.physics.forces import sphere_submerged
+from animat.envs.physics.system import DENSITY, GRAVITY, SURFACE_Z
 
 HEAVE_DAMPING = 0.3  # damping ratio of a floating ball's bobbing (wave radiation), 1
 PART_NAMES = ("body", "nose", "tail")
@@ -166,11 +167,12 @@ def ball_substep(x, v, masses, faces, face_parts, ball, touch, params, water, dt
     """One step of ``dt`` s for the ball of every body of the batch, after the bodies' own
     step: contact with the body's faces (``faces`` (F, 4), ``face_parts`` (F,)) and with the
     support, then the ball's own forces, then symplectic Euler for the ball. ``params`` is
-    :meth:`BallParams.as_args`, ``water`` the :class:`~envs.physics.system.Water` args."""
+    :meth:`BallParams.as_args`, ``water`` :meth:`~envs.physics.system.Water.as_args` (read by
+    its slot constants)."""
     radius, mass, cd = params[0], params[1], params[2]
     sx, sy, sz, support_radius = params[3], params[4], params[5], params[6]
     stiffness, damping, volume = params[7], params[8], params[9]
-    surface_z, density, gravity = water[5], water[9], water[10]
+    surface_z, density, gravity = water[SURFACE_Z], water[DENSITY], water[GRAVITY]
     for b in range(x.shape[0]):
         centre, velocity = ball[b, :3].copy(), ball[b, 3:].copy()
         total = np.zeros(3)

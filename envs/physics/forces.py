@@ -31,6 +31,19 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from animat.envs.physics.system import (
+    AIR_COEFFICIENT,
+    AIR_FRICTION_COEFFICIENT,
+    CROSSFLOW,
+    CURRENT_X,
+    CURRENT_Y,
+    CURRENT_Z,
+    DENSITY,
+    FLUID_COEFFICIENT,
+    FRICTION_COEFFICIENT,
+    SURFACE_Z,
+)
+
 FAST = {"cache": True, "fastmath": {"contract"}, "error_model": "numpy"}
 
 
@@ -92,8 +105,10 @@ def _face_forces_into(x, v, faces, weights, face_mass, water, dt, g) -> None:
     3: the splash, :func:`add_face_forces`). The lane
     loop is branch-free (blends and selects) and calls no function that takes an array, so it
     runs in SIMD across the bodies."""
-    kappa_water, kappa_air, friction_water, friction_air, crossflow, surface_z = water[:6]
-    c0, c1, c2, density = water[6], water[7], water[8], water[9]
+    kappa_water, kappa_air = water[FLUID_COEFFICIENT], water[AIR_COEFFICIENT]
+    friction_water, friction_air = water[FRICTION_COEFFICIENT], water[AIR_FRICTION_COEFFICIENT]
+    crossflow, surface_z, density = water[CROSSFLOW], water[SURFACE_Z], water[DENSITY]
+    c0, c1, c2 = water[CURRENT_X], water[CURRENT_Y], water[CURRENT_Z]
     cross = 1.0 if crossflow else 0.0
     for k in range(faces.shape[0]):
         _one_face_into(x, v, faces[k, 0], faces[k, 1], faces[k, 2], faces[k, 3], weights[k, 0],
@@ -155,9 +170,10 @@ def add_face_forces(x, v, faces, weights, face_mass, water, dt, f, g, splash) ->
     A face's area vector is half the cross product of its diagonals (exact for a planar quad
     and for a triangle given as a quad with a repeated corner); its velocity and height are the
     weighted means of its corners'. ``water`` is
-    :attr:`animat.envs.physics.system.System.water_args`. The forces go into ``g`` (F, 3, L)
-    work space in SIMD passes over the bodies (:func:`_face_forces_into`), then are shared out
-    among each face's corners by ``weights``."""
+    :meth:`animat.envs.physics.system.Water.as_args` (``System.kernel_args.water``). The forces
+    go into ``g`` (F, 3, L) work space in SIMD passes over the bodies
+    (:func:`_face_forces_into`), then are shared out among each face's corners by
+    ``weights``."""
     _face_forces_into(x, v, faces, weights, face_mass, water, dt, g)
     for k in range(faces.shape[0]):
         for lane in range(x.shape[2]):
@@ -218,8 +234,9 @@ def add_fin_forces(x, v, frame_nodes, fin_nodes, fin_areas, fin_mass, sin_cos, w
     leading edge up for a positive angle. Same angle on both fins: lift (pitch, depth);
     opposite angles: roll; a large angle on one side: drag on that side (yaw). ``frame_nodes``:
     (front, back, up, down) node lists; ``scratch`` (16, L) work space."""
-    kappa_water, kappa_air, surface_z = water[0], water[1], water[5]
-    c0, c1, c2 = water[6], water[7], water[8]
+    kappa_water, kappa_air = water[FLUID_COEFFICIENT], water[AIR_COEFFICIENT]
+    surface_z = water[SURFACE_Z]
+    c0, c1, c2 = water[CURRENT_X], water[CURRENT_Y], water[CURRENT_Z]
     front, back, up, down = frame_nodes
     frame = np.empty((3, 3))
     for lane in range(x.shape[2]):

@@ -33,6 +33,7 @@ from animat.envs.physics.forces import (
     add_fin_forces,
     add_gravity_buoyancy,
 )
+from animat.envs.physics.system import AIR_PRESSURE, DENSITY, GRAVITY, SURFACE_Z
 
 
 @njit(**FAST)
@@ -94,8 +95,8 @@ def step_chunk(x, v, u_start, u_end, fin_angles, substeps, c, splash, ball, touc
                         face_scratch, splash_lanes)
         add_fin_forces(xl, vl, frame_nodes, c.fin_nodes, c.fin_areas, c.fin_mass, sin_cos,
                        c.water, c.dt, fl, fin_scratch)
-        add_gravity_buoyancy(xl, c.masses, c.volumes, c.lungs, c.water[9], c.water[10],
-                             c.water[5], c.water[11], fl)
+        add_gravity_buoyancy(xl, c.masses, c.volumes, c.lungs, c.water[DENSITY],
+                             c.water[GRAVITY], c.water[SURFACE_Z], c.water[AIR_PRESSURE], fl)
         kick_drift(xl, vl, fl, c.masses, c.dt)
         if ball_args.shape[0] > 0:
             ball_substep(xl.transpose(2, 0, 1), vl.transpose(2, 0, 1), c.masses, c.faces,

@@ -4,12 +4,15 @@ Following Brax's split, everything that does not change during a rollout (the bo
 water, the integration step, the constants derived from them) lives in a frozen
 :class:`System`; the moving parts (node positions and velocities) are the batched arrays the
 env core keeps. ``System.kernel_args`` hands the constants to the compiled step kernel
-(:mod:`animat.envs.physics.integrator`) as one named tuple.
+(:mod:`animat.envs.physics.integrator`) as one named tuple; its ``water`` is the one float
+array :meth:`Water.as_args` packs, which the kernels read by the slot constants defined here
+(``water[SURFACE_Z]``, :data:`WATER_SLOTS`), never by a bare number.
 """
 
 from __future__ import annotations
 
 from dataclasses import asdict, dataclass, field
+from dataclasses import fields as dataclass_fields
 from functools import cached_property
 from typing import NamedTuple
 
@@ -110,12 +113,41 @@ class Water:
         return cls(**fields)
 
     def as_args(self) -> np.ndarray:
-        """(12,) the numbers the compiled force terms read, in their order."""
-        return np.array([self.fluid_coefficient, self.air_coefficient,
-                         self.friction_coefficient, self.air_friction_coefficient,
-                         1.0 if self.reaction == "crossflow" else 0.0, self.surface_z,
-                         *self.current, self.density, self.gravity, self.air_pressure],
+        """(WATER_SIZE,) float64, the numbers the compiled force terms read: the one place the
+        water is packed for the kernels. A slot per number, the fields in their order (SI
+        units as above), ``reaction`` as the flag ``crossflow`` (1.0 cross-flow, 0.0 paper)
+        and ``current`` as its x, y, z components (:data:`SPLIT_FIELDS`); a kernel reads slot
+        ``water[SURFACE_Z]`` by its constant (:data:`WATER_SLOTS`)."""
+        numbers = {"reaction": (1.0 if self.reaction == "crossflow" else 0.0,),
+                   "current": self.current}
+        return np.array([number for f in dataclass_fields(self)
+                         for number in numbers.get(f.name, (getattr(self, f.name),))],
                         dtype=np.float64)
+
+
+# The water as the kernels see it (Water.as_args): one float64 array, a slot per number, Water's
+# fields in their order, each one slot but these, named here by their slots.
+SPLIT_FIELDS = {"reaction": ("crossflow",), "current": ("current_x", "current_y", "current_z")}
+WATER_SLOTS: tuple[str, ...] = tuple(slot for f in dataclass_fields(Water)
+                                     for slot in SPLIT_FIELDS.get(f.name, (f.name,)))
+WATER_SIZE = len(WATER_SLOTS)
+_SLOT = {name: index for index, name in enumerate(WATER_SLOTS)}
+# Each slot's index, from the order above (the names are WATER_SLOTS' in capitals; tests/envs/
+# test_water.py checks both agree and round-trip). Module-level ints, so a Numba kernel reading
+# ``water[SURFACE_Z]`` compiles it as a constant index, as fast as a literal; Numba's on-disk
+# cache does not see a change made here, so clear envs/**/__pycache__ after reordering Water.
+FLUID_COEFFICIENT: int = _SLOT["fluid_coefficient"]  # kg/m^3, drag kappa under the surface
+AIR_COEFFICIENT: int = _SLOT["air_coefficient"]  # kg/m^3, drag kappa above it
+FRICTION_COEFFICIENT: int = _SLOT["friction_coefficient"]  # kg/m^3, skin friction, under
+AIR_FRICTION_COEFFICIENT: int = _SLOT["air_friction_coefficient"]  # kg/m^3, above
+CROSSFLOW: int = _SLOT["crossflow"]  # 1.0 the cross-flow reaction law, 0.0 the paper's
+DENSITY: int = _SLOT["density"]  # kg/m^3, for buoyancy and the splash
+GRAVITY: int = _SLOT["gravity"]  # m/s^2, along -z
+SURFACE_Z: int = _SLOT["surface_z"]  # m, the surface's height (inf: none)
+CURRENT_X: int = _SLOT["current_x"]  # m/s, the water's velocity in the world frame
+CURRENT_Y: int = _SLOT["current_y"]  # m/s
+CURRENT_Z: int = _SLOT["current_z"]  # m/s
+AIR_PRESSURE: int = _SLOT["air_pressure"]  # Pa, at the surface (lungs' compression)
 
 
 def vacuum() -> Water:
@@ -147,7 +179,7 @@ class KernelArgs(NamedTuple):
     frame_back: np.ndarray
     frame_up: np.ndarray
     frame_down: np.ndarray
-    water: np.ndarray
+    water: np.ndarray  # (WATER_SIZE,) Water.as_args, read as water[SURFACE_Z] etc.
     dt: float
 
 
