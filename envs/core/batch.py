@@ -24,7 +24,8 @@ from animat.envs.bodies.spec import BodySpec
 from animat.envs.checks import check_flag, check_integer, check_number, shown
 from animat.envs.motor.fish import FinParams
 from animat.envs.physics.integrator import step_batch
-from animat.envs.physics.observe import body_state, momenta, proprioception
+from animat.envs.physics.observe import body_state, momenta
+from animat.envs.physics.observe import proprioception as write_proprioception
 from animat.envs.physics.system import DEFAULT_DT, System, Water
 from animat.envs.tasks.base import Task, World
 
@@ -228,7 +229,8 @@ class BodyBatch:
         self.ball = task.ball
         self._ball_args = None if self.ball is None else self.ball.as_args()
         n, a = self.body.num_nodes, self.body.num_actuators
-        self.obs_size = 2 * n * 3 + 6 + a + task.obs_size
+        self.proprioception_size = 2 * n * 3 + 6 + a
+        self.obs_size = self.proprioception_size + task.obs_size
         self.fin_actions = bool(fins)
         self.fin_max_angle = float(fin_max_angle)
         self.action_size = a + (self.state.fins.shape[1] if self.fin_actions else 0)
@@ -318,9 +320,11 @@ class BodyBatch:
     def world(self, kinematics: Kinematics) -> World:
         """What a task may read of the current state (:class:`animat.envs.tasks.base.World`)."""
         state, (com, com_vel, frames) = self.state, kinematics
-        return World(com - state.origin, com_vel, frames, state.targets, self.body.length,
-                     com, state.x, state.v, state.splash, state.memory, state.ball,
-                     state.touch, self.system.water.surface_z, self.body, self.dt)
+        return World(com=com - state.origin, com_vel=com_vel, frames=frames,
+                     targets=state.targets, length=self.body.length, position=com,
+                     x=state.x, v=state.v, splash=state.splash, memory=state.memory,
+                     ball=state.ball, touch=state.touch,
+                     surface_z=self.system.water.surface_z, body=self.body, dt=self.dt)
 
     def measure(self, last: np.ndarray | None = None, commit: bool = False
                 ) -> tuple[dict[str, np.ndarray], Kinematics]:
@@ -334,7 +338,7 @@ class BodyBatch:
         com, com_vel, frames = kinematics
         linear, angular = momenta(state.x, state.v, self.body.masses, com)
         last = np.zeros(self.num_envs, dtype=bool) if last is None else last
-        e_v, metrics, memory = self.task.world_terms(self.world(kinematics), last)
+        e_v, metrics, memory = self.task.terms(self.world(kinematics), last)
         if commit and state.memory.size:
             state.memory[:] = memory
         info = {"com": com, "forward": frames[:, 0].copy(), "linear_momentum": linear,
@@ -342,18 +346,30 @@ class BodyBatch:
                 "E_v": e_v, **metrics}
         return info, kinematics
 
-    def observe(self, kinematics: Kinematics) -> np.ndarray:
-        """(B, obs_size) float32: node positions and velocities relative to the centre of mass
-        in the body frame (BL, BL/s), the centre-of-mass velocity in the body frame (BL/s), the
-        world's up direction in the body frame, the current actuations, the task's entries.
-        ``kinematics`` are the current state's (from :meth:`measure` or :meth:`step`); entries
-        are clipped to +-OBS_LIMIT."""
+    def proprioception(self, kinematics: Kinematics) -> np.ndarray:
+        """(B, proprioception_size) float32, the body's own state: node positions and
+        velocities relative to the centre of mass in the body frame (BL, BL/s, 3N each), the
+        centre-of-mass velocity in the body frame (BL/s, 3), the world's up direction in the
+        body frame (3), the current actuations (A); clipped to +-OBS_LIMIT."""
         state, (com, com_vel, frames) = self.state, kinematics
-        obs = np.empty((self.num_envs, self.obs_size), dtype=np.float32)
-        proprioception(state.x, state.v, state.u_prev, com, com_vel, frames, self.body.length,
-                       OBS_LIMIT, obs)
-        if self.task.obs_size:
-            task_obs = self.task.world_observe(self.world(kinematics))
-            obs[:, self.obs_size - self.task.obs_size:] = np.clip(task_obs, -OBS_LIMIT,
-                                                                  OBS_LIMIT)
+        obs = np.empty((self.num_envs, self.proprioception_size), dtype=np.float32)
+        write_proprioception(state.x, state.v, state.u_prev, com, com_vel, frames,
+                             self.body.length, OBS_LIMIT, obs)
         return obs
+
+    def task_observation(self, kinematics: Kinematics) -> np.ndarray:
+        """(B, task.obs_size) float32, the task's entries (:meth:`Task.observe` of the
+        :meth:`world`), clipped to +-OBS_LIMIT."""
+        if not self.task.obs_size:
+            return np.empty((self.num_envs, 0), dtype=np.float32)
+        task_obs = self.task.observe(self.world(kinematics))
+        return np.clip(task_obs, -OBS_LIMIT, OBS_LIMIT).astype(np.float32)
+
+    def observe(self, kinematics: Kinematics) -> np.ndarray:
+        """(B, obs_size) float32: the body's :meth:`proprioception`, then the task's entries
+        (:meth:`task_observation`). ``kinematics`` are the current state's (from
+        :meth:`measure` or :meth:`step`)."""
+        body = self.proprioception(kinematics)
+        if not self.task.obs_size:
+            return body
+        return np.concatenate([body, self.task_observation(kinematics)], axis=1)

@@ -6,6 +6,11 @@ reading of every body in the batch, (B, *shape), from the env's core and the cur
 the observation is that sensor's array, a ``Box``; with several it is a ``Dict`` keyed by
 their names. The retina (the eyes) is a sensor like any other: a new sensor is one class and
 ``sensors=[Proprioception(), MySensor()]`` in the env's arguments.
+
+``core`` is what the sensors read: the env's ``BodyBatch`` here; in the pursuit
+(:mod:`animat.envs.world.pursuit.senses`) a one-body view of its observer that offers what a
+``BodyBatch`` offers :class:`Proprioception` (``obs_size``, ``observe``) and what the eyes
+(:class:`animat.envs.vision.retina.Retina`) read besides, the scene and the eye poses.
 """
 
 from __future__ import annotations
@@ -32,10 +37,12 @@ class Sensor(Protocol):
 
 
 class Proprioception:
-    """The body's own state and the task's entries
-    (:meth:`animat.envs.core.batch.BodyBatch.observe`): node positions and velocities in the body
-    frame, centre-of-mass velocity, up direction, activations, then the task's observation;
-    float32, clipped to +-``OBS_LIMIT``."""
+    """The default sensor, (B, ``core.obs_size``) float32 clipped to +-``OBS_LIMIT``
+    (:meth:`animat.envs.core.batch.BodyBatch.observe`): two parts, the body's own state
+    (:meth:`~animat.envs.core.batch.BodyBatch.proprioception`: node positions and velocities in
+    the body frame, centre-of-mass velocity, up direction, activations), then the task's
+    entries (:meth:`~animat.envs.core.batch.BodyBatch.task_observation`, from
+    :meth:`animat.envs.tasks.base.Task.observe`)."""
 
     name = "proprioception"
 

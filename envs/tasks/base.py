@@ -2,21 +2,21 @@
 :class:`World` it reads, how an episode is summed up (:class:`EpisodeSummary`), and the
 geometry helpers the tasks share.
 
-A task supplies the paper's trajectory term E_v (Eq. 1) and its own metrics, from the body's
-centre of mass, its velocity and its frame; its default episode length; how an episode
-is summed up (:class:`EpisodeSummary`); and the hand-designed motor controller that solves
-it. A new task is one class (e.g. :mod:`animat.envs.tasks.locomotion`) and one line in
-:data:`animat.envs.tasks.TASKS`. Shapes: ``com`` (B, 3) the
-centre of mass relative to where the episode started, m; ``com_vel`` (B, 3) m/s;
-``frames`` (B, 3, 3) rows forward, left, up; ``targets`` (B, T) the task's per-episode
-parameters drawn by :meth:`Task.sample`; ``length`` the body length (m). Distances and speeds
-are reported in body lengths (BL) and BL/s, angles in degrees.
+A task supplies the paper's trajectory term E_v (Eq. 1), its own metrics and its part of the
+observation, each a function of the :class:`World` of B bodies (the one API, the same for every
+task): ``terms(world, last) -> (e_v (B,), metrics {name: (B,)}, memory (B, M))`` and
+``observe(world) -> (B, obs_size)``; and its default episode length, how an episode is summed
+up (:class:`EpisodeSummary`) and the hand-designed motor controller that solves it. A new task
+is one class (e.g. :mod:`animat.envs.tasks.locomotion`) and one line in
+:data:`animat.envs.tasks.TASKS`. Distances and speeds are reported in body lengths (BL) and
+BL/s, angles in degrees.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import Any, NamedTuple
+from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -36,16 +36,19 @@ def world_to_body(vectors: np.ndarray, frames: np.ndarray) -> np.ndarray:
     return np.einsum("bij,bj->bi", frames, vectors)
 
 
-class World(NamedTuple):
-    """Everything a task may read of B bodies' current state (the arrays are the core's own:
-    a task reads them, and changes only the copy of ``memory`` it returns).
+@dataclass(frozen=True, slots=True, kw_only=True)
+class World:
+    """Everything a task may read of B bodies' current state, built by keyword
+    (:meth:`animat.envs.core.batch.BodyBatch.world`); the arrays are the core's own: a task
+    reads them, and changes only the copy of ``memory`` it returns.
 
-    ``com`` (B, 3) relative to each episode's start, m; ``com_vel`` (B, 3) m/s; ``frames``
-    (B, 3, 3); ``targets`` (B, T); ``length`` m; ``position`` (B, 3) the centre of mass in the
-    world frame, m; ``x``, ``v`` (B, N, 3) the nodes; ``splash`` (B,) the last env step's
-    splash, kg m/s; ``memory`` (B, M) the task's episode memory; ``ball`` (B, 6) and
-    ``touch`` (B, 3) (:class:`animat.envs.core.batch.BodyState`); ``surface_z`` m; ``body`` the
-    ``BodySpec``; ``dt`` the env step, s.
+    ``com`` (B, 3) the centre of mass relative to each episode's start, m; ``com_vel`` (B, 3)
+    m/s; ``frames`` (B, 3, 3) rows forward, left, up; ``targets`` (B, T) the episode's
+    parameters (:meth:`Task.sample`); ``length`` the body length, m; ``position`` (B, 3) the
+    centre of mass in the world frame, m; ``x``, ``v`` (B, N, 3) the nodes, m and m/s;
+    ``splash`` (B,) the last env step's splash, kg m/s; ``memory`` (B, M) the task's episode
+    memory; ``ball`` (B, 6) and ``touch`` (B, 3) (:class:`animat.envs.core.batch.BodyState`);
+    ``surface_z`` m; ``body`` the ``BodySpec``; ``dt`` the env step, s.
     """
 
     com: np.ndarray
@@ -65,16 +68,20 @@ class World(NamedTuple):
     dt: float
 
 
+Terms = tuple[np.ndarray, dict[str, np.ndarray], np.ndarray]
+"""What :meth:`Task.terms` returns: E_v (B,), the metrics (B,) each by name, the memory (B, M)."""
+
+
 class Task:
     """Base class: a task has ``target_size`` parameters per episode, ``obs_size`` extra
     observation entries, a ``default_duration`` (s) and episode metrics: the per-step metrics
     named in ``mean_metrics`` averaged over the episode, and what :meth:`final_metrics` reads
     off its last step.
 
-    Tasks that need more than the centre of mass and the frame (the dolphin's stunts,
-    :mod:`animat.envs.tasks.stunts`) override :meth:`world_terms` and :meth:`world_observe`, which
-    see the whole :class:`World`, keep ``memory_size`` numbers per episode (from
-    :meth:`initial_memory`), may start the body elsewhere (:meth:`place`) and may put a beach
+    Every task implements :meth:`terms` (E_v, metrics and memory from the :class:`World`) and,
+    if ``obs_size`` > 0, :meth:`observe`. A task may keep ``memory_size`` numbers per episode
+    (from :meth:`initial_memory`, updated by :meth:`terms`; the stunts,
+    :mod:`animat.envs.tasks.stunts`), start the body elsewhere (:meth:`place`) and put a beach
     ball in the world (``ball``, a :class:`animat.envs.physics.ball.BallParams`)."""
 
     name = "task"
@@ -98,27 +105,18 @@ class Task:
         """(memory_size,) the episode memory at a reset."""
         return np.zeros(self.memory_size)
 
-    def world_terms(self, world: World, last: np.ndarray):
-        """E_v (B,), metrics (B,) each, and the updated memory (B, M), from the world."""
-        e_v, metrics = self.terms(world.com, world.com_vel, world.frames, world.targets,
-                                  world.length, last)
-        return e_v, metrics, world.memory
-
-    def world_observe(self, world: World) -> np.ndarray:
-        """(B, obs_size) task part of the observation, from the world."""
-        return self.observe(world.com, world.com_vel, world.frames, world.targets,
-                            world.length)
-
     def sample(self, rng: np.random.Generator) -> np.ndarray:
         """(target_size,) parameters of a new episode."""
         return np.zeros(self.target_size)
 
-    def observe(self, com, com_vel, frames, targets, length) -> np.ndarray:
-        """(B, obs_size) task part of the observation."""
-        return np.zeros((com.shape[0], self.obs_size))
+    def observe(self, world: World) -> np.ndarray:
+        """(B, obs_size) the task's part of the observation (none by default)."""
+        return np.zeros((world.frames.shape[0], self.obs_size))
 
-    def terms(self, com, com_vel, frames, targets, length, last):
-        """E_v (B,) and a dict of metrics (B,) each; ``last`` (B,) marks an episode's last step."""
+    def terms(self, world: World, last: np.ndarray) -> Terms:
+        """E_v (B,) (its unit the task's), the metrics (B,) each by name, and the episode
+        memory (B, M) after this step (``world.memory`` itself for a task without memory, else
+        an updated copy); ``last`` (B,) bool marks an episode's last step."""
         raise NotImplementedError
 
     def final_metrics(self, last: dict[str, np.ndarray]) -> dict[str, np.ndarray]:

@@ -1,6 +1,7 @@
 """The dolphin's basic motor tasks (the paper's Section 4.2), which basic training learns into
 its repertoire, and the start under water that they and the stunts (:mod:`animat.envs.tasks.stunts`)
-share. Shapes and units as in :mod:`animat.envs.tasks.base`.
+share. Each implements the one task API (:class:`animat.envs.tasks.base.Task`: ``terms`` of
+the :class:`~animat.envs.tasks.base.World`); shapes and units as there.
 
 Every dolphin task starts the body ``start_depth`` m under the surface (z = 0; in [-100, 1000]
 m), heading +x, pitched by ``start_pitch_deg`` (in [-90, 90]), at ``start_speed`` (0: at rest;
@@ -24,7 +25,7 @@ import numpy as np
 from animat.envs.checks import check_number
 from animat.envs.motor.dolphin import dolphin_swim_mc, dolphin_turn_mc
 from animat.envs.physics.observe import momenta
-from animat.envs.tasks.base import Task, World, heading_yaw, wrap_angle
+from animat.envs.tasks.base import Task, Terms, World, heading_yaw, wrap_angle
 from animat.envs.tasks.locomotion import SwimTask, TurnTask
 
 MAX_HEIGHT, MAX_DEPTH = 100.0, 1000.0  # m, a start above and under the surface
@@ -119,18 +120,20 @@ class DolphinTurnTask(Underwater, TurnTask):
         check_number("angle_deg", self.angle_deg, 0.0, limit, "deg", low_open=True,
                      note=f"for {self.direction} from start_pitch_deg {self.start_pitch_deg:g}")
 
-    def _error(self, frames):
+    def _error(self, frames: np.ndarray) -> np.ndarray:
+        """(B,) the pitch or yaw error, rad, from the frames (B, 3, 3)."""
         sign = 1.0 if self.direction in ("up", "left") else -1.0
         target = sign * np.radians(float(self.angle_deg))
         if self.direction in ("up", "down"):
             return pitch_of(frames) - (np.radians(self.start_pitch_deg) + target)
         return wrap_angle(heading_yaw(frames) - target)
 
-    def terms(self, com, com_vel, frames, targets, length, last):
+    def terms(self, world: World, last: np.ndarray) -> Terms:
+        frames = world.frames
         error = self._error(frames)
         return error**2, {"pitch_deg": np.degrees(pitch_of(frames)),
                           "heading_deg": np.degrees(heading_yaw(frames)),
-                          "turn_error_deg": np.degrees(error)}
+                          "turn_error_deg": np.degrees(error)}, world.memory
 
     def final_metrics(self, last):
         """``final_turn_error_deg``: the absolute pitch or yaw error at the end."""
@@ -166,17 +169,18 @@ class DolphinArcTask(Underwater, Task):
         check_number("radius_bl", self.radius_bl, 0.0, 100.0, "BL", low_open=True)
         self.check_start()
 
-    def terms(self, com, com_vel, frames, targets, length, last):
+    def terms(self, world: World, last: np.ndarray) -> Terms:
+        com, length = world.com, world.length
         a = np.radians(self.start_pitch_deg)
         heading, normal = np.array([np.cos(a), np.sin(a)]), np.array([-np.sin(a), np.cos(a)])
         sign = -1.0 if self.direction == "down" else 1.0  # the centre: below or above
         r = com[:, [0, 2]] - sign * self.radius_bl * length * normal  # (B, 2) from the centre
-        v = com_vel[:, [0, 2]]
+        v = world.com_vel[:, [0, 2]]
         tangent = -sign * (r @ normal[:, None] * heading - r @ heading[:, None] * normal)
         u_arc = np.einsum("bk,bk->b", tangent, v) / np.maximum(np.linalg.norm(r, axis=1),
                                                               1e-9)
         return -u_arc / length, {"arc_speed_bl_per_s": u_arc / length,
-                                 "pitch_deg": np.degrees(pitch_of(frames))}
+                                 "pitch_deg": np.degrees(pitch_of(world.frames))}, world.memory
 
     def hand_controller(self, speed: float = 1.0):
         return lambda t: dolphin_swim_mc(speed, t)
@@ -214,14 +218,11 @@ class DolphinSpinTask(Underwater, Task):
             raise ValueError(f"direction must be up or down, got {self.direction!r}")
         self.check_start()
 
-    def world_terms(self, world: World, last: np.ndarray):
+    def terms(self, world: World, last: np.ndarray) -> Terms:
         sign = 1.0 if self.direction == "up" else -1.0
         spin = sign * pitch_rate(world)
         return -spin, {"spin_deg_per_s": np.degrees(spin),
                        "pitch_deg": np.degrees(pitch_of(world.frames))}, world.memory
-
-    def terms(self, com, com_vel, frames, targets, length, last):
-        raise TypeError(f"the {self.name} task needs the world: use world_terms")
 
     def hand_controller(self, speed: float = 1.0):
         return lambda t: dolphin_turn_mc(self.direction, np.pi / 2, t)

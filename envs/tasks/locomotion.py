@@ -1,6 +1,7 @@
 """Locomotion tasks of any body: swim (forward, or at a target speed), turn (by an angle,
 left or right), reach (a goal point), each with the hand-designed motor controller that solves
-it. Shapes and units as in :mod:`animat.envs.tasks.base`."""
+it. Each implements the one task API (:class:`animat.envs.tasks.base.Task`: ``terms`` and
+``observe`` of the :class:`~animat.envs.tasks.base.World`); shapes and units as there."""
 
 from __future__ import annotations
 
@@ -10,7 +11,7 @@ import numpy as np
 
 from animat.envs.checks import check_number, check_range
 from animat.envs.motor.fish import swim_mc, turn_mc
-from animat.envs.tasks.base import Task, heading_yaw, world_to_body, wrap_angle
+from animat.envs.tasks.base import Task, Terms, World, heading_yaw, world_to_body, wrap_angle
 
 
 @dataclass
@@ -34,20 +35,22 @@ class SwimTask(Task):
             check_number("target_speed", self.target_speed, 0.0, 10.0, "BL/s")
         self.obs_size = 0 if self.target_speed is None else 1
 
-    def observe(self, com, com_vel, frames, targets, length):
+    def observe(self, world: World) -> np.ndarray:
+        """(B, 1) the target speed, BL/s ((B, 0) without one)."""
         if self.target_speed is None:
-            return np.zeros((com.shape[0], 0))
-        return np.full((com.shape[0], 1), float(self.target_speed))
+            return np.zeros((world.com.shape[0], 0))
+        return np.full((world.com.shape[0], 1), float(self.target_speed))
 
-    def terms(self, com, com_vel, frames, targets, length, last):
-        yaw = heading_yaw(frames)
-        speed = com_vel[:, 0] / length
+    def terms(self, world: World, last: np.ndarray) -> Terms:
+        com, length = world.com, world.length
+        yaw = heading_yaw(world.frames)
+        speed = world.com_vel[:, 0] / length
         if self.target_speed is None:
             e_v = -speed
         else:
             e_v = (speed - float(self.target_speed)) ** 2
         return e_v, {"speed_bl_per_s": speed, "heading_deg": np.degrees(yaw),
-                     "distance_bl": np.hypot(com[:, 0], com[:, 1]) / length}
+                     "distance_bl": np.hypot(com[:, 0], com[:, 1]) / length}, world.memory
 
     def hand_controller(self, speed: float = 1.0):
         """The swim-MC at ``speed`` in [0, 1], ease-in included."""
@@ -75,17 +78,19 @@ class TurnTask(Task):
         sign = 1.0 if self.direction == "left" else -1.0
         return sign * np.radians(float(self.angle_deg))
 
-    def _error(self, frames):
+    def _error(self, frames: np.ndarray) -> np.ndarray:
+        """(B,) the heading error, rad, from the frames (B, 3, 3)."""
         return wrap_angle(heading_yaw(frames) - self.target_yaw)
 
-    def observe(self, com, com_vel, frames, targets, length):
-        error = self._error(frames)
+    def observe(self, world: World) -> np.ndarray:
+        """(B, 2) sine and cosine of the heading error."""
+        error = self._error(world.frames)
         return np.stack([np.sin(error), np.cos(error)], axis=1)
 
-    def terms(self, com, com_vel, frames, targets, length, last):
-        error = self._error(frames)
-        return error**2, {"heading_deg": np.degrees(heading_yaw(frames)),
-                          "heading_error_deg": np.degrees(error)}
+    def terms(self, world: World, last: np.ndarray) -> Terms:
+        error = self._error(world.frames)
+        return error**2, {"heading_deg": np.degrees(heading_yaw(world.frames)),
+                          "heading_error_deg": np.degrees(error)}, world.memory
 
     def final_metrics(self, last):
         """``final_heading_error_deg``: the absolute heading error at the end."""
@@ -124,13 +129,16 @@ class ReachTask(Task):
         bearing = np.radians(rng.uniform(*self.bearing_deg))
         return np.array([distance * np.cos(bearing), distance * np.sin(bearing), 0.0])
 
-    def observe(self, com, com_vel, frames, targets, length):
-        return world_to_body(targets * length - com, frames) / length
+    def observe(self, world: World) -> np.ndarray:
+        """(B, 3) the goal relative to the centre of mass in the body frame, BL."""
+        length = world.length
+        return world_to_body(world.targets * length - world.com, world.frames) / length
 
-    def terms(self, com, com_vel, frames, targets, length, last):
-        distance = np.linalg.norm(targets * length - com, axis=1) / length
+    def terms(self, world: World, last: np.ndarray) -> Terms:
+        length = world.length
+        distance = np.linalg.norm(world.targets * length - world.com, axis=1) / length
         e_v = distance + np.where(last, float(self.final_weight) * distance, 0.0)
-        return e_v, {"distance_bl": distance}
+        return e_v, {"distance_bl": distance}, world.memory
 
     def final_metrics(self, last):
         """``final_distance_bl``: the distance to the goal at the end."""

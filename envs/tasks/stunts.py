@@ -1,8 +1,10 @@
 """The dolphin's SeaWorld stunts (the paper's Section 4.2), and the registry of all its tasks
 (the basic ones are :mod:`animat.envs.tasks.dolphin`).
 
-Every stunt starts as the basic tasks do (:class:`animat.envs.tasks.dolphin.Underwater`).
-Shapes and units as in :mod:`animat.envs.tasks.base`.
+Every stunt starts as the basic tasks do (:class:`animat.envs.tasks.dolphin.Underwater`) and
+implements the one task API (:class:`animat.envs.tasks.base.Task`: ``terms`` and ``observe`` of
+the :class:`~animat.envs.tasks.base.World`), keeping an episode memory of 16 numbers by column
+(``APEX`` ... ``BEST_FLIGHT``). Shapes and units as in :mod:`animat.envs.tasks.base`.
 
 Stunts, each a score S that the reward pays out as it grows (``E_v = -(S_t - S_t-1) / dt``
 from the second step on, so the task part of an episode's return is ``mu2`` times S at its
@@ -40,7 +42,7 @@ from animat.envs.bodies.dolphin import LEFT_TIP, RIGHT_TIP
 from animat.envs.bodies.spec import NOSE_PART, TAIL_PART
 from animat.envs.checks import check_number, shown
 from animat.envs.physics.ball import BallParams
-from animat.envs.tasks.base import Task, World, world_to_body
+from animat.envs.tasks.base import Task, Terms, World, world_to_body
 from animat.envs.tasks.dolphin import (
     Underwater,
     pitch_of,
@@ -107,8 +109,8 @@ class StuntTask(Underwater, Task):
         memory[FORWARD_X:FORWARD_Z + 1] = np.cos(pitch), 0.0, np.sin(pitch)
         return memory
 
-    def world_observe(self, world: World) -> np.ndarray:
-        """The centre of mass's height above the surface, BL."""
+    def observe(self, world: World) -> np.ndarray:
+        """(B, 1) the centre of mass's height above the surface, BL."""
         return ((world.position[:, 2] - world.surface_z) / world.length)[:, None]
 
     def remember(self, world: World) -> np.ndarray:
@@ -148,7 +150,8 @@ class StuntTask(Underwater, Task):
     def ball_hit(self, m: np.ndarray) -> np.ndarray:
         return np.zeros(len(m))
 
-    def world_terms(self, world: World, last: np.ndarray):
+    def terms(self, world: World, last: np.ndarray) -> Terms:
+        """E_v = -(S_t - S_t-1) / dt (0 on the first step), the metrics and the memory."""
         m = self.remember(world)
         score = self.score(m, world)
         gain = np.where(np.isnan(m[:, SCORE]), 0.0, score - m[:, SCORE])
@@ -170,9 +173,6 @@ class StuntTask(Underwater, Task):
                            first_touch=m[:, FIRST_TOUCH], ball_off=m[:, BALL_OFF],
                            ball_hit=self.ball_hit(m))
         return -gain / world.dt, metrics, m
-
-    def terms(self, com, com_vel, frames, targets, length, last):
-        raise TypeError(f"the {self.name} task needs the world: use world_terms")
 
     def final_metrics(self, last):
         names = FINAL_METRICS + (BALL_METRICS if self.ball is not None else ())
@@ -227,9 +227,11 @@ class BallTask(StuntTask):
     def part_index(self) -> int:
         return NOSE_PART if self.part == "nose" else TAIL_PART
 
-    def world_observe(self, world):
+    def observe(self, world: World) -> np.ndarray:
+        """(B, 4) the height above the surface, then the ball relative to the centre of mass
+        in the body frame, BL."""
         body = world_to_body(world.ball[:, :3] - world.position, world.frames) / world.length
-        return np.concatenate([super().world_observe(world), body], axis=1)
+        return np.concatenate([super().observe(world), body], axis=1)
 
     def ball_hit(self, m):
         return ((m[:, FIRST_TOUCH] == self.part_index) & (m[:, BALL_OFF] > 0)).astype(float)

@@ -98,7 +98,7 @@ def test_a_somersault_is_one_flights_turn_not_the_sum_of_several_leaps():
                       length=2.5, position=position, x=None, v=None, splash=np.zeros(1),
                       memory=memory, ball=None, touch=None, surface_z=0.0, body=body,
                       dt=0.05)
-        _, metrics, memory = task.world_terms(world, np.zeros(1, bool))
+        _, metrics, memory = task.terms(world, np.zeros(1, bool))
     assert metrics["rotation_deg"][0] == pytest.approx(216.0, rel=1e-6)
     assert metrics["flight_rotation_deg"][0] == pytest.approx(108.0, rel=1e-6)
     assert metrics["score"][0] == pytest.approx(0.3, rel=1e-6)
@@ -153,6 +153,7 @@ def test_a_start_at_speed_glides_along_the_pitched_heading_and_bad_speeds_are_re
 def test_the_arc_pays_the_speed_round_its_circle():
     """E_v = -u_arc: the full speed on the circle's tangent, none moving along the radius,
     and a straight swim from the circle's top makes ever less of its speed."""
+    from animat.envs.tasks.base import World
     from animat.envs.tasks.dolphin import DolphinArcTask
 
     length, radius = 2.5, 2.0 * 2.5
@@ -167,7 +168,10 @@ def test_the_arc_pays_the_speed_round_its_circle():
         com = np.stack([on_circle, on_circle, [3.0 * radius, 0.0, 0.0]])
         vel = np.stack([2.0 * tangent, 2.0 * (on_circle - [0.0, 0.0, centre_z]) / radius,
                         [2.0, 0.0, 0.0]])
-        e_v, metrics = task.terms(com, vel, frames, None, length, None)
+        world = World(com=com, com_vel=vel, frames=frames, targets=None, length=length,
+                      position=None, x=None, v=None, splash=None, memory=np.zeros((3, 0)),
+                      ball=None, touch=None, surface_z=0.0, body=None, dt=0.05)
+        e_v, metrics, _ = task.terms(world, None)
         assert e_v[0] == pytest.approx(-2.0 / length), direction
         assert e_v[1] == pytest.approx(0.0, abs=1e-12), direction
         assert -2.0 / length < e_v[2] < -0.2 / length, direction  # straight on: a fraction
@@ -197,7 +201,7 @@ def test_the_spin_pays_the_bodys_pitch_rate_whatever_it_moves_along():
                   splash=np.zeros(2), memory=np.zeros((2, 0)), ball=None, touch=None,
                   surface_z=0.0, body=body, dt=0.05)
     for direction, sign in (("up", 1.0), ("down", -1.0)):
-        e_v, metrics, _ = DolphinSpinTask(direction=direction).world_terms(world, None)
+        e_v, metrics, _ = DolphinSpinTask(direction=direction).terms(world, None)
         assert e_v == pytest.approx([-sign * w, 0.0], abs=1e-12)
         assert metrics["spin_deg_per_s"] == pytest.approx([sign * np.degrees(w), 0.0],
                                                           abs=1e-9)

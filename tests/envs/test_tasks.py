@@ -1,0 +1,68 @@
+"""The one task API: every task in ``TASKS`` reads a real :class:`World` of a real
+:class:`BodyBatch` through ``terms`` and ``observe`` and returns the documented shapes; the World
+is built by keyword and frozen; the observation is the body's proprioception, then the task's."""
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+from animat.envs.bodies import make_body
+from animat.envs.core.batch import OBS_LIMIT, BodyBatch
+from animat.envs.tasks import TASKS
+from animat.envs.tasks.base import Task, World
+
+B = 3
+
+
+def _core(name: str) -> BodyBatch:
+    """B dolphins 3 m under a surface doing task ``name``, a few env steps into an episode."""
+    core = BodyBatch(B, TASKS[name](), body=make_body("dolphin"), physics_dt=5e-4,
+                     water={"surface_z": 0.0}, duration=1.0)
+    core.reset_rows(np.arange(B), [np.random.default_rng(k) for k in range(B)])
+    rng = np.random.default_rng(0)
+    for _ in range(3):
+        core.step(rng.uniform(-1.0, 1.0, (B, core.action_size)))
+    return core
+
+
+@pytest.mark.parametrize("name", sorted(TASKS))
+def test_every_task_implements_terms_and_observe_of_the_world(name):
+    core = _core(name)
+    task, kinematics = core.task, core.kinematics()
+    assert type(task).terms is not Task.terms, "each task defines its own terms"
+    assert not hasattr(task, "world_terms") and not hasattr(task, "world_observe")
+    world = core.world(kinematics)
+    last = np.array([False, True, False])
+    e_v, metrics, memory = task.terms(world, last)
+    assert e_v.shape == (B,) and np.isfinite(e_v).all()
+    assert set(task.mean_metrics) <= set(metrics)
+    assert all(np.shape(value) == (B,) for value in metrics.values()), metrics
+    assert memory.shape == (B, task.memory_size)
+    obs = task.observe(world)
+    assert obs.shape == (B, task.obs_size) and np.isfinite(obs).all()
+    expected = np.clip(obs, -OBS_LIMIT, OBS_LIMIT).astype(np.float32)
+    assert np.array_equal(core.task_observation(kinematics), expected)
+
+
+@pytest.mark.parametrize("name", ["swim", "reach", "ball"])
+def test_the_observation_is_the_body_s_proprioception_then_the_task_s_entries(name):
+    core = _core(name)
+    kinematics = core.kinematics()
+    obs = core.observe(kinematics)
+    assert obs.dtype == np.float32 and obs.shape == (B, core.obs_size)
+    body = core.proprioception(kinematics)
+    assert body.shape == (B, core.proprioception_size)
+    assert core.obs_size == core.proprioception_size + core.task.obs_size
+    assert np.array_equal(obs, np.concatenate([body, core.task_observation(kinematics)], 1))
+
+
+def test_the_world_is_built_by_keyword_and_frozen():
+    core = _core("leap")
+    world = core.world(core.kinematics())
+    values = [getattr(world, f.name) for f in dataclasses.fields(World)]
+    with pytest.raises(TypeError):
+        World(*values)
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        world.length = 1.0
+    assert world.length == core.body.length and world.memory is core.state.memory
