@@ -11,12 +11,19 @@ through the same :class:`~envs.render.camera.Camera` and rasterizer as the third
 The composite of an eye (Fig. 5(b)) is 2^(levels-1) * size pixels square: level l magnified
 2^(levels-1-l) times and centred, finer levels on top, so every pixel shows the finest level
 that sees it.
+
+The eyes are a sensor like any other (:class:`Retina`, the protocol of
+:class:`animat.envs.core.sensors.Sensor`): it reads the scene and the eye poses from what it is
+given (a :class:`Sighted`, e.g. the pursuit's observer, :mod:`animat.envs.world.pursuit.senses`)
+and gives ``left_eye`` and ``right_eye``, each eye's levels stacked (:func:`stack_levels`).
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any, Protocol
 
+import gymnasium as gym
 import numpy as np
 
 from animat.envs.render.camera import Camera, Frame, Scene
@@ -98,3 +105,54 @@ def composite(levels: np.ndarray) -> np.ndarray:
         start = (full - block.shape[0]) // 2
         out[start:start + block.shape[0], start:start + block.shape[1]] = block
     return out
+
+
+def stack_levels(images: np.ndarray) -> np.ndarray:
+    """(..., size, size, 3 * levels) uint8: an eye's levels (..., levels, size, size, 3) with
+    their RGB stacked along the channels, level 0 (the widest) first, the fovea last."""
+    *lead, levels, height, width, _ = images.shape
+    return np.moveaxis(images, -4, -2).reshape(*lead, height, width, 3 * levels)
+
+
+class Sighted(Protocol):
+    """What the retina reads: the scene and where the eyes of each of B observers are."""
+
+    def scene(self) -> Scene:
+        """What there is to see now."""
+
+    def eye_poses(self, kinematics: Any) -> tuple[np.ndarray, np.ndarray]:
+        """(B, 2, 3) m eye positions and (B, 2, 3, 3) camera rotations (rows right, down,
+        forward; world frame) of each observer's left and right eye."""
+
+
+class Retina:
+    """The two eyes as a sensor (:class:`animat.envs.core.sensors.Sensor`): its space a
+    ``Dict`` of ``left_eye`` and ``right_eye``, each ``Box(0, 255, (size, size, 3 * levels),
+    uint8)`` (:func:`stack_levels`); its read both eyes of every observer, rendered with
+    ``params``' cameras (levels, size, field of view) from one preparation of the scene."""
+
+    name = "retina"
+    EYES = ("left_eye", "right_eye")
+
+    def __init__(self, params: RetinaParams = RetinaParams()) -> None:
+        self.params = params
+
+    def space(self, source: Sighted) -> gym.spaces.Dict:
+        """One observer's reading: both eyes' stacked levels."""
+        shape = (self.params.size, self.params.size, 3 * self.params.levels)
+        return gym.spaces.Dict({eye: gym.spaces.Box(0, 255, shape, np.uint8)
+                                for eye in self.EYES})
+
+    def images(self, source: Sighted, kinematics: Any) -> np.ndarray:
+        """(B, 2, levels, size, size, 3) uint8: what the B observers' eyes see now."""
+        positions, rotations = source.eye_poses(kinematics)
+        scene = source.scene()
+        frame = scene.prepare()
+        return np.stack([[render_eye(scene, p, r, self.params, frame)
+                          for p, r in zip(places, turns)]
+                         for places, turns in zip(positions, rotations)])
+
+    def read(self, source: Sighted, kinematics: Any) -> dict[str, np.ndarray]:
+        """``left_eye`` and ``right_eye``: (B, size, size, 3 * levels) uint8 each."""
+        stacked = stack_levels(self.images(source, kinematics))
+        return {eye: stacked[:, k] for k, eye in enumerate(self.EYES)}

@@ -8,7 +8,16 @@ import pytest
 import animat  # noqa: F401
 from animat.envs.core.env import BodyEnv
 from animat.envs.motor.navigation import Navigator
-from animat.envs.world.pursuit.env import PursuitSummary
+from animat.envs.render.camera import Scene
+from animat.envs.vision.retina import (
+    Retina,
+    RetinaParams,
+    eye_positions,
+    gaze_rotation,
+    render_eyes,
+)
+from animat.envs.world.pursuit.env import OBSERVER, PursuitSummary
+from animat.envs.world.pursuit.senses import default_sensors
 
 
 def test_pursuit_observation_info_and_renders():
@@ -62,3 +71,71 @@ def test_the_pursuit_summary_counts_after_the_first_foveation():
     never.update({"target_in_fovea": False, "passer_in_fovea": True, "target_distance": 0.9,
                   "vergence": 0.0, "range_estimate": np.inf})
     assert never.summary()["fovea_fraction"] == 0.0 and np.isnan(never.summary()["range_error"])
+
+
+def _stepped(env, steps: int = 4):
+    """The observation after a reset and ``steps`` steps of a fixed action that turns the eyes."""
+    obs, _ = env.reset(seed=5)
+    for _ in range(steps):
+        obs, *_ = env.step(np.array([0.5, 0.0, 0.0, 0.4, -0.2, -0.3, 0.1], np.float32))
+    return obs
+
+
+def test_the_eyes_in_the_pursuit_observation_are_the_retina_sensors_reading():
+    env = gym.make("Animat/FishPursuit-v0", duration=1.0).unwrapped
+    obs = _stepped(env)
+    kinematics = env.core.kinematics()
+    reading = Retina().read(env.view, kinematics)
+    assert set(reading) == {"left_eye", "right_eye"}
+    frame, head = kinematics.frames[OBSERVER], env.core.state.x[OBSERVER, 0]
+    angles = np.radians([[24.0, -6.0], [-18.0, 3.0]])  # the gaze commanded, in degrees
+    rotations = np.stack([gaze_rotation(frame, *a) for a in angles])
+    images = render_eyes(env.scene(), eye_positions(frame, head, env.body_length), rotations)
+    for k, eye in enumerate(("left_eye", "right_eye")):
+        np.testing.assert_array_equal(obs[eye], reading[eye][0])
+        np.testing.assert_array_equal(obs[eye], np.concatenate(list(images[k]), axis=-1))
+    assert obs["left_eye"].std() > 0 and not np.array_equal(obs["left_eye"], obs["right_eye"])
+    # a retina of other cameras, passed as a sensor, is what the env observes with
+    small = Retina(RetinaParams(levels=2, size=16))
+    env = gym.make("Animat/FishPursuit-v0", duration=1.0,
+                   sensors=[small, *default_sensors()[1:]]).unwrapped
+    assert env.observation_space["left_eye"].shape == (16, 16, 6)
+    obs = _stepped(env)
+    assert env.observation_space.contains(obs)
+    np.testing.assert_array_equal(obs["right_eye"],
+                                  small.read(env.view, env.core.kinematics())["right_eye"][0])
+
+
+class HeadDepth:
+    """The observer's nose below the start, m: a sensor added to the pursuit's."""
+
+    name = "depth"
+
+    def space(self, view):
+        return gym.spaces.Box(-1e4, 1e4, (1,), np.float32)
+
+    def read(self, view, kinematics):
+        return -view.core.state.x[[view.row], 0, 2:3].astype(np.float32)
+
+
+class LeftEye(HeadDepth):
+    """A sensor whose name is an entry the retina gives."""
+
+    name = "left_eye"
+
+
+def test_a_sensor_added_to_the_pursuit_shows_up_in_its_observation():
+    env = gym.make("Animat/FishPursuit-v0", duration=1.0,
+                   sensors=[*default_sensors(), HeadDepth()]).unwrapped
+    assert set(env.observation_space.spaces) == {"left_eye", "right_eye", "gaze",
+                                                 "proprioception", "depth"}
+    obs = _stepped(env)
+    assert env.observation_space.contains(obs)
+    assert obs["depth"][0] == np.float32(-env.core.state.x[OBSERVER, 0, 2])
+    np.testing.assert_array_equal(obs["gaze"], np.float32([0.4, -0.2, -0.3, 0.1]))
+    assert obs["proprioception"].shape == (150,)
+    with pytest.raises(ValueError, match="sensors: entry names must be unique"):
+        gym.make("Animat/FishPursuit-v0", sensors=[*default_sensors(), LeftEye()])
+    with pytest.raises(ValueError, match="sensors must be a list"):
+        gym.make("Animat/FishPursuit-v0", sensors="retina")
+    assert isinstance(env.view.scene(), Scene)

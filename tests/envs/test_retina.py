@@ -5,7 +5,14 @@ import pytest
 
 from animat.envs.bodies.fish import fish_body
 from animat.envs.render.camera import Scene, posed
-from animat.envs.vision.retina import RetinaParams, composite, gaze_rotation, render_eye
+from animat.envs.vision.retina import (
+    Retina,
+    RetinaParams,
+    composite,
+    gaze_rotation,
+    render_eye,
+    stack_levels,
+)
 
 HEAD = np.eye(3)  # rows forward (+x), left (+y), up (+z)
 EYE = np.zeros(3)
@@ -74,3 +81,32 @@ def test_retina_params_are_checked():
     with pytest.raises(ValueError, match="field_of_view"):
         RetinaParams(field_of_view=200.0)
     assert RetinaParams().focal(3) == pytest.approx(32.0 / np.tan(np.radians(7.5)))
+
+
+class TwoObservers:
+    """A :class:`~animat.envs.vision.retina.Sighted` of two observers at the origin: the first
+    looks along +x at a red fish, the second's eyes look along -x, away from it."""
+
+    def scene(self):
+        return _scene(_fish_at([1.0, 0.0, 0.0], (255, 0, 0)))
+
+    def eye_poses(self, kinematics):
+        ahead, behind = gaze_rotation(HEAD, 0.0, 0.0), gaze_rotation(HEAD, np.pi, 0.0)
+        positions = np.array([[[0.0, 0.01, 0.0], [0.0, -0.01, 0.0]]] * 2)
+        return positions, np.array([[ahead, ahead], [behind, behind]])
+
+
+def test_the_retina_sensor_reads_both_eyes_of_every_observer_stacked():
+    retina = Retina(RetinaParams(size=32))
+    space = retina.space(TwoObservers())
+    assert set(space.spaces) == {"left_eye", "right_eye"}
+    assert space["left_eye"].shape == (32, 32, 12) and space["left_eye"].dtype == np.uint8
+    reading = retina.read(TwoObservers(), None)
+    assert reading["left_eye"].shape == (2, 32, 32, 12)
+    assert space.contains({k: v[0] for k, v in reading.items()})
+    levels = render_eye(TwoObservers().scene(), np.array([0.0, 0.01, 0.0]),
+                        gaze_rotation(HEAD, 0.0, 0.0), RetinaParams(size=32))
+    np.testing.assert_array_equal(reading["left_eye"][0], np.concatenate(list(levels), -1))
+    fovea = reading["right_eye"][:, :, :, 9:12]  # the last level's RGB
+    assert _red(fovea[0])[14:18, 14:18].all() and not _red(fovea[1]).any()
+    assert stack_levels(levels[None]).shape == (1, 32, 32, 12)

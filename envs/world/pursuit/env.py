@@ -17,10 +17,13 @@ of the left and the right eye, theta (left, units of 60 deg) and phi (up, units 
 relative to the head.
 
 ## Observation Space
-``Dict``: ``left_eye`` and ``right_eye`` ``Box(0, 255, (64, 64, 12), uint8)`` (the 4 levels'
-RGB stacked, level 0 = 120 deg first, level 3 = the fovea last), ``gaze`` ``Box(-1, 1, (4,))``
-(the gaze as commanded, in the action's units) and ``proprioception`` (the fish envs' 150
-entries). It takes stable-baselines3's ``MultiInputPolicy`` as it is.
+``Dict``, the reading of the observer by its sensors (:mod:`animat.envs.world.pursuit.senses`;
+the seam of :mod:`animat.envs.core.sensors`): the retina
+(:class:`animat.envs.vision.retina.Retina`) gives ``left_eye`` and ``right_eye``
+``Box(0, 255, (64, 64, 12), uint8)`` (the 4 levels' RGB stacked, level 0 = 120 deg first,
+level 3 = the fovea last), ``gaze`` ``Box(-1, 1, (4,))`` (the gaze as commanded, in the
+action's units) and ``proprioception`` (the fish envs' 150 entries). It takes
+stable-baselines3's ``MultiInputPolicy`` as it is.
 
 ## Rewards
 ``r = (d_prev - d) / L + 0.05 * target_in_fovea`` per step: the distance closed on the prey
@@ -50,10 +53,13 @@ No termination; truncation after ``duration`` s (default 20).
 ## Arguments
 ``duration`` (s, 20; in (0, 86400]), ``start_distance_bl`` ((3, 5); within [1, 100]),
 ``flee_distance_bl`` (2.5; in (0, 100]), ``prey_speed`` (0.5; the swim-MC's speed, in [0, 1]),
-``render_mode`` (``"rgb_array"``: third person, 480x360; ``"retina"``: the two eyes'
-composites side by side, 512x1024); each checked as it enters (a bad one is a ``ValueError``
-of one line naming it). Public attributes: ``dt``, ``body_length``, ``episode_steps``,
-``episode_summary()``, ``scene()``, ``retina_images()``.
+``sensors`` (a list of sensors that read the observer's view, their entries' names unique;
+default :func:`~animat.envs.world.pursuit.senses.default_sensors`: the retina, the gaze and
+proprioception), ``render_mode`` (``"rgb_array"``: third person, 480x360; ``"retina"``: the
+two eyes' composites side by side, 512x1024); each checked as it enters (a bad one is a
+``ValueError`` of one line naming it). Public attributes: ``dt``, ``body_length``,
+``episode_steps``, ``view`` (what the sensors read), ``episode_summary()``, ``scene()``,
+``retina_images()``.
 """
 
 from __future__ import annotations
@@ -62,29 +68,23 @@ import gymnasium as gym
 import numpy as np
 
 from animat.envs.checks import check_number, check_range
-from animat.envs.core.batch import OBS_LIMIT, BodyBatch
+from animat.envs.core.batch import BodyBatch
 from animat.envs.motor.navigation import Navigator
 from animat.envs.render.camera import Camera, Scene, fish_skin, look_at, yaw_matrix
 from animat.envs.render.scenery import SceneryParams, furnish, scatter
 from animat.envs.tasks.locomotion import SwimTask
 from animat.envs.vision.perception import triangulate
-from animat.envs.vision.retina import (
-    RetinaParams,
-    composite,
-    eye_positions,
-    gaze_rotation,
-    render_eyes,
-)
+from animat.envs.vision.retina import Retina, RetinaParams, composite
 from animat.envs.world.behaviours import BehaviourParams
 from animat.envs.world.intention import IntentionGenerator
 from animat.envs.world.life import Lives
 from animat.envs.world.mind import MentalState, MindParams
 from animat.envs.world.oracle import Obstacles, OracleParams
 from animat.envs.world.percepts import AvoidParams, Tank, perceive
+from animat.envs.world.pursuit.senses import ObserverView, PursuitObserver, default_sensors
 
 OBSERVER, PREY, PASSER = 0, 1, 2
 COLOURS = ((250, 140, 60), (220, 50, 40), (230, 210, 40))
-THETA_RANGE, PHI_RANGE = np.radians(60.0), np.radians(30.0)
 FOVEA_HALF_ANGLE = np.radians(7.5)
 SEABED_Z = -0.5  # m
 MAX_DISTANCE_BL = 100.0  # the farthest start and flight distance, BL
@@ -155,7 +155,8 @@ class FishPursuitEnv(gym.Env):
 
     def __init__(self, render_mode: str | None = None, duration: float = 20.0,
                  start_distance_bl: tuple[float, float] = (3.0, 5.0),
-                 flee_distance_bl: float = 2.5, prey_speed: float = 0.5) -> None:
+                 flee_distance_bl: float = 2.5, prey_speed: float = 0.5,
+                 sensors: list | None = None) -> None:
         if render_mode not in (None, "rgb_array", "retina"):
             raise ValueError(f"render_mode must be None, 'rgb_array' or 'retina', got "
                              f"{render_mode!r}")
@@ -170,15 +171,13 @@ class FishPursuitEnv(gym.Env):
         self.retina = RetinaParams()
         self.navigator = Navigator(3)
         self._live_init()
-        eye = gym.spaces.Box(0, 255, (self.retina.size, self.retina.size,
-                                      3 * self.retina.levels), np.uint8)
-        self.observation_space = gym.spaces.Dict({
-            "left_eye": eye, "right_eye": eye,
-            "gaze": gym.spaces.Box(-1.0, 1.0, (4,), np.float32),
-            "proprioception": gym.spaces.Box(-OBS_LIMIT, OBS_LIMIT, (self.core.obs_size,),
-                                             np.float32)})
-        self.action_space = gym.spaces.Box(-1.0, 1.0, (7,), np.float32)
         self.gaze = np.zeros(4)
+        self.view = ObserverView(self.core, OBSERVER, self.scene, self.gaze, self.retina)
+        self.eyes = Retina(self.retina)  # what render() and retina_images() show
+        self.observer = PursuitObserver(self.view, default_sensors(self.retina)
+                                        if sensors is None else sensors)
+        self.observation_space = self.observer.single_space
+        self.action_space = gym.spaces.Box(-1.0, 1.0, (7,), np.float32)
         self.skins = [fish_skin(self.core.body, colour) for colour in COLOURS]
         self._scenery: list = []
         self._started = False
@@ -278,19 +277,7 @@ class FishPursuitEnv(gym.Env):
         truncated = bool(self.core.truncated[OBSERVER])
         return self._observe(kinematics), float(reward), False, truncated, info
 
-    # --- the eyes ------------------------------------------------------------------------
-    def _gaze_angles(self) -> np.ndarray:
-        """(2, 2) rad: (theta, phi) of the left and right eye."""
-        return self.gaze.reshape(2, 2) * [THETA_RANGE, PHI_RANGE]
-
-    def _eyes(self, kinematics):
-        """Eye positions (2, 3) and camera rotations (2, 3, 3) in the world."""
-        frame = kinematics.frames[OBSERVER]
-        positions = eye_positions(frame, self.core.state.x[OBSERVER, 0], self.body_length,
-                                  self.retina)
-        rotations = np.stack([gaze_rotation(frame, *angles) for angles in self._gaze_angles()])
-        return positions, rotations
-
+    # --- the eyes and the other senses --------------------------------------------------
     def scene(self) -> Scene:
         """What there is to see now: the three fish in their skins, and the scenery."""
         scene = furnish(Scene(seabed_z=SEABED_Z), self._scenery)
@@ -300,16 +287,12 @@ class FishPursuitEnv(gym.Env):
 
     def retina_images(self, kinematics=None) -> np.ndarray:
         """(2, levels, size, size, 3) uint8: what the observer's eyes see now."""
-        positions, rotations = self._eyes(kinematics or self.core.kinematics())
-        return render_eyes(self.scene(), positions, rotations, self.retina)
+        return self.eyes.images(self.view, kinematics or self.core.kinematics())[0]
 
-    def _observe(self, kinematics=None):
+    def _observe(self, kinematics=None) -> dict[str, np.ndarray]:
+        """The observer's observation: its sensors' reading (entry name -> array)."""
         kinematics = kinematics or self.core.kinematics()
-        images = self.retina_images(kinematics)
-        stacked = [np.concatenate(list(eye), axis=-1) for eye in images]  # (64, 64, 12)
-        return {"left_eye": stacked[0], "right_eye": stacked[1],
-                "gaze": self.gaze.astype(np.float32),
-                "proprioception": self.core.observe(kinematics)[OBSERVER]}
+        return self.observer.row(self.observer.observe(self.view, kinematics), 0)
 
     def _target_distance(self, kinematics) -> float:
         return float(np.linalg.norm(kinematics.com[PREY] - self.core.state.x[OBSERVER, 0]))
@@ -323,8 +306,8 @@ class FishPursuitEnv(gym.Env):
         return True
 
     def _info(self, kinematics) -> dict:
-        positions, rotations = self._eyes(kinematics)
-        angles = self._gaze_angles()
+        positions, rotations = (poses[0] for poses in self.view.eye_poses(kinematics))
+        angles = self.view.gaze_angles()
         baseline = float(np.linalg.norm(positions[0] - positions[1]))
         return {"target_in_fovea": self._in_foveas(kinematics.com[PREY], positions, rotations),
                 "passer_in_fovea": self._in_foveas(kinematics.com[PASSER], positions,
