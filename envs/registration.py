@@ -5,11 +5,18 @@ by importing :mod:`animat.envs`).
 The fish's locomotion ids and the dolphin's tasks run on the batched core
 (:mod:`animat.envs.core`, a native vector env each); the pursuit and the living world are
 single envs.
+
+:func:`timing` gives an id's clock (``dt`` and ``episode_steps``) from these kwargs and the
+user's, without building the env.
 """
 
 from __future__ import annotations
 
+import inspect
+from typing import Any, NamedTuple
+
 import gymnasium as gym
+from gymnasium.envs.registration import load_env_creator
 
 CORE = {"entry_point": "animat.envs.core.env:BodyEnv",
         "vector_entry_point": "animat.envs.core.env:BodyVectorEnv"}
@@ -37,12 +44,14 @@ DOLPHIN_ENVS = {
     "Animat/DolphinSomersault-v0": {"task": "somersault", "reward_weights": STUNT_WEIGHTS},
     "Animat/DolphinBellyFlop-v0": {"task": "belly_flop", "reward_weights": STUNT_WEIGHTS},
 }
+PURSUIT = "animat.envs.world.pursuit.env:FishPursuitEnv"
+MARINE = "animat.envs.world.marine_env:MarineWorldEnv"
 ENVS: dict[str, dict] = {
     **{env_id: {**CORE, "kwargs": kwargs} for env_id, kwargs in FISH_ENVS.items()},
     **{env_id: {**CORE, "kwargs": {**DOLPHIN_KWARGS, **kwargs}}
        for env_id, kwargs in DOLPHIN_ENVS.items()},
-    "Animat/FishPursuit-v0": {"entry_point": "animat.envs.world.pursuit.env:FishPursuitEnv"},
-    "Animat/MarineWorld-v0": {"entry_point": "animat.envs.world.marine_env:MarineWorldEnv"},
+    "Animat/FishPursuit-v0": {"entry_point": PURSUIT},
+    "Animat/MarineWorld-v0": {"entry_point": MARINE},
 }
 
 
@@ -51,3 +60,101 @@ def register() -> None:
     for env_id, entry in ENVS.items():
         if env_id not in gym.registry:
             gym.register(id=env_id, **entry)
+
+
+class Timing(NamedTuple):
+    """An env's clock: ``dt``, s, the simulated time of one env step (``physics_dt *
+    frame_skip``), and ``episode_steps``, env steps an episode (``duration / dt`` rounded, at
+    least 1)."""
+
+    dt: float
+    episode_steps: int
+
+
+# gym.make's own keywords, and the arguments whose checks need what the env builds (the body
+# and its stability bound on physics_dt, the water, the sensors, the task's fit to the body):
+# timing() builds the env when the user gives one of these.
+BUILT_FOR = frozenset({"render_mode", "max_episode_steps", "disable_env_checker", "task", "body",
+                       "physics_dt", "water", "base_water", "sensors"})
+# single envs of one body batch at the core's default step, whose clock is their duration alone
+WORLDS = frozenset({PURSUIT, MARINE})
+
+
+def timing(env_id: str, env_kwargs: dict | None = None) -> Timing:
+    """The clock of ``gym.make(env_id, **env_kwargs)``, without building it: from the registered
+    kwargs of :data:`ENVS` and ``env_kwargs`` (these win), with the task's ``default_duration``
+    where no ``duration`` is given and the core's ``physics_dt`` and ``frame_skip`` where none
+    are. The arguments it reads are checked as the env checks them; where it cannot vouch for
+    them (an id not in :data:`ENVS`, an argument of :data:`BUILT_FOR`, a value it refuses) it
+    builds the env and reads its clock, so that a bad argument is the env's own one-line
+    ValueError (or Gymnasium's error for an unknown id)."""
+    given = dict(env_kwargs or {})
+    entry = ENVS.get(env_id)
+    if entry is not None and not BUILT_FOR & given.keys():
+        try:
+            reckoned = _reckoned(entry, given)
+        except Exception:  # the env decides: its own error, or the clock it builds
+            reckoned = None
+        if reckoned is not None:
+            return reckoned
+    return built_timing(env_id, given)
+
+
+def built_timing(env_id: str, env_kwargs: dict | None = None) -> Timing:
+    """The clock of ``gym.make(env_id, **env_kwargs)`` read from the env built (and closed):
+    what :func:`timing` reckons without it."""
+    env = gym.make(env_id, **(env_kwargs or {}))
+    try:
+        return Timing(float(env.unwrapped.dt), int(env.unwrapped.episode_steps))
+    finally:
+        env.close()
+
+
+def _reckoned(entry: dict, given: dict) -> Timing | None:
+    """The clock of the env of ``entry`` (an :data:`ENVS` value) with the user's ``given``
+    kwargs, from its constructor's defaults and the kwargs; None where the entry point is one
+    it does not know; the env's check's ValueError for a bad argument."""
+    arguments = inspect.signature(load_env_creator(entry["entry_point"])).parameters
+    named = {name: p.default for name, p in arguments.items() if p.kind is not p.VAR_KEYWORD}
+    kwargs = {**entry.get("kwargs", {}), **given}
+    if entry["entry_point"] == CORE["entry_point"]:
+        return _core_clock(named, kwargs)
+    if entry["entry_point"] in WORLDS and given.keys() <= {"duration"}:
+        return _world_clock(kwargs.get("duration", named["duration"]))
+    return None
+
+
+def _core_clock(named: dict[str, Any], kwargs: dict) -> Timing | None:
+    """The clock of a core env (:class:`animat.envs.core.env.BodyEnv`) of ``kwargs``: its named
+    arguments (``named``: their defaults) and the task's (the rest), checked as it checks them
+    (the task, the reward weights, then the batch's numbers)."""
+    from animat.envs.core.batch import RewardWeights, check_arguments
+    from animat.envs.tasks import make_task
+
+    args = {**named, **{k: v for k, v in kwargs.items() if k in named}}
+    task = make_task(args["task"], **{k: v for k, v in kwargs.items() if k not in named})
+    RewardWeights.from_value(args["reward_weights"])
+    duration = task.default_duration if args["duration"] is None else args["duration"]
+    check_arguments(1, args["physics_dt"], args["frame_skip"], duration,
+                    args["reset_noise_scale"], args["fins"], 0.0)
+    return _clock(args["physics_dt"], args["frame_skip"], duration)
+
+
+def _world_clock(duration: Any) -> Timing | None:
+    """The clock of a world env (:data:`WORLDS`) of ``duration`` s: one body batch at the core's
+    default ``physics_dt`` and ``frame_skip``, its duration checked as the batch checks it."""
+    from animat.envs.core.batch import DEFAULT_FRAME_SKIP, check_arguments
+    from animat.envs.physics.system import DEFAULT_DT
+
+    check_arguments(1, DEFAULT_DT, DEFAULT_FRAME_SKIP, duration, 0.0, True, 0.0)
+    return _clock(DEFAULT_DT, DEFAULT_FRAME_SKIP, duration)
+
+
+def _clock(physics_dt: float, frame_skip: int, duration: float) -> Timing | None:
+    """``dt = physics_dt * frame_skip`` s and ``max(1, round(duration / dt))`` steps, as the body
+    batch computes them; None (build the env) for a ``physics_dt`` or ``duration`` that is not a
+    Python number, whose arithmetic could round otherwise."""
+    if not all(type(value) in (int, float) for value in (physics_dt, duration)):
+        return None
+    dt = physics_dt * int(frame_skip)
+    return Timing(float(dt), max(1, int(round(duration / dt))))

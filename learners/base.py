@@ -19,6 +19,7 @@ from dataclasses import dataclass, field, fields
 from pathlib import Path
 from typing import Any, ClassVar
 
+from animat.envs.registration import Timing, timing
 from animat.learners.logger import Logger
 
 
@@ -33,20 +34,15 @@ class LearnResult:
     artefacts: dict[str, Any] = field(default_factory=dict)
 
 
-def episode_timing(env_id: str, env_kwargs: dict | None = None) -> tuple[float, int]:
-    """(dt s, env steps per episode) of the env, without running it."""
-    import gymnasium as gym
-
-    env = gym.make(env_id, **(env_kwargs or {}))
-    try:
-        return float(env.unwrapped.dt), int(env.unwrapped.episode_steps)
-    finally:
-        env.close()
+def episode_timing(env_id: str, env_kwargs: dict | None = None) -> Timing:
+    """(dt s, env steps per episode) of the env, from its id and kwargs without building it
+    (:func:`animat.envs.registration.timing`; a bad kwarg is the env's own error)."""
+    return timing(env_id, env_kwargs)
 
 
 def episode_steps(env_id: str, env_kwargs: dict | None = None) -> int:
-    """Env steps in one episode of the env (its ``episode_steps``), without running it."""
-    return episode_timing(env_id, env_kwargs)[1]
+    """Env steps in one episode of the env (its ``episode_steps``), without building it."""
+    return timing(env_id, env_kwargs).episode_steps
 
 
 def check_scoring_budget(budget_env_steps: int, episodes: int, steps: int) -> None:
@@ -128,7 +124,7 @@ class Learner(ABC):
         seed: the run's seed; everything random derives from it.
         logger: where scalars go.
 
-    ``path_params`` names the params that are file paths (:func:`animat.experiments.config.
+    ``path_params`` names the params that are file paths (:func:`animat.experiments.launch.config.
     load_config` resolves them against the config file's folder).
     """
 

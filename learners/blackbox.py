@@ -20,6 +20,7 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass, field, fields, replace
+from enum import StrEnum
 from pathlib import Path
 from types import ModuleType
 from typing import Any
@@ -47,6 +48,15 @@ from animat.learners.optimizers import annealing, cmaes
 from animat.learners.rollout import START_STATES, BatchEvaluator
 
 REFINE_KEYS = {"share", "threshold"}
+
+
+class ResultFrom(StrEnum):
+    """Which controller a run reports: ``result_from`` of its artefacts (written as the value,
+    so result.json holds the same words as before the enum): the learning phase's best, or
+    the refined FFT abstraction of it."""
+
+    LEARNED = "learned"
+    REFINED_ABSTRACTION = "refined abstraction"
 
 
 @dataclass(frozen=True)
@@ -276,7 +286,10 @@ class BlackBoxLearner(Learner):
         return OpenLoopAgent(self._player(artefacts), dt, steps, self.env_id, self.env_kwargs)
 
     def _player(self, artefacts: dict):
-        if artefacts.get("result_from") == "refined abstraction":
+        """The reported controller of ``artefacts`` (:class:`ResultFrom`; a run without
+        ``result_from`` reports the learned one), as a player."""
+        result_from = ResultFrom(artefacts.get("result_from", ResultFrom.LEARNED))
+        if result_from is ResultFrom.REFINED_ABSTRACTION:
             return PeriodicPlayer(AbstractController.from_dict(artefacts["abstraction"]),
                                   self.period)
         nodes = artefacts["controller"]
@@ -441,7 +454,8 @@ class BlackBoxLearner(Learner):
         artefacts["learned_metrics"] = _eval_metrics(learned)
         if len(run.phases) > 1:
             artefacts.update(self._refined_artefacts(run.phases[1], artefacts))
-        artefacts["result_from"] = "learned" if best is learned else "refined abstraction"
+        result_from = ResultFrom.LEARNED if best is learned else ResultFrom.REFINED_ABSTRACTION
+        artefacts["result_from"] = result_from.value
         return LearnResult(env_steps=run.env_steps, wall_seconds=run.wall,
                            metrics=_eval_metrics(best), artefacts=artefacts)
 

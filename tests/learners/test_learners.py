@@ -6,7 +6,8 @@ import gymnasium as gym
 import numpy as np
 import pytest
 
-from animat.learners.blackbox import PeriodicPlayer
+from animat.learners.base import episode_timing
+from animat.learners.blackbox import PeriodicPlayer, ResultFrom
 from animat.learners.controllers.abstraction import AbstractController
 from animat.learners.logger import Logger, MemorySink
 from animat.learners.optimizers import annealing
@@ -135,8 +136,10 @@ def test_refinement_searches_the_abstraction_with_its_share_of_the_budget(name):
     # refining starts by scoring the truncated abstraction itself: it can only improve on it
     assert refined["eval/return"] >= refined["before_refining"]["eval/return"]
     assert result.metrics["eval/return"] == max(learned["eval/return"], refined["eval/return"])
-    assert result.artefacts["result_from"] == (
-        "learned" if result.metrics == learned else "refined abstraction")
+    result_from = ResultFrom(result.artefacts["result_from"])  # its value, as result.json holds
+    assert type(result.artefacts["result_from"]) is str
+    assert result_from is (ResultFrom.LEARNED if result.metrics == learned
+                           else ResultFrom.REFINED_ABSTRACTION)
     steps = [step for step, _ in sink.series("eval/return")]
     assert steps[-1] == result.env_steps and any(step > 3240 for step in steps)  # refining
     # the stored abstraction plays back to the score reported for it
@@ -144,6 +147,24 @@ def test_refinement_searches_the_abstraction_with_its_share_of_the_budget(name):
     evaluator = BatchEvaluator(ENV, TINY_ENV, 8, seed=3)
     returns, _ = evaluator.evaluate(player.actions(evaluator.dt, evaluator.steps)[None])
     assert returns[0] == pytest.approx(refined["eval/return"], abs=1e-9)
+
+
+def test_the_reported_controller_plays_back_without_building_the_env(tmp_path, monkeypatch):
+    params, budget = TINY["annealing"]
+    learner = make_learner("annealing", ENV, TINY_ENV, {**params, "period": 0.5}, seed=0)
+    artefacts = learner.learn(budget).artefacts
+    monkeypatch.setattr(gym, "make", lambda *a, **k: pytest.fail("an env was built"))
+    assert episode_timing(ENV, TINY_ENV) == (0.05, 10)
+    learned = learner.agent(artefacts, tmp_path).actions
+    assert learned.shape == (10, 6) and artefacts["result_from"] == ResultFrom.LEARNED
+    old = {k: v for k, v in artefacts.items() if k != "result_from"}  # before result_from
+    np.testing.assert_array_equal(learner.agent(old, tmp_path).actions, learned)
+    refined = {**artefacts, "result_from": "refined abstraction"}  # as result.json holds it
+    expected = PeriodicPlayer(AbstractController.from_dict(artefacts["abstraction"]), 0.5)
+    np.testing.assert_array_equal(learner.agent(refined, tmp_path).actions,
+                                  expected.actions(0.05, 10))
+    with pytest.raises(ValueError, match="'refined' is not a valid ResultFrom"):
+        learner.agent({**artefacts, "result_from": "refined"}, tmp_path)
 
 
 class _Crash(Exception):
