@@ -18,6 +18,6 @@ speed), ``Animat/DolphinSpin-v0`` (a pitch spin), ``Animat/DolphinLeap-v0``,
 
 from __future__ import annotations
 
-from animat.envs.registration import register
+from .registration import register
 
 register()

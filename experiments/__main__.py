@@ -1,5 +1,5 @@
 import sys
 
-from animat.experiments.cli import main
+from .cli import main
 
 sys.exit(main())

@@ -33,9 +33,9 @@ import threading
 from contextlib import contextmanager
 from pathlib import Path
 
-from animat.experiments.launch.config import ConfigError, load_config
-from animat.experiments.launch.folders import RunError, create_run, execute, one_line, resume
-from animat.experiments.launch.shipped import find_config, shipped_configs
+from .launch.config import ConfigError, load_config
+from .launch.folders import RunError, create_run, execute, one_line, resume
+from .launch.shipped import find_config, shipped_configs
 
 EXAMPLES = """examples:
   animat run quickstart                                    # a shipped config, from anywhere
@@ -163,7 +163,7 @@ def _parser() -> argparse.ArgumentParser:
     figures.add_argument("--out", type=Path, required=True, help="folder for the PNG files")
     figures.add_argument("--seed", type=int, default=0, help="the pursuit's seed")
     figures.add_argument("--frames", type=int, default=400, help="frames of the pursuit")
-    from animat.experiments.demo import add_arguments as demo_arguments
+    from .demo import add_arguments as demo_arguments
 
     demo_arguments(sub.add_parser("demo", help="swim the fish with its hand-designed motor "
                                   "controllers and print St, stride, turns, fins"))
@@ -182,7 +182,7 @@ def _parser() -> argparse.ArgumentParser:
 
 
 def _progress(args, config):
-    from animat.experiments.launch.progress import ProgressSink
+    from .launch.progress import ProgressSink
 
     if getattr(args, "quiet", False) or not config.logging.progress:
         return None
@@ -245,7 +245,7 @@ def cmd_run(args) -> int:
 
 
 def cmd_sweep(args) -> int:
-    from animat.experiments.sweep import parse_seeds, prepare, run_local, run_ray, summary_table
+    from .sweep import parse_seeds, prepare, run_local, run_ray, summary_table
 
     try:
         seeds = parse_seeds(args.seeds)
@@ -263,7 +263,7 @@ def cmd_sweep(args) -> int:
 
 
 def cmd_tune(args) -> int:
-    from animat.experiments.tune import table, tune
+    from .tune import table, tune
 
     if args.trials < 1:
         raise RunError(f"--trials must be at least 1, got {args.trials}")
@@ -277,8 +277,8 @@ def cmd_tune(args) -> int:
 
 
 def cmd_eval(args) -> int:
-    from animat.experiments.evaluate import evaluate, report, result_name
-    from animat.experiments.sweep import parse_seeds
+    from .evaluate import evaluate, report, result_name
+    from .sweep import parse_seeds
 
     if args.episodes is not None and args.episodes < 1:
         raise RunError(f"--episodes must be at least 1, got {args.episodes}")
@@ -298,7 +298,7 @@ def cmd_eval(args) -> int:
 
 
 def cmd_compare(args) -> int:
-    from animat.experiments.compare import compare
+    from .compare import compare
 
     text, image = compare(args.paths, args.metric, args.threshold, args.output)
     print(text)
@@ -323,7 +323,7 @@ def cmd_list(args) -> int:
 
 
 def cmd_stunt_figures(args) -> int:
-    from animat.experiments.figures.stunts import make_stunt_figures
+    from .figures.stunts import make_stunt_figures
 
     result = make_stunt_figures(args.out, args.leap, args.nose_ball, args.tail_ball,
                                 args.somersault, args.belly_flop)
@@ -332,7 +332,7 @@ def cmd_stunt_figures(args) -> int:
 
 
 def cmd_figures(args) -> int:
-    from animat.experiments.figures.vision import make_figures
+    from .figures.vision import make_figures
 
     if args.frames < 8:
         raise RunError(f"--frames must be at least 8, got {args.frames}")
@@ -342,14 +342,14 @@ def cmd_figures(args) -> int:
 
 
 def cmd_demo(args) -> int:
-    from animat.experiments.demo import run
+    from .demo import run
 
     run(args)
     return 0
 
 
 def cmd_bench(args) -> int:
-    from animat.experiments.bench.physics import report, report_breakdown, run
+    from .bench.physics import report, report_breakdown, run
 
     if args.breakdown:
         print(report_breakdown())
@@ -359,7 +359,7 @@ def cmd_bench(args) -> int:
 
 
 def cmd_world_bench(args) -> int:
-    from animat.experiments.bench.world import report, run
+    from .bench.world import report, run
 
     if not args.seconds > 0:
         raise RunError(f"--seconds must be > 0, got {args.seconds}")
@@ -368,7 +368,7 @@ def cmd_world_bench(args) -> int:
 
 
 def cmd_world_video(args) -> int:
-    from animat.experiments.figures.world_video import world_video
+    from .figures.world_video import world_video
 
     if not args.seconds > 0:
         raise RunError(f"--seconds must be > 0, got {args.seconds}")

@@ -21,9 +21,9 @@ from pathlib import Path
 import numpy as np
 import yaml
 
-from animat.experiments.figures.abstraction_table import abstraction_markdown, abstraction_rows
-from animat.experiments.launch.config import load_config
-from animat.experiments.launch.folders import RunError, one_line, read_status
+from .figures.abstraction_table import abstraction_markdown, abstraction_rows
+from .launch.config import load_config
+from .launch.folders import RunError, one_line, read_status
 
 
 @dataclass

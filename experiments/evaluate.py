@@ -8,7 +8,7 @@ SB3's ``predict(obs)``, ``reset()``, ``env_id`` and ``env_kwargs``::
 
     import gymnasium as gym
     import animat  # registers Animat/...
-    from animat.experiments.evaluate import load
+    from .evaluate import load
 
     agent = load("runs/try")
     env = gym.make(agent.env_id, **agent.env_kwargs)
@@ -30,12 +30,13 @@ import gymnasium as gym
 import numpy as np
 
 import animat  # noqa: F401
-from animat.experiments.launch.config import learner_params, load_config
-from animat.experiments.launch.folders import RunError, read_status, write_json
 from animat.learners.agents import SkillSet
 from animat.learners.base import read_json
 from animat.learners.registry import make_learner
 from animat.learners.rollout import score_episode, spread
+
+from .launch.config import learner_params, load_config
+from .launch.folders import RunError, read_status, write_json
 
 
 def load(run_dir: str | Path, trust_pickles: bool = False):

@@ -29,7 +29,8 @@ import gymnasium as gym
 import numpy as np
 
 import animat  # noqa: F401
-from animat.experiments.launch.shipped import REPERTOIRES
+
+from .launch.shipped import REPERTOIRES
 
 STEPS = 25
 SHORT = {"duration": 0.5}  # envs that take a duration: 10 env steps an episode
@@ -123,7 +124,7 @@ def runs() -> Iterator[tuple[str, str]]:
 
 
 def figures(out: Path) -> Iterator[tuple[str, str]]:
-    from animat.experiments.figures.vision import make_figures
+    from .figures.vision import make_figures
 
     make_figures(out, 0, 16)
     for path in sorted(out.glob("*.png")):

@@ -9,8 +9,8 @@ import sys
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
-from animat.experiments.launch.config import ExperimentConfig, load_config
-from animat.experiments.launch.folders import (
+from .launch.config import ExperimentConfig, load_config
+from .launch.folders import (
     available_cpus,
     create_run,
     default_run_dir,
@@ -119,7 +119,7 @@ def run_ray(folders: list[Path], address: str | None = None, num_cpus: int | Non
 
     @ray.remote(num_cpus=1)
     def run_one(folder: str) -> dict:
-        from animat.experiments.launch.folders import execute as run_folder
+        from .launch.folders import execute as run_folder
 
         try:
             return run_folder(Path(folder), threads=1)  # the one CPU the task holds

@@ -24,15 +24,16 @@ import json
 import time
 from pathlib import Path
 
-from animat.experiments.launch.config import ConfigError, ExperimentConfig, load_config, to_yaml
-from animat.experiments.launch.folders import (
+from animat.learners.base import atomic_write
+
+from .launch.config import ConfigError, ExperimentConfig, load_config, to_yaml
+from .launch.folders import (
     RunError,
     create_run,
     execute,
     read_status,
     write_json,
 )
-from animat.learners.base import atomic_write
 
 
 def _optuna():

@@ -19,7 +19,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from animat.learners.controllers.tent import play
+from .controllers.tent import play
 
 
 class OpenLoopAgent:

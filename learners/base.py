@@ -20,7 +20,8 @@ from pathlib import Path
 from typing import Any, ClassVar
 
 from animat.envs.registration import Timing, timing
-from animat.learners.logger import Logger
+
+from .logger import Logger
 
 
 @dataclass
@@ -157,7 +158,7 @@ class Learner(ABC):
     def scored_episodes(self) -> int:
         """How many seeded start states (seeds ``seed`` onward) the run's own scores are
         over."""
-        from animat.learners.rollout import START_STATES
+        from .rollout import START_STATES
 
         return START_STATES
 

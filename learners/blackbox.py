@@ -28,9 +28,9 @@ from typing import Any
 import gymnasium as gym
 import numpy as np
 
-from animat.learners import checkpoint_data
-from animat.learners.agents import OpenLoopAgent
-from animat.learners.base import (
+from . import checkpoint_data
+from .agents import OpenLoopAgent
+from .base import (
     BudgetError,
     Learner,
     LearnResult,
@@ -42,10 +42,10 @@ from animat.learners.base import (
     typed_params,
     unknown_params,
 )
-from animat.learners.controllers.abstraction import AbstractController, abstract, most_compact
-from animat.learners.controllers.tent import TentController, play
-from animat.learners.optimizers import annealing, cmaes
-from animat.learners.rollout import START_STATES, BatchEvaluator
+from .controllers.abstraction import AbstractController, abstract, most_compact
+from .controllers.tent import TentController, play
+from .optimizers import annealing, cmaes
+from .rollout import START_STATES, BatchEvaluator
 
 REFINE_KEYS = {"share", "threshold"}
 

@@ -15,12 +15,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from animat.learners.blackbox import BlackBoxLearner
-from animat.learners.controllers.concatenation import concatenate
-from animat.learners.controllers.tent import play
-from animat.learners.optimizers import annealing
-from animat.learners.repertoire import Repertoire, kept_in_run
-from animat.learners.rollout import START_STATES
+from .blackbox import BlackBoxLearner
+from .controllers.concatenation import concatenate
+from .controllers.tent import play
+from .optimizers import annealing
+from .repertoire import Repertoire, kept_in_run
+from .rollout import START_STATES
 
 
 @dataclass(frozen=True)

@@ -2,16 +2,16 @@
 
 from __future__ import annotations
 
-from animat.learners.base import Learner
-from animat.learners.blackbox import AnnealingLearner, CMAESLearner
-from animat.learners.logger import Logger
-from animat.learners.macro import MacroLearner
-from animat.learners.ppo.learner import PPOLearner
-from animat.learners.repertoire import BasicTrainingLearner
-from animat.learners.scorers.active_vision import ActiveVisionLearner
-from animat.learners.scorers.behaviours import BehavioursLearner
-from animat.learners.scorers.handmc import HandMCLearner
-from animat.learners.stroke import StrokeCMAESLearner, StrokeLearner
+from .base import Learner
+from .blackbox import AnnealingLearner, CMAESLearner
+from .logger import Logger
+from .macro import MacroLearner
+from .ppo.learner import PPOLearner
+from .repertoire import BasicTrainingLearner
+from .scorers.active_vision import ActiveVisionLearner
+from .scorers.behaviours import BehavioursLearner
+from .scorers.handmc import HandMCLearner
+from .stroke import StrokeCMAESLearner, StrokeLearner
 
 LEARNERS: dict[str, type[Learner]] = {
     cls.name: cls for cls in (AnnealingLearner, CMAESLearner, PPOLearner, HandMCLearner,

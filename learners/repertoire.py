@@ -16,11 +16,11 @@ from pathlib import Path
 
 import numpy as np
 
-from animat.learners.agents import OpenLoopAgent, SkillSet
-from animat.learners.base import Learner, LearnResult, atomic_write, episode_timing, typed_params
-from animat.learners.blackbox import AnnealingLearner
-from animat.learners.controllers.abstraction import AbstractController
-from animat.learners.logger import Logger
+from .agents import OpenLoopAgent, SkillSet
+from .base import Learner, LearnResult, atomic_write, episode_timing, typed_params
+from .blackbox import AnnealingLearner
+from .controllers.abstraction import AbstractController
+from .logger import Logger
 
 FISH_REGIMEN = [
     {"name": "swim_slow", "env_id": "Animat/FishSwim-v0",

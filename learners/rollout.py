@@ -18,7 +18,8 @@ import numpy as np
 
 import animat  # noqa: F401  (registers Animat/*)
 from animat.envs.tasks.base import EpisodeSummary
-from animat.learners.base import LearnResult
+
+from .base import LearnResult
 
 START_STATES = 4  # start states every candidate and every final result is scored over
 

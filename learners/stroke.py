@@ -29,12 +29,13 @@ from animat.envs.bodies.dolphin import (
     VENTRAL_BACK,
     VENTRAL_MIDDLE,
 )
-from animat.learners.blackbox import BlackBoxLearner
-from animat.learners.controllers.tent import play
-from animat.learners.macro import MacroSequence, check_sequence
-from animat.learners.optimizers import annealing, cmaes
-from animat.learners.repertoire import Repertoire, kept_in_run
-from animat.learners.rollout import START_STATES
+
+from .blackbox import BlackBoxLearner
+from .controllers.tent import play
+from .macro import MacroSequence, check_sequence
+from .optimizers import annealing, cmaes
+from .repertoire import Repertoire, kept_in_run
+from .rollout import START_STATES
 
 NUM_ACTUATORS = 6
 # The stroke's numbers, in the order of a candidate's genes, with their bounds.

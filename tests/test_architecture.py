@@ -1,6 +1,7 @@
 """The architecture as a test (docs/architecture.md): every ``animat`` import is read with
 ``ast`` and checked against the one-way order, no module imports a private name of another
-room, and no folder holds more than 12 modules.
+room, no module imports its own top-level package absolutely (relative imports inside each of
+``envs``, ``learners``, ``experiments``), and no folder holds more than 12 modules.
 
 The order: ``experiments`` -> ``learners`` -> ``envs``; inside ``envs`` a room imports only
 rooms of a lower level (or its own): ``registration`` 7, ``world`` 6, ``core`` and ``tasks`` 5
@@ -32,11 +33,32 @@ def _room(module: str) -> str:
     return f"envs.{parts[2] if len(parts) > 2 else ''}" if parts[1] == "envs" else parts[1]
 
 
+def _absolute(path: Path, node: ast.ImportFrom) -> str:
+    """The module a ``from ... import`` in ``path`` names, relative imports resolved."""
+    if not node.level:
+        return node.module or ""
+    module = _module(path).split(".")
+    package = module if path.name == "__init__.py" else module[:-1]
+    base = package[:len(package) - node.level + 1]
+    return ".".join(base + ([node.module] if node.module else []))
+
+
+def _absolute_inside(path: Path) -> list[str]:
+    """Absolute imports of ``path``'s own top-level package (relative ones are the rule, so
+    that tools follow the folders without the install's mapping)."""
+    top = f"animat.{_module(path).split('.')[1]}"
+    return [f"absolute: {_module(path)} -> {node.module}"
+            for node in ast.walk(ast.parse(path.read_text()))
+            if isinstance(node, ast.ImportFrom) and not node.level and node.module
+            and (node.module == top or node.module.startswith(top + "."))]
+
+
 def _imports(path: Path):
-    """(imported module, names) of every ``animat`` import in ``path``."""
+    """(imported module, names) of every ``animat`` import in ``path`` (relative ones
+    resolved)."""
     for node in ast.walk(ast.parse(path.read_text())):
-        if isinstance(node, ast.ImportFrom) and node.module and node.module.startswith("animat."):
-            yield node.module, [alias.name for alias in node.names]
+        if isinstance(node, ast.ImportFrom) and _absolute(path, node).startswith("animat."):
+            yield _absolute(path, node), [alias.name for alias in node.names]
         elif isinstance(node, ast.Import):
             yield from ((a.name, []) for a in node.names if a.name.startswith("animat."))
 
@@ -62,6 +84,7 @@ def _violations() -> set[str]:
         for path in sorted((ROOT / package).rglob("*.py")):
             for target, names in _imports(path):
                 found.update(_broken(_module(path), target, names))
+            found.update(_absolute_inside(path))
         for folder in [ROOT / package, *(p for p in (ROOT / package).rglob("*") if p.is_dir())]:
             count = len(list(folder.glob("*.py")))
             if count > MAX_MODULES:
@@ -85,3 +108,9 @@ def test_the_checks_catch_what_they_say():
     assert _broken("animat.learners.ppo.learner", "animat.envs.render.raster", ["_ray"]) == [
         "private: animat.learners.ppo.learner -> animat.envs.render.raster._ray"]
     assert _broken("animat.envs.render.seaworld", "animat.envs.render.raster", ["_ray"]) == []
+    relative = ast.parse("from ..tasks.base import Task\nfrom . import sensors").body
+    batch, init = ROOT / "envs" / "core" / "batch.py", ROOT / "envs" / "core" / "__init__.py"
+    assert _absolute(batch, relative[0]) == "animat.envs.tasks.base"
+    assert _absolute(batch, relative[1]) == "animat.envs.core"
+    assert _absolute(init, relative[1]) == "animat.envs.core"
+    assert _absolute_inside(ROOT / "envs" / "core" / "batch.py") == []

@@ -10,10 +10,10 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
-from animat.envs.bodies.dolphin import dolphin_body
-from animat.envs.bodies.fish import fish_body
-from animat.envs.bodies.spec import BodySpec
-from animat.envs.checks import shown
+from ..checks import shown
+from .dolphin import dolphin_body
+from .fish import fish_body
+from .spec import BodySpec
 
 BODIES: dict[str, Callable[[], BodySpec]] = {"fish": fish_body, "dolphin": dolphin_body}
 

@@ -37,7 +37,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from animat.envs.bodies.fish import (
+from .fish import (
     _CROSS,
     _DAMPING,
     _ORDINARY,
@@ -50,7 +50,7 @@ from animat.envs.bodies.fish import (
     _pairs,
     ring_faces,
 )
-from animat.envs.bodies.spec import CROSS, MUSCLE, NOSE_PART, ORDINARY, TAIL_PART, BodySpec
+from .spec import CROSS, MUSCLE, NOSE_PART, ORDINARY, TAIL_PART, BodySpec
 
 FISH_LENGTH = 0.30  # m: the fish whose forces the dolphin scales
 PRESSURE_HEAD = 101325.0 / (WATER_DENSITY * 9.81)  # m of water per atmosphere

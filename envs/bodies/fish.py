@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from animat.envs.bodies.spec import CROSS, MUSCLE, ORDINARY, BodySpec
+from .spec import CROSS, MUSCLE, ORDINARY, BodySpec
 
 MODEL_LENGTH_UNITS = 26.0
 WATER_DENSITY = 1000.0  # kg/m^3

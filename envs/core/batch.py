@@ -19,15 +19,15 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from animat.envs.bodies.fish import fish_body
-from animat.envs.bodies.spec import BodySpec
-from animat.envs.checks import check_flag, check_integer, check_number, shown
-from animat.envs.motor.fish import FinParams
-from animat.envs.physics.integrator import step_batch
-from animat.envs.physics.observe import body_state, momenta
-from animat.envs.physics.observe import proprioception as write_proprioception
-from animat.envs.physics.system import DEFAULT_DT, System, Water
-from animat.envs.tasks.base import Task, World
+from ..bodies.fish import fish_body
+from ..bodies.spec import BodySpec
+from ..checks import check_flag, check_integer, check_number, shown
+from ..motor.fish import FinParams
+from ..physics.integrator import step_batch
+from ..physics.observe import body_state, momenta
+from ..physics.observe import proprioception as write_proprioception
+from ..physics.system import DEFAULT_DT, System, Water
+from ..tasks.base import Task, World
 
 OBS_LIMIT = 1e4  # observation entries are clipped to +-OBS_LIMIT
 DEFAULT_FRAME_SKIP = 40  # integration steps per env step: 40 x 1.25 ms = 0.05 s

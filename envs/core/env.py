@@ -93,22 +93,22 @@ from gymnasium.utils import seeding
 from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
-from animat.envs.bodies import make_body
-from animat.envs.bodies.spec import BodySpec
-from animat.envs.checks import check_integer, shown
-from animat.envs.core.batch import (
+from ..bodies import make_body
+from ..bodies.spec import BodySpec
+from ..checks import check_integer, shown
+from ..physics.system import DEFAULT_DT
+from ..render.camera import BodyRenderer
+from ..render.seaworld import SeaWorldRenderer
+from ..tasks import make_task
+from ..tasks.base import SingleEpisodeSummary, Task
+from .batch import (
     DEFAULT_FRAME_SKIP,
     MAX_NUM_ENVS,
     BodyBatch,
     RewardWeights,
     validate_actions,
 )
-from animat.envs.core.sensors import Observer
-from animat.envs.physics.system import DEFAULT_DT
-from animat.envs.render.camera import BodyRenderer
-from animat.envs.render.seaworld import SeaWorldRenderer
-from animat.envs.tasks import make_task
-from animat.envs.tasks.base import SingleEpisodeSummary, Task
+from .sensors import Observer
 
 RENDER_FPS = 20
 

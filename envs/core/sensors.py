@@ -20,8 +20,8 @@ from typing import Protocol
 import gymnasium as gym
 import numpy as np
 
-from animat.envs.checks import shown
-from animat.envs.core.batch import OBS_LIMIT, BodyBatch, Kinematics
+from ..checks import shown
+from .batch import OBS_LIMIT, BodyBatch, Kinematics
 
 
 class Sensor(Protocol):

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from animat.envs.bodies.dolphin import (
+from ..bodies.dolphin import (
     DORSAL_BACK,
     DORSAL_MIDDLE,
     LEFT_FRONT,
@@ -25,7 +25,7 @@ from animat.envs.bodies.dolphin import (
     VENTRAL_BACK,
     VENTRAL_MIDDLE,
 )
-from animat.envs.motor.fish import (
+from .fish import (
     LEFT_BACK,
     LEFT_MIDDLE,
     RIGHT_BACK,

@@ -16,7 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from animat.envs.motor.fish import FinParams, fin_mc, swim_mc, to_action, turn_duration, turn_mc
+from .fish import FinParams, fin_mc, swim_mc, to_action, turn_duration, turn_mc
 
 
 @dataclass(frozen=True)

@@ -27,9 +27,9 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
-from animat.envs.checks import check_vector
-from animat.envs.physics.forces import sphere_submerged
-from animat.envs.physics.system import DENSITY, GRAVITY, SURFACE_Z
+from ..checks import check_vector
+from .forces import sphere_submerged
+from .system import DENSITY, GRAVITY, SURFACE_Z
 
 HEAVE_DAMPING = 0.3  # damping ratio of a floating ball's bobbing (wave radiation), 1
 PART_NAMES = ("body", "nose", "tail")

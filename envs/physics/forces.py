@@ -31,7 +31,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from animat.envs.physics.system import (
+from .system import (
     AIR_COEFFICIENT,
     AIR_FRICTION_COEFFICIENT,
     CROSSFLOW,

@@ -25,15 +25,15 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, prange
 
-from animat.envs.physics.ball import ball_substep
-from animat.envs.physics.forces import (
+from .ball import ball_substep
+from .forces import (
     FAST,
     add_element_forces,
     add_face_forces,
     add_fin_forces,
     add_gravity_buoyancy,
 )
-from animat.envs.physics.system import AIR_PRESSURE, DENSITY, GRAVITY, SURFACE_Z
+from .system import AIR_PRESSURE, DENSITY, GRAVITY, SURFACE_Z
 
 
 @njit(**FAST)

@@ -18,8 +18,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-from animat.envs.bodies.spec import BodySpec, frozen_array
-from animat.envs.checks import check_number, check_vector, is_real, shown
+from ..bodies.spec import BodySpec, frozen_array
+from ..checks import check_number, check_vector, is_real, shown
 
 REACTION_LAWS = ("crossflow", "paper")
 # The ranges Water accepts (low, high, unit; air_pressure must be above its low): physically

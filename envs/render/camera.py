@@ -20,8 +20,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-from animat.envs.bodies.spec import BodySpec
-from animat.envs.render.raster import quads_to_triangles, rasterize_world, seabed_into, water_into
+from ..bodies.spec import BodySpec
+from .raster import quads_to_triangles, rasterize_world, seabed_into, water_into
 
 FISH_COLOUR = (250, 140, 60)  # RGB
 SHADOW_COLOUR = (25, 40, 45)

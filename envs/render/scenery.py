@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from animat.envs.render.camera import BOX_FACES, Scene, box, box_corners
+from .camera import BOX_FACES, Scene, box, box_corners
 
 ROCK, PLANT, FOOD = (115, 105, 95), (45, 125, 55), (235, 225, 150)  # RGB
 

@@ -14,10 +14,10 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from animat.envs.bodies.spec import BodySpec
-from animat.envs.physics.ball import BallParams
-from animat.envs.render.camera import Camera, Scene, box, look_at
-from animat.envs.render.raster import _ray, rasterize_world
+from ..bodies.spec import BodySpec
+from ..physics.ball import BallParams
+from .camera import Camera, Scene, box, look_at
+from .raster import _ray, rasterize_world
 
 DOLPHIN_COLOUR = (105, 120, 140)
 BALL_COLOURS = ((230, 40, 40), (250, 250, 250), (40, 90, 230), (250, 210, 40))

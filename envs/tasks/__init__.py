@@ -6,16 +6,16 @@ from __future__ import annotations
 
 from dataclasses import fields, is_dataclass
 
-from animat.envs.checks import shown
-from animat.envs.tasks.base import Task
-from animat.envs.tasks.dolphin import (
+from ..checks import shown
+from .base import Task
+from .dolphin import (
     DolphinArcTask,
     DolphinForwardTask,
     DolphinSpinTask,
     DolphinTurnTask,
 )
-from animat.envs.tasks.locomotion import ReachTask, SwimTask, TurnTask
-from animat.envs.tasks.stunts import BallTask, BellyFlopTask, LeapTask, SomersaultTask
+from .locomotion import ReachTask, SwimTask, TurnTask
+from .stunts import BallTask, BellyFlopTask, LeapTask, SomersaultTask
 
 TASKS: dict[str, type[Task]] = {
     "swim": SwimTask, "turn": TurnTask, "reach": ReachTask,

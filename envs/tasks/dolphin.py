@@ -22,11 +22,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from animat.envs.checks import check_number
-from animat.envs.motor.dolphin import dolphin_swim_mc, dolphin_turn_mc
-from animat.envs.physics.observe import momenta
-from animat.envs.tasks.base import Task, Terms, World, heading_yaw, wrap_angle
-from animat.envs.tasks.locomotion import SwimTask, TurnTask
+from ..checks import check_number
+from ..motor.dolphin import dolphin_swim_mc, dolphin_turn_mc
+from ..physics.observe import momenta
+from .base import Task, Terms, World, heading_yaw, wrap_angle
+from .locomotion import SwimTask, TurnTask
 
 MAX_HEIGHT, MAX_DEPTH = 100.0, 1000.0  # m, a start above and under the surface
 MAX_START_SPEED = 20.0  # m/s

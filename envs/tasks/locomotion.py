@@ -9,9 +9,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from animat.envs.checks import check_number, check_range
-from animat.envs.motor.fish import swim_mc, turn_mc
-from animat.envs.tasks.base import Task, Terms, World, heading_yaw, world_to_body, wrap_angle
+from ..checks import check_number, check_range
+from ..motor.fish import swim_mc, turn_mc
+from .base import Task, Terms, World, heading_yaw, world_to_body, wrap_angle
 
 
 @dataclass

@@ -38,12 +38,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from animat.envs.bodies.dolphin import LEFT_TIP, RIGHT_TIP
-from animat.envs.bodies.spec import NOSE_PART, TAIL_PART
-from animat.envs.checks import check_number, shown
-from animat.envs.physics.ball import BallParams
-from animat.envs.tasks.base import Task, Terms, World, world_to_body
-from animat.envs.tasks.dolphin import (
+from ..bodies.dolphin import LEFT_TIP, RIGHT_TIP
+from ..bodies.spec import NOSE_PART, TAIL_PART
+from ..checks import check_number, shown
+from ..physics.ball import BallParams
+from .base import Task, Terms, World, world_to_body
+from .dolphin import (
     Underwater,
     pitch_of,
 )

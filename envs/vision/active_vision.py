@@ -22,7 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from animat.envs.vision.perception import (
+from .perception import (
     backproject,
     colour_histogram,
     intersection,
@@ -30,7 +30,7 @@ from animat.envs.vision.perception import (
     translational_flow,
     triangulate,
 )
-from animat.envs.vision.retina import RetinaParams
+from .retina import RetinaParams
 
 
 @dataclass(frozen=True)

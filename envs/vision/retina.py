@@ -26,7 +26,7 @@ from typing import Any, Protocol
 import gymnasium as gym
 import numpy as np
 
-from animat.envs.render.camera import Camera, Frame, Scene
+from ..render.camera import Camera, Frame, Scene
 
 
 @dataclass(frozen=True)

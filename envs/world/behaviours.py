@@ -14,8 +14,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from animat.envs.world.intention import AVOID, EAT, FLEE, HUNT, MATE, SCHOOL
-from animat.envs.world.percepts import Percepts, Tank
+from .intention import AVOID, EAT, FLEE, HUNT, MATE, SCHOOL
+from .percepts import Percepts, Tank
 
 
 @dataclass(frozen=True)

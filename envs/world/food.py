@@ -9,8 +9,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from animat.envs.world.oracle import Obstacles
-from animat.envs.world.percepts import Tank
+from .oracle import Obstacles
+from .percepts import Tank
 
 
 @dataclass(frozen=True)

@@ -20,7 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from animat.envs.world.percepts import Percepts
+from .percepts import Percepts
 
 AVOID, FLEE, EAT, HUNT, MATE, SCHOOL, WANDER = range(7)
 NAMES = ("avoid", "flee", "eat", "hunt", "mate", "school", "wander")

@@ -13,10 +13,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from animat.envs.world.behaviours import BehaviourParams, commands, wander_directions
-from animat.envs.world.intention import IntentionGenerator
-from animat.envs.world.mind import MentalState, MindParams, advance
-from animat.envs.world.percepts import Percepts, Tank
+from .behaviours import BehaviourParams, commands, wander_directions
+from .intention import IntentionGenerator
+from .mind import MentalState, MindParams, advance
+from .percepts import Percepts, Tank
 
 
 @dataclass

@@ -59,11 +59,11 @@ from __future__ import annotations
 import gymnasium as gym
 import numpy as np
 
-from animat.envs.checks import check_integer, check_number, shown
-from animat.envs.core.batch import MAX_DURATION, OBS_LIMIT
-from animat.envs.world.food import FoodParams
-from animat.envs.world.scene import WorldView
-from animat.envs.world.world import ANGELFISH, MINNOW, SHARK, MarineWorld, WorldParams
+from ..checks import check_integer, check_number, shown
+from ..core.batch import MAX_DURATION, OBS_LIMIT
+from .food import FoodParams
+from .scene import WorldView
+from .world import ANGELFISH, MINNOW, SHARK, MarineWorld, WorldParams
 
 SPECIES = {"shark": SHARK, "minnow": MINNOW, "angelfish": ANGELFISH}
 CONTROLS = ("behaviour", "navigation", "muscles")
@@ -147,7 +147,7 @@ class MarineWorldEnv(gym.Env):
                                                 (self.world.core.obs_size + 12,), np.float32)
         self.policy = None
         if vision is not None:
-            from animat.envs.world.pursuit.policy import ActiveVisionPolicy
+            from .pursuit.policy import ActiveVisionPolicy
 
             self.policy = ActiveVisionPolicy(retina=self.view.retina)
         self.gaze = np.zeros(4)

@@ -14,7 +14,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from animat.envs.world.oracle import Obstacles, OracleParams, nearest, perceived
+from .oracle import Obstacles, OracleParams, nearest, perceived
 
 
 @dataclass(frozen=True)

@@ -7,9 +7,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from animat.envs.render.camera import Camera, Scene, fish_skin, look_at
-from animat.envs.render.scenery import ROCK, food
-from animat.envs.vision.retina import RetinaParams, eye_positions, gaze_rotation, render_eyes
+from ..render.camera import Camera, Scene, fish_skin, look_at
+from ..render.scenery import ROCK, food
+from ..vision.retina import RetinaParams, eye_positions, gaze_rotation, render_eyes
 
 SIDES = 8
 

@@ -22,14 +22,14 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from animat.envs.core.batch import BodyBatch
-from animat.envs.motor.navigation import Navigator
-from animat.envs.render.camera import yaw_matrix
-from animat.envs.tasks.locomotion import SwimTask
-from animat.envs.world import food as food_mod
-from animat.envs.world.behaviours import BehaviourParams
-from animat.envs.world.food import FoodParams
-from animat.envs.world.intention import (
+from ..core.batch import BodyBatch
+from ..motor.navigation import Navigator
+from ..render.camera import yaw_matrix
+from ..tasks.locomotion import SwimTask
+from . import food as food_mod
+from .behaviours import BehaviourParams
+from .food import FoodParams
+from .intention import (
     AVOID,
     EAT,
     HUNT,
@@ -38,10 +38,10 @@ from animat.envs.world.intention import (
     IntentionGenerator,
     IntentionParams,
 )
-from animat.envs.world.life import Lives
-from animat.envs.world.mind import Habits, MentalState, MindParams
-from animat.envs.world.oracle import Obstacles, OracleParams
-from animat.envs.world.percepts import AvoidParams, Tank, perceive
+from .life import Lives
+from .mind import Habits, MentalState, MindParams
+from .oracle import Obstacles, OracleParams
+from .percepts import AvoidParams, Tank, perceive
 
 SHARK = Habits("shark", (70, 85, 120), predator=True, prey=("minnow",), eats_food=False,
                speed=0.7)

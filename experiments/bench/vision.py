@@ -22,7 +22,8 @@ import numpy as np
 import animat  # noqa: F401
 from animat.envs.vision.retina import RetinaParams
 from animat.envs.world.pursuit.policy import ActiveVisionPolicy
-from animat.experiments.bench.retina import eyes_once, paper_scene, rate
+
+from .retina import eyes_once, paper_scene, rate
 
 
 def _pursuit(seed: int = 0):

@@ -26,11 +26,12 @@ import numpy as np
 
 import animat  # noqa: F401
 from animat.envs.bodies.dolphin import ACTUATOR_NAMES
-from animat.experiments.launch.config import load_config
 from animat.learners.base import read_json
 from animat.learners.controllers.concatenation import schedule
 from animat.learners.macro import MacroSequence
 from animat.learners.repertoire import Repertoire
+
+from ..launch.config import load_config
 
 
 def macro_of(run_dir: str | Path) -> tuple[MacroSequence, Repertoire, dict]:
@@ -49,7 +50,7 @@ def macro_of(run_dir: str | Path) -> tuple[MacroSequence, Repertoire, dict]:
 def play(run_dir: str | Path, render: bool = True) -> tuple[list[dict], list[np.ndarray]]:
     """The infos and rendered frames of a finished run's agent (a macro sequence, a PPO
     policy, ...) from its first start."""
-    from animat.experiments.evaluate import load
+    from ..evaluate import load
 
     folder = Path(run_dir)
     config = load_config(folder / "config.yaml", build=False)

@@ -29,10 +29,11 @@ from contextlib import contextmanager
 from importlib import metadata
 from pathlib import Path
 
-from animat.experiments.launch.config import ExperimentConfig, learner_params, load_config, to_yaml
 from animat.learners.base import TMP_SUFFIX, LearnResult, atomic_write, read_json
 from animat.learners.logger import CsvSink, Logger, TensorBoardSink
 from animat.learners.registry import make_learner
+
+from .config import ExperimentConfig, learner_params, load_config, to_yaml
 
 PACKAGES = ("artificial-animals", "numpy", "numba", "gymnasium", "stable-baselines3", "torch",
             "cma", "tensorboard", "pydantic", "pyyaml", "ray")

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from animat.learners.controllers.tent import TentController, play
+from .tent import TentController, play
 
 
 @dataclass(frozen=True)

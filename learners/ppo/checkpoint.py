@@ -35,8 +35,8 @@ from pathlib import Path
 
 import numpy as np
 
-from animat.learners import checkpoint_data
-from animat.learners.base import CorruptFile, atomic_write, read_json
+from .. import checkpoint_data
+from ..base import CorruptFile, atomic_write, read_json
 
 FOLDER = "ppo"
 LATEST = "latest.json"

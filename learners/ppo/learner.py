@@ -18,8 +18,9 @@ import numpy as np
 from pydantic import ValidationError
 
 from animat.envs.tasks.base import EpisodeSummary
-from animat.learners.agents import PolicyAgent
-from animat.learners.base import (
+
+from ..agents import PolicyAgent
+from ..base import (
     BudgetError,
     Learner,
     LearnResult,
@@ -27,9 +28,9 @@ from animat.learners.base import (
     check_memory,
     read_json,
 )
-from animat.learners.ppo import checkpoint as ppo_checkpoint
-from animat.learners.ppo.zoo import PPOParams, normalize_kwargs, policy_kwargs, schedule
-from animat.learners.rollout import START_STATES, score_episode, spread
+from ..rollout import START_STATES, score_episode, spread
+from . import checkpoint as ppo_checkpoint
+from .zoo import PPOParams, normalize_kwargs, policy_kwargs, schedule
 
 OWN_KEYS = {"eval_every", "torch_threads", "checkpoint_every"}
 
@@ -185,7 +186,7 @@ class PPOLearner(Learner):
         config says."""
         from stable_baselines3.common.vec_env import VecNormalize
 
-        from animat.learners.ppo.vec_envs import NativeVecEnv, ReplayVecEnv
+        from .vec_envs import NativeVecEnv, ReplayVecEnv
 
         n_envs = int(self.hp["n_envs"])
         kind = NativeVecEnv if self._native() else ReplayVecEnv

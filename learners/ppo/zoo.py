@@ -19,7 +19,8 @@ import math
 from pydantic import BaseModel, ConfigDict, Field, ValidationInfo, field_validator
 
 from animat.envs.core.batch import MAX_NUM_ENVS
-from animat.learners.base import check_memory
+
+from ..base import check_memory
 
 NORMALIZE_KEYS = {"norm_obs", "norm_reward", "clip_obs", "clip_reward", "epsilon"}
 

@@ -11,9 +11,10 @@ import gymnasium as gym
 
 import animat  # noqa: F401
 from animat.envs.world.pursuit.policy import ActiveVisionParams, ActiveVisionPolicy
-from animat.learners.agents import PolicyAgent
-from animat.learners.base import LearnResult, Scorer, typed_params
-from animat.learners.rollout import score_policy
+
+from ..agents import PolicyAgent
+from ..base import LearnResult, Scorer, typed_params
+from ..rollout import score_policy
 
 
 @dataclass(frozen=True)

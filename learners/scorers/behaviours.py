@@ -13,9 +13,9 @@ from pathlib import Path
 import gymnasium as gym
 import numpy as np
 
-from animat.learners.agents import PolicyAgent
-from animat.learners.base import LearnResult, Scorer, typed_params
-from animat.learners.rollout import START_STATES, score_policy
+from ..agents import PolicyAgent
+from ..base import LearnResult, Scorer, typed_params
+from ..rollout import START_STATES, score_policy
 
 
 @dataclass(frozen=True)

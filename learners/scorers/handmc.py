@@ -7,10 +7,10 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
-from animat.learners.agents import OpenLoopAgent
-from animat.learners.base import LearnResult, Scorer, typed_params
-from animat.learners.controllers.tent import play
-from animat.learners.rollout import START_STATES, BatchEvaluator
+from ..agents import OpenLoopAgent
+from ..base import LearnResult, Scorer, typed_params
+from ..controllers.tent import play
+from ..rollout import START_STATES, BatchEvaluator
 
 
 @dataclass(frozen=True)

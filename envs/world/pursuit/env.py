@@ -67,21 +67,21 @@ from __future__ import annotations
 import gymnasium as gym
 import numpy as np
 
-from animat.envs.checks import check_number, check_range
-from animat.envs.core.batch import BodyBatch
-from animat.envs.motor.navigation import Navigator
-from animat.envs.render.camera import Camera, Scene, fish_skin, look_at, yaw_matrix
-from animat.envs.render.scenery import SceneryParams, furnish, scatter
-from animat.envs.tasks.locomotion import SwimTask
-from animat.envs.vision.perception import triangulate
-from animat.envs.vision.retina import Retina, RetinaParams, composite
-from animat.envs.world.behaviours import BehaviourParams
-from animat.envs.world.intention import IntentionGenerator
-from animat.envs.world.life import Lives
-from animat.envs.world.mind import MentalState, MindParams
-from animat.envs.world.oracle import Obstacles, OracleParams
-from animat.envs.world.percepts import AvoidParams, Tank, perceive
-from animat.envs.world.pursuit.senses import ObserverView, PursuitObserver, default_sensors
+from ...checks import check_number, check_range
+from ...core.batch import BodyBatch
+from ...motor.navigation import Navigator
+from ...render.camera import Camera, Scene, fish_skin, look_at, yaw_matrix
+from ...render.scenery import SceneryParams, furnish, scatter
+from ...tasks.locomotion import SwimTask
+from ...vision.perception import triangulate
+from ...vision.retina import Retina, RetinaParams, composite
+from ..behaviours import BehaviourParams
+from ..intention import IntentionGenerator
+from ..life import Lives
+from ..mind import MentalState, MindParams
+from ..oracle import Obstacles, OracleParams
+from ..percepts import AvoidParams, Tank, perceive
+from .senses import ObserverView, PursuitObserver, default_sensors
 
 OBSERVER, PREY, PASSER = 0, 1, 2
 COLOURS = ((250, 140, 60), (220, 50, 40), (230, 210, 40))

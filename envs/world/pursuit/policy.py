@@ -28,13 +28,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from animat.envs.bodies.fish import fish_body
-from animat.envs.render.camera import Scene, fish_skin, posed
-from animat.envs.vision.active_vision import VisionParams, detect, model_histogram, saccade
-from animat.envs.vision.perception import translational_flow
-from animat.envs.vision.retina import RetinaParams, gaze_rotation, render_eye
-from animat.envs.world.pursuit.env import COLOURS, PREY, SEABED_Z
-from animat.envs.world.pursuit.senses import PHI_RANGE, THETA_RANGE
+from ...bodies.fish import fish_body
+from ...render.camera import Scene, fish_skin, posed
+from ...vision.active_vision import VisionParams, detect, model_histogram, saccade
+from ...vision.perception import translational_flow
+from ...vision.retina import RetinaParams, gaze_rotation, render_eye
+from .env import COLOURS, PREY, SEABED_Z
+from .senses import PHI_RANGE, THETA_RANGE
 
 MODEL_VIEWS = tuple((distance, np.radians(yaw)) for distance in (0.7, 1.2)
                     for yaw in range(0, 360, 45))  # (m, rad): the prey's poses in memory

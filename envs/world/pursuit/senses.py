@@ -19,10 +19,10 @@ from collections.abc import Callable
 import gymnasium as gym
 import numpy as np
 
-from animat.envs.core.batch import BodyBatch, Kinematics
-from animat.envs.core.sensors import Observer, Proprioception
-from animat.envs.render.camera import Scene
-from animat.envs.vision.retina import Retina, RetinaParams, eye_positions, gaze_rotation
+from ...core.batch import BodyBatch, Kinematics
+from ...core.sensors import Observer, Proprioception
+from ...render.camera import Scene
+from ...vision.retina import Retina, RetinaParams, eye_positions, gaze_rotation
 
 THETA_RANGE, PHI_RANGE = np.radians(60.0), np.radians(30.0)  # the gaze's units, rad
 
