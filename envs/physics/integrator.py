@@ -12,7 +12,7 @@ by ``-h^2 sum v' x f(x')`` every step; it is symplectic, so with the dampers off
 the elastic body oscillates but does not drift; and it is explicit, so a step is a few thousand
 flops with no solve. It is stable for ``h`` below ``2 / omega_max`` (the body's stiffest mode,
 :func:`animat.envs.physics.system.stable_step`); the default step sits well inside that bound, where
-the figures a researcher reads are converged (``tests/envs/test_convergence.py``).
+the figures a researcher reads are converged (``tests/envs/physics/test_convergence.py``).
 
 ``step_batch`` runs every body of a batch (B = 1 is a batch of one) through ``substeps`` steps,
 with muscle activations ramped linearly from ``u_start`` to ``u_end`` (a first-order hold:

@@ -12,7 +12,7 @@ from animat.learners import checkpoint_data
 from animat.learners.base import CorruptFile, UntrustedPickle, save_checkpoint
 from animat.learners.registry import make_learner
 from tests.experiments.test_cli import TINY, animat, write_config
-from tests.learners.test_ppo_checkpoint import Planted
+from tests.learners.ppo.test_checkpoint import Planted
 
 ENV, KWARGS = "Animat/FishSwim-v0", {"duration": 0.5}
 REFINE = {"nodes": 4, "checkpoint_every": 1, "refine": {"share": 0.4}}

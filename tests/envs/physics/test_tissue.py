@@ -9,7 +9,7 @@ from animat.envs.core.batch import BodyBatch
 from animat.envs.motor.fish import swim_mc, to_action, turn_mc
 from animat.envs.tasks.locomotion import SwimTask
 
-REPERTOIRE = Path(__file__).resolve().parents[2] / "repertoires" / "fish.json"
+REPERTOIRE = Path(__file__).resolve().parents[3] / "repertoires" / "fish.json"
 
 
 def _passive_strain_range(actions: np.ndarray) -> tuple[float, float]:

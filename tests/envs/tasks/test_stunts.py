@@ -1,6 +1,6 @@
 """The dolphin's Gymnasium tasks: the envs' contracts, the stunts' scores, and the beach ball
 (stays on its support until touched; knows what touched it). The native vector env's match
-with single envs is tested with the fish's (``tests/envs/test_envs.py``)."""
+with single envs is tested with the fish's (``tests/envs/core/test_envs.py``)."""
 
 
 import gymnasium as gym

@@ -17,7 +17,7 @@ from animat.experiments.launch.config import load_config
 from animat.experiments.launch.shipped import CONFIGS, find_config, shipped_configs
 from tests.experiments.test_cli import TINY, animat, write_config
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[3]
 # one skill of the fish's regimen, short: basic training in seconds
 ONE_SKILL = {
     "env": {"id": "Animat/FishSwim-v0"},
