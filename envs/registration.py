@@ -18,20 +18,20 @@ from typing import Any, NamedTuple
 import gymnasium as gym
 from gymnasium.envs.registration import load_env_creator
 
-CORE = {"entry_point": "animat.envs.core.env:BodyEnv",
+CORE: dict[str, str] = {"entry_point": "animat.envs.core.env:BodyEnv",
         "vector_entry_point": "animat.envs.core.env:BodyVectorEnv"}
 FISH_ENVS = {"Animat/FishSwim-v0": {"task": "swim"}, "Animat/FishTurn-v0": {"task": "turn"},
              "Animat/FishReach-v0": {"task": "reach"}}
 # The dolphin's world: a water surface at z = 0, skin friction for its Reynolds number (C_f
 # 0.0028 at Re 1e7: 0.5 rho C_f = 1.4 kg/m^3), and a step within its stability bound. The pool
 # is the base water: a user's water={...} changes its fields, it does not replace the pool.
-DOLPHIN_KWARGS = {"body": "dolphin",
-                  "base_water": {"surface_z": 0.0, "friction_coefficient": 1.4},
-                  "physics_dt": 0.05 / 80, "frame_skip": 80}
+DOLPHIN_KWARGS: dict[str, Any] = {"body": "dolphin",
+                                  "base_water": {"surface_z": 0.0, "friction_coefficient": 1.4},
+                                  "physics_dt": 0.05 / 80, "frame_skip": 80}
 # The stunts weigh the controller's effort (mu1) a tenth of the fish's: a 5 Hz fluke stroke
 # costs ten times a 3 Hz fish's tail beat in E_u, which would otherwise outweigh the stunt.
 STUNT_WEIGHTS = {"mu1": 1e-5}
-DOLPHIN_ENVS = {
+DOLPHIN_ENVS: dict[str, dict[str, Any]] = {
     "Animat/DolphinForward-v0": {"task": "dolphin_forward"},
     "Animat/DolphinTurn-v0": {"task": "dolphin_turn"},
     "Animat/DolphinArc-v0": {"task": "dolphin_arc"},
@@ -105,7 +105,8 @@ def built_timing(env_id: str, env_kwargs: dict | None = None) -> Timing:
     what :func:`timing` reckons without it."""
     env = gym.make(env_id, **(env_kwargs or {}))
     try:
-        return Timing(float(env.unwrapped.dt), int(env.unwrapped.episode_steps))
+        core: Any = env.unwrapped  # every Animat env has dt and episode_steps
+        return Timing(float(core.dt), int(core.episode_steps))
     finally:
         env.close()
 

@@ -117,13 +117,16 @@ def evaluate(run_dir: str | Path, seeds: list[int] | None = None, episodes: int 
         raise RunError(f"--refine must be at least 1, got {refine}")
     agent = load(folder, trust_pickles)
     video = Path(video) if video else None
+    runs: dict[str, list[dict]] | list[dict]
+    metrics: dict[str, dict[str, float]] | dict[str, float]
     if isinstance(agent, SkillSet):
         runs = {name: _episodes(refined(skill, refine), seeds, video, name)
                 for name, skill in agent.agents.items()}
         metrics = {name: spread([_figures(r) for r in rows]) for name, rows in runs.items()}
     else:
-        runs = _episodes(refined(agent, refine), seeds, video, config.learner.display_name)
-        metrics = spread([_figures(r) for r in runs])
+        episodes_run = _episodes(refined(agent, refine), seeds, video,
+                                 config.learner.display_name)
+        runs, metrics = episodes_run, spread([_figures(r) for r in episodes_run])
     result = {"seeds": seeds, "metric": config.eval.metric, "episodes": runs, "metrics": metrics,
               "physics_step_over": refine}
     try:  # a read-only run folder (a shared one) is still scored; the CLI says what is missing

@@ -128,7 +128,7 @@ def _events_held(log_dir: Path) -> set[tuple[str, int]]:
     short is passed over)."""
     from tensorboard.backend.event_processing.event_file_loader import EventFileLoader
 
-    held = set()
+    held: set[tuple[str, int]] = set()
     for path in sorted(Path(log_dir).glob("events.out.tfevents.*")):
         for event in EventFileLoader(str(path)).Load():
             held.update((value.tag, int(event.step)) for value in event.summary.value)

@@ -28,7 +28,7 @@ KIND_NAMES = ("cross", "ordinary", "muscle")
 
 def frozen_array(array: np.ndarray, dtype: type = np.float64) -> np.ndarray:
     """A contiguous read-only copy of ``array`` (fixed parameters must not change)."""
-    out = np.ascontiguousarray(array, dtype=dtype).copy()
+    out: np.ndarray = np.ascontiguousarray(array, dtype=dtype).copy()
     out.flags.writeable = False
     return out
 
@@ -84,8 +84,9 @@ class BodySpec:
     frame_up: np.ndarray
     frame_down: np.ndarray
     length: float = field(default=0.0)
-    lung_volumes: np.ndarray | None = None
-    face_parts: np.ndarray | None = None
+    # None: zeros (no air; every face part of the body), filled in by __post_init__
+    lung_volumes: np.ndarray = None  # type: ignore[assignment]
+    face_parts: np.ndarray = None  # type: ignore[assignment]
 
     def __post_init__(self) -> None:
         if self.lung_volumes is None:

@@ -257,7 +257,7 @@ class BodyEnv(_PublicSurface, gym.Env):
 
 def _autoreset_mode(value: str | AutoresetMode) -> AutoresetMode:
     names = {"next_step": AutoresetMode.NEXT_STEP, "same_step": AutoresetMode.SAME_STEP}
-    if value in names.values():
+    if isinstance(value, AutoresetMode) and value in names.values():
         return value
     if value not in names:
         raise ValueError(f"autoreset_mode must be 'next_step' or 'same_step', got {value!r}")

@@ -7,10 +7,10 @@ the observation is that sensor's array, a ``Box``; with several it is a ``Dict``
 their names. The retina (the eyes) is a sensor like any other: a new sensor is one class and
 ``sensors=[Proprioception(), MySensor()]`` in the env's arguments.
 
-``core`` is what the sensors read: the env's ``BodyBatch`` here; in the pursuit
-(:mod:`animat.envs.world.pursuit.senses`) a one-body view of its observer that offers what a
-``BodyBatch`` offers :class:`Proprioception` (``obs_size``, ``observe``) and what the eyes
-(:class:`animat.envs.vision.retina.Retina`) read besides, the scene and the eye poses.
+``core`` is what the sensors read (:class:`Sensed`): the env's ``BodyBatch`` here; in the
+pursuit (:mod:`animat.envs.world.pursuit.senses`) a one-body view of its observer that offers
+what a ``BodyBatch`` offers :class:`Proprioception` (``obs_size``, ``observe``) and what the
+eyes (:class:`animat.envs.vision.retina.Retina`) read besides, the scene and the eye poses.
 """
 
 from __future__ import annotations
@@ -21,7 +21,21 @@ import gymnasium as gym
 import numpy as np
 
 from ..checks import shown
-from .batch import OBS_LIMIT, BodyBatch, Kinematics
+from .batch import OBS_LIMIT, Kinematics
+
+
+class Sensed(Protocol):
+    """What every sensor may read of the bodies (``core``): a :class:`BodyBatch`, or the
+    pursuit's one-body view of its observer."""
+
+    @property
+    def obs_size(self) -> int:
+        """The length of :meth:`observe`'s rows."""
+        ...
+
+    def observe(self, kinematics: Kinematics) -> np.ndarray:
+        """(B, ``obs_size``) float32: the bodies' proprioception and the task's entries."""
+        ...
 
 
 class Sensor(Protocol):
@@ -29,11 +43,13 @@ class Sensor(Protocol):
 
     name: str
 
-    def space(self, core: BodyBatch) -> gym.spaces.Space:
+    def space(self, core: Sensed) -> gym.spaces.Space:
         """The observation space of one body's reading."""
+        ...
 
-    def read(self, core: BodyBatch, kinematics: Kinematics) -> np.ndarray:
+    def read(self, core: Sensed, kinematics: Kinematics) -> np.ndarray:
         """(B, *shape) the reading of every body in the batch."""
+        ...
 
 
 class Proprioception:
@@ -46,17 +62,17 @@ class Proprioception:
 
     name = "proprioception"
 
-    def space(self, core: BodyBatch) -> gym.spaces.Box:
+    def space(self, core: Sensed) -> gym.spaces.Box:
         return gym.spaces.Box(-OBS_LIMIT, OBS_LIMIT, (core.obs_size,), np.float32)
 
-    def read(self, core: BodyBatch, kinematics: Kinematics) -> np.ndarray:
+    def read(self, core: Sensed, kinematics: Kinematics) -> np.ndarray:
         return core.observe(kinematics)
 
 
 class Observer:
     """Assembles the observation of a batch from ``sensors`` (default: proprioception)."""
 
-    def __init__(self, core: BodyBatch, sensors: list | None = None) -> None:
+    def __init__(self, core: Sensed, sensors: list | None = None) -> None:
         if sensors is not None and not isinstance(sensors, (list, tuple)):
             raise ValueError(f"sensors must be a list of sensors, got {shown(sensors)}")
         self.sensors = list(sensors) if sensors else [Proprioception()]
@@ -72,7 +88,7 @@ class Observer:
         else:
             self.single_space = gym.spaces.Dict({s.name: s.space(core) for s in self.sensors})
 
-    def observe(self, core: BodyBatch, kinematics: Kinematics):
+    def observe(self, core: Sensed, kinematics: Kinematics):
         """(B, ...) array, or a dict of them by sensor name."""
         if len(self.sensors) == 1:
             return self.sensors[0].read(core, kinematics)

@@ -149,12 +149,15 @@ class EpisodeSummary:
         return {**means, **self.task.final_metrics(self.last)}
 
 
-class SingleEpisodeSummary(EpisodeSummary):
+class SingleEpisodeSummary:
     """:class:`EpisodeSummary` of one episode in a single env (``info`` of scalars): the
     summary as floats (the interface of :class:`animat.envs.world.pursuit.env.PursuitSummary`)."""
 
     def __init__(self, task: Task) -> None:
-        super().__init__(task, 1)
+        self.batch = EpisodeSummary(task, 1)
+
+    def update(self, info: dict[str, Any]) -> None:
+        self.batch.update(info)
 
     def summary(self) -> dict[str, float]:
-        return {k: float(np.asarray(v).reshape(-1)[0]) for k, v in super().summary().items()}
+        return {k: float(np.asarray(v).reshape(-1)[0]) for k, v in self.batch.summary().items()}

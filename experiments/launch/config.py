@@ -100,12 +100,13 @@ class SearchDimension(_Strict):
     choices: list[Any] | None = None
 
     def model_post_init(self, __context) -> None:
-        ranged = self.low is not None and self.high is not None
+        low, high = self.low, self.high
+        ranged = low is not None and high is not None
         if ranged == (self.choices is not None):
             raise ValueError("give either low and high, or choices")
-        if ranged and not self.low < self.high:
-            raise ValueError(f"need low < high, got {self.low} and {self.high}")
-        if self.log and ranged and self.low <= 0:
+        if low is not None and high is not None and not low < high:
+            raise ValueError(f"need low < high, got {low} and {high}")
+        if self.log and low is not None and high is not None and low <= 0:
             raise ValueError("a log range needs low > 0")
         if self.log and self.step is not None:
             raise ValueError("give log or step, not both")
@@ -239,7 +240,9 @@ def resolve_paths(data: dict, base: Path) -> None:
     if not isinstance(learner, dict) or learner.get("name") not in LEARNERS:
         return
     params = learner.get("params")
-    for name in LEARNERS[learner["name"]].path_params if isinstance(params, dict) else ():
+    if not isinstance(params, dict):
+        return
+    for name in LEARNERS[learner["name"]].path_params:
         value = params.get(name)
         if isinstance(value, str) and value and not Path(value).is_absolute():
             params[name] = str((base / value).resolve())

@@ -20,7 +20,7 @@ import gymnasium as gym
 import numpy as np
 
 from ...core.batch import BodyBatch, Kinematics
-from ...core.sensors import Observer, Proprioception
+from ...core.sensors import Observer, Proprioception, Sensed
 from ...render.camera import Scene
 from ...vision.retina import Retina, RetinaParams, eye_positions, gaze_rotation
 
@@ -102,8 +102,9 @@ class PursuitObserver(Observer):
             spaces.update(entries)
         self.single_space = gym.spaces.Dict(spaces)
 
-    def observe(self, view: ObserverView, kinematics: Kinematics) -> dict[str, np.ndarray]:
-        """Entry name -> (1, *shape) array: the sensors' readings of the observer."""
+    def observe(self, view: Sensed, kinematics: Kinematics) -> dict[str, np.ndarray]:
+        """Entry name -> (1, *shape) array: the sensors' readings of the observer (``view``,
+        its :class:`ObserverView`)."""
         obs: dict[str, np.ndarray] = {}
         for sensor in self.sensors:
             reading = sensor.read(view, kinematics)

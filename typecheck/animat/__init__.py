@@ -1,0 +1,1 @@
+../../animat/__init__.py
