@@ -2,7 +2,8 @@
 
 ``python -m animat.experiments.bench.vision``: in the same rounds, on one core,
 
-* the physics alone (the three fish's batched step, through the navigator);
+* the physics alone (three fish's batched step, as the pursuit's: a ``BodyBatch`` of three
+  swimming fish with fins, driven through the pursuit's navigator);
 * an env step (physics, then both retinas rendered: 8 cameras over the scene with its
   scenery), with a fixed action;
 * a full step with the vision: the :class:`~animat.envs.world.pursuit.policy.ActiveVisionPolicy`
@@ -20,6 +21,8 @@ import gymnasium as gym
 import numpy as np
 
 import animat  # noqa: F401
+from animat.envs.core.batch import BodyBatch
+from animat.envs.tasks import make_task
 from animat.envs.vision.retina import RetinaParams
 from animat.envs.world.pursuit.policy import ActiveVisionPolicy
 
@@ -42,9 +45,11 @@ def main(argv: list[str] | None = None) -> None:
     moves = env.navigator.actions(np.array([[0.6, 0.0, 0.0]] * 3), 0.0).astype(np.float64)
     scene, retina = paper_scene(), RetinaParams()
     state = {"obs": obs}
+    fish = BodyBatch(3, make_task("swim"), duration=10_000.0, fins=True)  # as the pursuit's
+    fish.reset_rows(np.arange(3), [np.random.default_rng(seed) for seed in range(3)])
 
     def physics() -> None:
-        env.core.step(moves)
+        fish.step(moves)
 
     def env_step() -> None:
         env.step(still)
