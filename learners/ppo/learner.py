@@ -10,6 +10,7 @@ evaluation's own env steps are not charged to the budget.
 
 from __future__ import annotations
 
+import sys
 import time
 from pathlib import Path
 
@@ -250,7 +251,10 @@ class PPOLearner(Learner):
         state = {"wall": 0.0, "metrics": {}}
         if saved is not None:
             state = ppo_checkpoint.restore(model, venv, saved)
-            ppo_checkpoint.restore_progress(model, venv, saved)
+            if not ppo_checkpoint.restore_progress(model, venv, saved):
+                print(f"animat: warning: {saved}: no {ppo_checkpoint.RESUME} (an older "
+                      "version's checkpoint): the run goes on from fresh episodes, not exactly "
+                      "where it was", file=sys.stderr)
         elif legacy is not None:
             state = read_json(legacy / "state.json")
         resumed = saved is not None or legacy is not None

@@ -195,3 +195,17 @@ def test_a_step_is_evaluated_once_and_the_last_with_the_policy_returned():
     assert sink.series("eval/return")[-1:] == [(192, result.metrics["eval/return"])]
     steps = [step for step, _ in sink.series("eval/return")]
     assert steps == [64, 128, 192]
+
+
+def test_a_checkpoint_without_its_resume_state_goes_on_and_says_so(tmp_path, capsys):
+    """An older version's checkpoint (no resume.json) resumes from fresh episodes, with a
+    one-line warning naming the checkpoint."""
+    _learner().learn(128, tmp_path)
+    saved = ppo_checkpoint.latest(tmp_path)
+    (saved / ppo_checkpoint.RESUME).unlink()
+    capsys.readouterr()
+    result = _learner().learn(256, tmp_path)
+    warning = [line for line in capsys.readouterr().err.splitlines() if "warning" in line]
+    assert len(warning) == 1 and f"{saved}: no resume.json" in warning[0]
+    assert read_json(ppo_checkpoint.latest(tmp_path) / "state.json")["num_timesteps"] == 256
+    assert result.metrics
