@@ -1,9 +1,10 @@
 """The bodies an env can be given by name: ``body="fish"`` or any
-:class:`~envs.bodies.spec.BodySpec`.
+:class:`~animat.envs.bodies.spec.BodySpec` (a body is data: nodes, masses, elements, muscles,
+faces, fins, in SI units).
 
-A new animal is its own module that builds a ``BodySpec`` (like :mod:`animat.envs.bodies.fish`) and
-one
-line in :data:`BODIES`; a body made in a script or a test is passed as the spec itself.
+A new animal is its own module that builds a ``BodySpec`` (like :mod:`animat.envs.bodies.fish`)
+and one line in :data:`BODIES`; a body made in a script or a test is passed as the spec itself.
+May import :mod:`animat.envs.checks` only (level 1 of docs/architecture.md).
 """
 
 from __future__ import annotations

@@ -1,6 +1,9 @@
-"""Tasks: what a body is asked to do (locomotion, the dolphin's tasks and stunts) as pure
-functions on batched arrays. :data:`TASKS` is the one table of tasks by name (a new task: its
-class, and one line here)."""
+"""Tasks: what a body is asked to do (locomotion, the dolphin's tasks and stunts), each a
+:class:`~animat.envs.tasks.base.Task` whose terms are pure functions of the core's ``World``.
+:data:`TASKS` is the one table of tasks by name (a new task: its class, and one line here).
+
+May import core (its peer), vision, motor, render, physics, bodies and checks.
+"""
 
 from __future__ import annotations
 

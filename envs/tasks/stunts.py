@@ -1,5 +1,5 @@
-"""The dolphin's SeaWorld stunts (the paper's Section 4.2), and the registry of all its tasks
-(the basic ones are :mod:`animat.envs.tasks.dolphin`).
+"""The dolphin's SeaWorld stunts (the paper's Section 4.2); its basic tasks are in
+:mod:`animat.envs.tasks.dolphin`, and every task is named in :data:`animat.envs.tasks.TASKS`.
 
 Every stunt starts as the basic tasks do (:class:`animat.envs.tasks.dolphin.Underwater`) and
 implements the one task API (:class:`animat.envs.tasks.base.Task`: ``terms`` and ``observe`` of

@@ -1,2 +1,6 @@
 """PPO (stable-baselines3), the modern baseline: the learner, its checkpoints as data, the
-VecEnvs whose state is saved with them, rl-baselines3-zoo's hyperparameter forms."""
+VecEnvs whose state is saved with them, rl-baselines3-zoo's hyperparameter forms.
+
+May import :mod:`animat.envs` and the learners' interface (:mod:`animat.learners.base`,
+rollout, agents, logger).
+"""
