@@ -4,13 +4,17 @@ A sensor has a ``name``, the observation ``space`` it gives for one body, and ``
 reading of every body in the batch, (B, *shape), from the env's core and the current
 :class:`~envs.core.batch.Kinematics`. With one sensor (the default, :class:`Proprioception`)
 the observation is that sensor's array, a ``Box``; with several it is a ``Dict`` keyed by
-their names. The retina (the eyes) is a sensor like any other: a new sensor is one class and
-``sensors=[Proprioception(), MySensor()]`` in the env's arguments.
+their names. A new sensor is one class and ``sensors=[Proprioception(), MySensor()]`` in the
+env's arguments; to keep the body's own state and the task's entries apart,
+``sensors=[Proprioception(task_entries=False), TaskEntries(), MySensor()]``. The retina (the
+eyes, :class:`animat.envs.vision.retina.Retina`) is a sensor like any other, for a core that
+has eyes (the pursuit's observer); a body env refuses it when made.
 
 ``core`` is what the sensors read (:class:`Sensed`): the env's ``BodyBatch`` here; in the
 pursuit (:mod:`animat.envs.world.pursuit.senses`) a one-body view of its observer that offers
-what a ``BodyBatch`` offers :class:`Proprioception` (``obs_size``, ``observe``) and what the
-eyes (:class:`animat.envs.vision.retina.Retina`) read besides, the scene and the eye poses.
+what a ``BodyBatch`` offers :class:`Proprioception` and :class:`TaskEntries` (the sizes,
+``observe``, ``proprioception``, ``task_observation``) and what the eyes read besides, the
+scene and the eye poses.
 """
 
 from __future__ import annotations
@@ -26,15 +30,29 @@ from .batch import OBS_LIMIT, Kinematics
 
 class Sensed(Protocol):
     """What every sensor may read of the bodies (``core``): a :class:`BodyBatch`, or the
-    pursuit's one-body view of its observer."""
+    pursuit's one-body view of its observer. ``obs_size - proprioception_size`` is the
+    task's ``obs_size``, the length of :meth:`task_observation`'s rows."""
 
     @property
     def obs_size(self) -> int:
         """The length of :meth:`observe`'s rows."""
         ...
 
+    @property
+    def proprioception_size(self) -> int:
+        """The length of :meth:`proprioception`'s rows."""
+        ...
+
     def observe(self, kinematics: Kinematics) -> np.ndarray:
-        """(B, ``obs_size``) float32: the bodies' proprioception and the task's entries."""
+        """(B, ``obs_size``) float32: :meth:`proprioception`, then :meth:`task_observation`."""
+        ...
+
+    def proprioception(self, kinematics: Kinematics) -> np.ndarray:
+        """(B, ``proprioception_size``) float32: the bodies' own state."""
+        ...
+
+    def task_observation(self, kinematics: Kinematics) -> np.ndarray:
+        """(B, ``obs_size - proprioception_size``) float32: the task's entries."""
         ...
 
 
@@ -53,20 +71,51 @@ class Sensor(Protocol):
 
 
 class Proprioception:
-    """The default sensor, (B, ``core.obs_size``) float32 clipped to +-``OBS_LIMIT``
-    (:meth:`animat.envs.core.batch.BodyBatch.observe`): two parts, the body's own state
+    """The default sensor, float32 clipped to +-``OBS_LIMIT``: the body's own state
     (:meth:`~animat.envs.core.batch.BodyBatch.proprioception`: node positions and velocities in
-    the body frame, centre-of-mass velocity, up direction, activations), then the task's
-    entries (:meth:`~animat.envs.core.batch.BodyBatch.task_observation`, from
-    :meth:`animat.envs.tasks.base.Task.observe`)."""
+    the body frame, centre-of-mass velocity, up direction, activations), then, by default, the
+    task's entries (:meth:`~animat.envs.core.batch.BodyBatch.task_observation`, from
+    :meth:`animat.envs.tasks.base.Task.observe`): (B, ``core.obs_size``), as
+    :meth:`~animat.envs.core.batch.BodyBatch.observe`. With ``task_entries=False`` the body's
+    state alone, (B, ``core.proprioception_size``); give :class:`TaskEntries` beside it for the
+    rest."""
 
     name = "proprioception"
 
+    def __init__(self, task_entries: bool = True) -> None:
+        self.task_entries = bool(task_entries)
+
     def space(self, core: Sensed) -> gym.spaces.Box:
-        return gym.spaces.Box(-OBS_LIMIT, OBS_LIMIT, (core.obs_size,), np.float32)
+        """``Box(-OBS_LIMIT, OBS_LIMIT, (size,), float32)``, size ``core.obs_size`` (or
+        ``core.proprioception_size`` without the task's entries)."""
+        size = core.obs_size if self.task_entries else core.proprioception_size
+        return gym.spaces.Box(-OBS_LIMIT, OBS_LIMIT, (size,), np.float32)
 
     def read(self, core: Sensed, kinematics: Kinematics) -> np.ndarray:
-        return core.observe(kinematics)
+        """(B, size) float32."""
+        if self.task_entries:
+            return core.observe(kinematics)
+        return core.proprioception(kinematics)
+
+
+class TaskEntries:
+    """The task's entries alone (:meth:`~animat.envs.core.batch.BodyBatch.task_observation`,
+    from :meth:`animat.envs.tasks.base.Task.observe`, e.g. the goal of a reach in the body frame):
+    (B, the task's ``obs_size``) float32 clipped to +-``OBS_LIMIT``; (B, 0) for a task without
+    entries. Beside ``Proprioception(task_entries=False)`` it splits the default observation in
+    its two parts."""
+
+    name = "task"
+
+    def space(self, core: Sensed) -> gym.spaces.Box:
+        """``Box(-OBS_LIMIT, OBS_LIMIT, (size,), float32)``, size the task's ``obs_size``
+        (``core.obs_size - core.proprioception_size``; 0 for a task without entries)."""
+        size = core.obs_size - core.proprioception_size
+        return gym.spaces.Box(-OBS_LIMIT, OBS_LIMIT, (size,), np.float32)
+
+    def read(self, core: Sensed, kinematics: Kinematics) -> np.ndarray:
+        """(B, size) float32."""
+        return core.task_observation(kinematics)
 
 
 class Observer:

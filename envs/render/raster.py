@@ -7,10 +7,10 @@ covers its centre (depth interpolated as 1/z across the triangle, which is exact
 triangles under perspective). Occlusion is therefore per pixel, whatever order the triangles
 come in. Triangles with a vertex nearer than ``near`` are dropped (no clipping).
 
-Around the triangles, two per-pixel passes on the same camera rays: :func:`seabed_into` first
-(the seabed plane, ray-cast, with a sand texture of tiles), and :func:`water_into` last (the
-water's colour by the ray's elevation, and depth haze: everything fades into that colour as
-``exp(-distance / visibility)``).
+Around the triangles, two per-pixel passes on the same camera rays (:func:`pixel_ray`):
+:func:`seabed_into` first (the seabed plane, ray-cast, with a sand texture of tiles), and
+:func:`water_into` last (the water's colour by the ray's elevation, and depth haze: everything
+fades into that colour as ``exp(-distance / visibility)``).
 """
 
 from __future__ import annotations
@@ -88,8 +88,13 @@ def rasterize_world(triangles, colours, eye, rotation, focal, image, zbuffer, ne
 
 
 @njit(cache=True, inline="always")
-def _ray(rotation, focal, height, width, i, j):
-    """World direction (not normalised; unit depth along the camera axis) of pixel (i, j)."""
+def pixel_ray(rotation, focal, height, width, i, j):
+    """The world direction (dx, dy, dz) of the ray through the centre of pixel (i, j) (row i
+    down, column j right) of a ``height`` x ``width`` image seen by a pinhole camera with
+    ``rotation`` (3, 3) (rows right, down, forward; world frame) and ``focal`` pixels: not
+    normalised, but of unit depth along the camera's axis, so a point at depth d m (what a
+    depth buffer holds) lies at d times it from the camera (and the ray's length is
+    ``sqrt(dx^2 + dy^2 + dz^2)`` m of path per metre of depth)."""
     rx, ry = (j + 0.5 - 0.5 * width) / focal, (i + 0.5 - 0.5 * height) / focal
     return (rotation[0, 0] * rx + rotation[1, 0] * ry + rotation[2, 0],
             rotation[0, 1] * rx + rotation[1, 1] * ry + rotation[2, 1],
@@ -107,7 +112,7 @@ def seabed_into(image, zbuffer, eye, rotation, focal, seabed_z, tile, sand, far)
         return
     for i in range(height):
         for j in range(width):
-            dx, dy, dz = _ray(rotation, focal, height, width, i, j)
+            dx, dy, dz = pixel_ray(rotation, focal, height, width, i, j)
             if dz >= 0.0:
                 continue
             depth = (seabed_z - eye[2]) / dz
@@ -137,7 +142,7 @@ def water_into(image, zbuffer, rotation, focal, top, bottom, visibility) -> None
     last = HAZE_TABLE.shape[0] - 2
     for i in range(height):
         for j in range(width):
-            dx, dy, dz = _ray(rotation, focal, height, width, i, j)
+            dx, dy, dz = pixel_ray(rotation, focal, height, width, i, j)
             length = np.sqrt(dx * dx + dy * dy + dz * dz)
             up = 0.5 * (1.0 + dz / length)
             u = min(zbuffer[i, j] * length / visibility, 16.0) * HAZE_STEPS

@@ -17,7 +17,7 @@ from numba import njit
 from ..bodies.spec import BodySpec
 from ..physics.ball import BallParams
 from .camera import Camera, Scene, box, look_at
-from .raster import _ray, rasterize_world
+from .raster import pixel_ray, rasterize_world
 
 DOLPHIN_COLOUR = (105, 120, 140)
 BALL_COLOURS = ((230, 40, 40), (250, 250, 250), (40, 90, 230), (250, 210, 40))
@@ -36,7 +36,7 @@ def surface_into(image, zbuffer, eye, rotation, focal, surface_z, visibility) ->
     height, width = zbuffer.shape
     for i in range(height):
         for j in range(width):
-            dx, dy, dz = _ray(rotation, focal, height, width, i, j)
+            dx, dy, dz = pixel_ray(rotation, focal, height, width, i, j)
             length = np.sqrt(dx * dx + dy * dy + dz * dz)
             hit = zbuffer[i, j]
             crossing = (surface_z - eye[2]) / dz if dz != 0.0 else np.inf

@@ -5,7 +5,8 @@ sharing one optical axis: level 0 sees ``field_of_view`` (120 deg), every furthe
 the angle of the one before, so level 3 (15 deg) is the fovea. An eye sits on the head at
 ``offset`` in the body frame (the left eye at +y, the right at -y) and is turned by its gaze
 angles relative to the head: theta about the head's up axis (positive: to the left), phi about
-its lateral axis (positive: up). Rendering is a pure function of the scene and the eye poses,
+its lateral axis (positive: up); :func:`eye_poses` places both eyes of a head (every eye in the
+world is placed by it). Rendering is a pure function of the scene and the eye poses,
 through the same :class:`~envs.render.camera.Camera` and rasterizer as the third-person view.
 
 The composite of an eye (Fig. 5(b)) is 2^(levels-1) * size pixels square: level l magnified
@@ -21,7 +22,7 @@ and gives ``left_eye`` and ``right_eye``, each eye's levels stacked (:func:`stac
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any, Protocol
+from typing import Any, Protocol, runtime_checkable
 
 import gymnasium as gym
 import numpy as np
@@ -72,6 +73,18 @@ def eye_positions(frame: np.ndarray, head: np.ndarray, length: float,
     return np.stack([head + length * (a * forward + s * b * left + c * up) for s in (1.0, -1.0)])
 
 
+def eye_poses(frame: np.ndarray, head: np.ndarray, length: float, gaze: np.ndarray,
+              params: RetinaParams = RetinaParams()) -> tuple[np.ndarray, np.ndarray]:
+    """The world's one way to place a head's eyes: (2, 3) m positions (:func:`eye_positions`)
+    and (2, 3, 3) camera rotations (:func:`gaze_rotation`; rows right, down, forward) of the
+    left and the right eye of a head with frame ``frame`` (3, 3) (rows forward, left, up),
+    nose at ``head`` (3,) m, body ``length`` m, eyes turned by ``gaze`` (2, 2) rad ((theta,
+    phi) of the left eye, then of the right)."""
+    positions = eye_positions(frame, head, length, params)
+    rotations = np.stack([gaze_rotation(frame, *angles) for angles in gaze])
+    return positions, rotations
+
+
 def render_eye(scene: Scene, position: np.ndarray, rotation: np.ndarray,
                params: RetinaParams = RetinaParams(), frame: Frame | None = None) -> np.ndarray:
     """(levels, size, size, 3) uint8: the eye's images from level 0 (widest) to the fovea.
@@ -85,10 +98,12 @@ def render_eye(scene: Scene, position: np.ndarray, rotation: np.ndarray,
 
 
 def render_eyes(scene: Scene, positions: np.ndarray, rotations: np.ndarray,
-                params: RetinaParams = RetinaParams()) -> np.ndarray:
-    """(2, levels, size, size, 3) uint8: both eyes (positions (2, 3), rotations (2, 3, 3))
-    from one preparation of the scene."""
-    frame = scene.prepare()
+                params: RetinaParams = RetinaParams(), frame: Frame | None = None
+                ) -> np.ndarray:
+    """(2, levels, size, size, 3) uint8: both eyes (positions (2, 3) m, rotations (2, 3, 3))
+    from one preparation of the scene (``frame``: already prepared, e.g. shared by several
+    observers)."""
+    frame = scene.prepare() if frame is None else frame
     return np.stack([render_eye(scene, p, r, params, frame)
                      for p, r in zip(positions, rotations)])
 
@@ -114,8 +129,10 @@ def stack_levels(images: np.ndarray) -> np.ndarray:
     return np.moveaxis(images, -4, -2).reshape(*lead, height, width, 3 * levels)
 
 
+@runtime_checkable
 class Sighted(Protocol):
-    """What the retina reads: the scene and where the eyes of each of B observers are."""
+    """What the retina reads: the scene and where the eyes of each of B observers are
+    (``isinstance`` checks that both methods are there)."""
 
     def scene(self) -> Scene:
         """What there is to see now."""
@@ -138,7 +155,11 @@ class Retina:
         self.params = params
 
     def space(self, source: Sighted) -> gym.spaces.Dict:
-        """One observer's reading: both eyes' stacked levels."""
+        """One observer's reading: both eyes' stacked levels. Raises ValueError if ``source``
+        has no eyes (not a :class:`Sighted`, e.g. a body env's ``BodyBatch``)."""
+        if not isinstance(source, Sighted):
+            raise ValueError(f"sensors: the retina needs an observer with eyes (e.g. "
+                             f"Animat/FishPursuit-v0), got a {type(source).__name__}")
         shape = (self.params.size, self.params.size, 3 * self.params.levels)
         return gym.spaces.Dict({eye: gym.spaces.Box(0, 255, shape, np.uint8)
                                 for eye in self.EYES})
@@ -148,8 +169,7 @@ class Retina:
         positions, rotations = source.eye_poses(kinematics)
         scene = source.scene()
         frame = scene.prepare()
-        return np.stack([[render_eye(scene, p, r, self.params, frame)
-                          for p, r in zip(places, turns)]
+        return np.stack([render_eyes(scene, places, turns, self.params, frame)
                          for places, turns in zip(positions, rotations)])
 
     def read(self, source: Sighted, kinematics: Any) -> dict[str, np.ndarray]:

@@ -9,7 +9,7 @@ import numpy as np
 
 from ..render.camera import Camera, Scene, fish_skin, look_at
 from ..render.scenery import ROCK, food
-from ..vision.retina import RetinaParams, eye_positions, gaze_rotation, render_eyes
+from ..vision.retina import RetinaParams, eye_poses, render_eyes
 
 SIDES = 8
 
@@ -72,14 +72,12 @@ class WorldView:
         return camera.render(self.scene())
 
     def eye_poses(self, fish: int, gaze: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Positions (2, 3) and camera rotations (2, 3, 3) of fish ``fish``'s eyes at ``gaze``
-        (2, 2) rad (theta, phi per eye)."""
+        """Positions (2, 3) m and camera rotations (2, 3, 3) of fish ``fish``'s eyes at
+        ``gaze`` (2, 2) rad (theta, phi per eye): :func:`~animat.envs.vision.retina.eye_poses`
+        of its head."""
         world = self.world
         frame = world.core.kinematics().frames[fish]
-        positions = eye_positions(frame, world.core.state.x[fish, 0], world.length,
-                                  self.retina)
-        rotations = np.stack([gaze_rotation(frame, *angles) for angles in gaze])
-        return positions, rotations
+        return eye_poses(frame, world.core.state.x[fish, 0], world.length, gaze, self.retina)
 
     def eyes(self, fish: int, gaze: np.ndarray) -> np.ndarray:
         """(2, levels, size, size, 3) uint8: what fish ``fish`` sees at ``gaze`` (2, 2) rad."""

@@ -2,10 +2,11 @@
 
 The sensors are those of the seam of :mod:`animat.envs.core.sensors` (``name``, ``space``,
 ``read``); what they read in the pursuit is an :class:`ObserverView`, the observer as one body
-(B = 1). It offers what a ``BodyBatch`` offers a sensor (``obs_size``, ``observe``), so
-:class:`~animat.envs.core.sensors.Proprioception` reads it as it is; what the eyes read
-(``scene()``, ``eye_poses()``: a :class:`~animat.envs.vision.retina.Sighted`), so
-:class:`~animat.envs.vision.retina.Retina` does; and the ``gaze``, the ``core`` and the
+(B = 1). It offers what a ``BodyBatch`` offers a sensor (the sizes, ``observe``,
+``proprioception``, ``task_observation``: a :class:`~animat.envs.core.sensors.Sensed`), so
+:class:`~animat.envs.core.sensors.Proprioception` and ``TaskEntries`` read it as it is;
+what the eyes read (``scene()``, ``eye_poses()``: a :class:`~animat.envs.vision.retina.Sighted`),
+so :class:`~animat.envs.vision.retina.Retina` does; and the ``gaze``, the ``core`` and the
 observer's ``row`` for any other sensor. :func:`default_sensors` are the retina (``left_eye``,
 ``right_eye``), :class:`Gaze` and proprioception; :class:`PursuitObserver` makes their
 ``Dict``, a sensor whose space is a ``Dict`` (the retina) giving each of its entries. A sensor
@@ -22,7 +23,7 @@ import numpy as np
 from ...core.batch import BodyBatch, Kinematics
 from ...core.sensors import Observer, Proprioception, Sensed
 from ...render.camera import Scene
-from ...vision.retina import Retina, RetinaParams, eye_positions, gaze_rotation
+from ...vision.retina import Retina, RetinaParams, eye_poses
 
 THETA_RANGE, PHI_RANGE = np.radians(60.0), np.radians(30.0)  # the gaze's units, rad
 
@@ -41,12 +42,28 @@ class ObserverView:
 
     @property
     def obs_size(self) -> int:
-        """Entries of the observer's proprioception."""
+        """Entries of the observer's :meth:`observe`: its own state, then the task's."""
         return self.core.obs_size
 
+    @property
+    def proprioception_size(self) -> int:
+        """Entries of the observer's own state (:meth:`proprioception`)."""
+        return self.core.proprioception_size
+
     def observe(self, kinematics: Kinematics) -> np.ndarray:
-        """(1, obs_size) float32: the observer's proprioception (``BodyBatch.observe``)."""
+        """(1, obs_size) float32: the observer's own state, then the task's entries
+        (``BodyBatch.observe``)."""
         return self.core.observe(kinematics)[[self.row]]
+
+    def proprioception(self, kinematics: Kinematics) -> np.ndarray:
+        """(1, proprioception_size) float32: the observer's own state
+        (``BodyBatch.proprioception``)."""
+        return self.core.proprioception(kinematics)[[self.row]]
+
+    def task_observation(self, kinematics: Kinematics) -> np.ndarray:
+        """(1, obs_size - proprioception_size) float32: the task's entries for the observer
+        (``BodyBatch.task_observation``; none for the pursuit's swim task)."""
+        return self.core.task_observation(kinematics)[[self.row]]
 
     def scene(self) -> Scene:
         """What there is to see now."""
@@ -58,11 +75,11 @@ class ObserverView:
 
     def eye_poses(self, kinematics: Kinematics) -> tuple[np.ndarray, np.ndarray]:
         """(1, 2, 3) m eye positions and (1, 2, 3, 3) camera rotations (rows right, down,
-        forward) of the left and the right eye, in the world."""
+        forward) of the left and the right eye, in the world
+        (:func:`~animat.envs.vision.retina.eye_poses` of the observer's head)."""
         frame = kinematics.frames[self.row]
-        positions = eye_positions(frame, self.core.state.x[self.row, 0], self.core.body.length,
-                                  self.retina)
-        rotations = np.stack([gaze_rotation(frame, *angles) for angles in self.gaze_angles()])
+        positions, rotations = eye_poses(frame, self.core.state.x[self.row, 0],
+                                         self.core.body.length, self.gaze_angles(), self.retina)
         return positions[None], rotations[None]
 
 

@@ -7,7 +7,7 @@ import pytest
 from gymnasium.utils.env_checker import check_env
 
 import animat  # noqa: F401
-from animat.envs.core.sensors import Proprioception
+from animat.envs.core.sensors import Proprioception, TaskEntries
 
 
 class DepthGauge:
@@ -51,3 +51,23 @@ def test_the_vector_env_batches_each_sensor_and_keeps_final_observations():
 def test_sensor_names_must_be_unique():
     with pytest.raises(ValueError, match="unique"):
         gym.make("Animat/FishSwim-v0", sensors=[DepthGauge(), DepthGauge()])
+
+
+def test_proprioception_and_the_task_entries_apart_make_the_default_observation():
+    default = gym.make_vec("Animat/FishReach-v0", num_envs=2, duration=0.2)
+    apart = gym.make_vec("Animat/FishReach-v0", num_envs=2, duration=0.2,
+                         sensors=[Proprioception(task_entries=False), TaskEntries()])
+    assert apart.single_observation_space["proprioception"].shape == (150,)
+    assert apart.single_observation_space["task"].shape == (3,)
+    assert default.single_observation_space.shape == (153,)
+    obs, parts = default.reset(seed=4)[0], apart.reset(seed=4)[0]
+    action = np.linspace(-1.0, 1.0, 12, dtype=np.float32).reshape(2, 6)
+    for _ in range(3):
+        joined = np.concatenate([parts["proprioception"], parts["task"]], axis=1)
+        assert joined.dtype == obs.dtype and np.array_equal(joined, obs)
+        assert apart.observation_space.contains(parts)
+        obs, parts = default.step(action)[0], apart.step(action)[0]
+    swim = gym.make("Animat/FishSwim-v0", sensors=[Proprioception(task_entries=False),
+                                                   TaskEntries()], duration=0.1)
+    obs, _ = swim.reset(seed=0)
+    assert obs["task"].shape == (0,) and obs["proprioception"].shape == (150,)

@@ -1,16 +1,23 @@
 """The retina: coaxial foveated cameras, pure functions of the scene and the eye poses."""
 
+import gymnasium as gym
 import numpy as np
 import pytest
 
+import animat  # noqa: F401
 from animat.envs.bodies.fish import fish_body
+from animat.envs.core.sensors import Proprioception
 from animat.envs.render.camera import Scene, posed
 from animat.envs.vision.retina import (
     Retina,
     RetinaParams,
+    Sighted,
     composite,
+    eye_poses,
+    eye_positions,
     gaze_rotation,
     render_eye,
+    render_eyes,
     stack_levels,
 )
 
@@ -110,3 +117,25 @@ def test_the_retina_sensor_reads_both_eyes_of_every_observer_stacked():
     fovea = reading["right_eye"][:, :, :, 9:12]  # the last level's RGB
     assert _red(fovea[0])[14:18, 14:18].all() and not _red(fovea[1]).any()
     assert stack_levels(levels[None]).shape == (1, 32, 32, 12)
+
+
+def test_eye_poses_place_both_eyes_and_the_retina_renders_them_as_render_eyes():
+    gaze = np.radians([[20.0, -5.0], [-10.0, 8.0]])
+    head, length = np.array([0.3, -0.2, 0.1]), 0.5
+    positions, rotations = eye_poses(HEAD, head, length, gaze)
+    np.testing.assert_array_equal(positions, eye_positions(HEAD, head, length))
+    for rotation, angles in zip(rotations, gaze):
+        np.testing.assert_array_equal(rotation, gaze_rotation(HEAD, *angles))
+    observers = TwoObservers()
+    images = Retina(RetinaParams(size=32)).images(observers, None)
+    for places, turns, seen in zip(*observers.eye_poses(None), images):
+        np.testing.assert_array_equal(seen, render_eyes(observers.scene(), places, turns,
+                                                        RetinaParams(size=32)))
+
+
+def test_the_retina_is_refused_in_one_line_where_there_are_no_eyes():
+    assert isinstance(TwoObservers(), Sighted)
+    with pytest.raises(ValueError) as error:
+        gym.make("Animat/FishSwim-v0", sensors=[Proprioception(), Retina()])
+    assert str(error.value) == ("sensors: the retina needs an observer with eyes (e.g. "
+                                "Animat/FishPursuit-v0), got a BodyBatch")

@@ -7,6 +7,7 @@ import pytest
 
 import animat  # noqa: F401
 from animat.envs.core.env import BodyEnv
+from animat.envs.core.sensors import Proprioception, TaskEntries
 from animat.envs.motor.navigation import Navigator
 from animat.envs.render.camera import Scene
 from animat.envs.vision.retina import (
@@ -139,3 +140,15 @@ def test_a_sensor_added_to_the_pursuit_shows_up_in_its_observation():
     with pytest.raises(ValueError, match="sensors must be a list"):
         gym.make("Animat/FishPursuit-v0", sensors="retina")
     assert isinstance(env.view.scene(), Scene)
+
+
+def test_the_observers_own_state_and_the_task_entries_read_apart_in_the_pursuit():
+    apart = gym.make("Animat/FishPursuit-v0", duration=1.0, sensors=[
+        *default_sensors()[:2], Proprioception(task_entries=False), TaskEntries()]).unwrapped
+    obs = _stepped(apart)
+    assert obs["task"].shape == (0,) and apart.observation_space.contains(obs)
+    kinematics = apart.core.kinematics()
+    np.testing.assert_array_equal(obs["proprioception"],
+                                  apart.core.proprioception(kinematics)[OBSERVER])
+    default = _stepped(gym.make("Animat/FishPursuit-v0", duration=1.0).unwrapped)
+    np.testing.assert_array_equal(obs["proprioception"], default["proprioception"])
