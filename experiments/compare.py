@@ -23,7 +23,8 @@ import yaml
 
 from .figures.abstraction_table import abstraction_markdown, abstraction_rows
 from .launch.config import load_config
-from .launch.folders import RunError, one_line, read_status
+from .launch.folders import one_line, read_status
+from .launch.lock import RunError
 
 
 @dataclass

@@ -20,6 +20,8 @@ import animat  # noqa: F401
 from animat.envs.core.env import BodyEnv
 from animat.envs.motor.fish import SwimParams, fin_mc, swim_mc, to_action, turn_duration, turn_mc
 
+from .parser import demo_arguments
+
 TAIL_TIPS = [21, 22]
 
 
@@ -79,17 +81,9 @@ def model_sweep(seconds: float = 10.0) -> list[tuple[str, dict[str, float]]]:
     return rows
 
 
-def add_arguments(parser: argparse.ArgumentParser) -> None:
-    """The demo's options (its own command line and ``animat demo``)."""
-    parser.add_argument("--seconds", type=float, default=10.0, help="simulated seconds of the swim")
-    parser.add_argument("--video", default=None, help="folder for an mp4 of the swim")
-    parser.add_argument("--model-sweep", action="store_true",
-                        help="print St and stride across force models and swim-MC gains")
-
-
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    add_arguments(parser)
+    demo_arguments(parser)
     run(parser.parse_args(argv))
 
 

@@ -36,7 +36,8 @@ from animat.learners.registry import make_learner
 from animat.learners.rollout import score_episode, spread
 
 from .launch.config import learner_params, load_config
-from .launch.folders import RunError, read_status, write_json
+from .launch.folders import read_status, write_json
+from .launch.lock import RunError
 
 
 def load(run_dir: str | Path, trust_pickles: bool = False):

@@ -10,13 +10,9 @@ from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 from .launch.config import ExperimentConfig, load_config
-from .launch.folders import (
-    available_cpus,
-    create_run,
-    default_run_dir,
-    execute,
-    read_status,
-)
+from .launch.execute import execute
+from .launch.folders import create_run, default_run_dir, read_status
+from .launch.machine import available_cpus
 
 
 def parse_seeds(text: str) -> list[int]:
@@ -119,7 +115,7 @@ def run_ray(folders: list[Path], address: str | None = None, num_cpus: int | Non
 
     @ray.remote(num_cpus=1)
     def run_one(folder: str) -> dict:
-        from .launch.folders import execute as run_folder
+        from .launch.execute import execute as run_folder
 
         try:
             return run_folder(Path(folder), threads=1)  # the one CPU the task holds

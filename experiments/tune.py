@@ -27,13 +27,9 @@ from pathlib import Path
 from animat.learners.base import atomic_write
 
 from .launch.config import ConfigError, ExperimentConfig, load_config, to_yaml
-from .launch.folders import (
-    RunError,
-    create_run,
-    execute,
-    read_status,
-    write_json,
-)
+from .launch.execute import execute
+from .launch.folders import create_run, read_status, write_json
+from .launch.lock import RunError
 
 
 def _optuna():

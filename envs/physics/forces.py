@@ -4,7 +4,7 @@ Arrays are in lane layout, bodies innermost, so every loop runs over the bodies 
 body's arithmetic is the same whatever the batch width L: ``x``, ``v`` (N, 3, L) node positions
 (m) and velocities (m/s) in the world frame; ``f`` (N, 3, L) a force accumulator (N) that each
 ``add_*`` function adds into. The integrator (:mod:`animat.envs.physics.integrator`) calls them
-once a step.
+once a step, with the fins' force (:mod:`animat.envs.physics.fins`).
 
 Internal forces (:func:`add_element_forces`) are the Voigt elements' ``(c e + gamma de/dt) r/|r|``:
 each acts along its element, equally and oppositely on its two nodes, so they can change neither
@@ -195,85 +195,6 @@ def add_face_forces(x, v, faces, weights, face_mass, water, dt, f, g, splash) ->
             f[d, 0, lane] -= s3 * g0
             f[d, 1, lane] -= s3 * g1
             f[d, 2, lane] -= s3 * g2
-
-
-@njit(cache=True, inline="always")
-def _centroid(x, nodes, axis, lane) -> float:
-    total = 0.0
-    for k in range(nodes.shape[0]):
-        total += x[nodes[k], axis, lane]
-    return total / nodes.shape[0]
-
-
-@njit(cache=True)
-def body_frame_into(x, lane, front, back, up, down, frame) -> None:
-    """Write body ``lane``'s frame into ``frame`` (3, 3): rows forward, left, up (right-handed);
-    x (N, 3, L)."""
-    f0 = _centroid(x, front, 0, lane) - _centroid(x, back, 0, lane)
-    f1 = _centroid(x, front, 1, lane) - _centroid(x, back, 1, lane)
-    f2 = _centroid(x, front, 2, lane) - _centroid(x, back, 2, lane)
-    norm = np.sqrt(f0 * f0 + f1 * f1 + f2 * f2)
-    f0, f1, f2 = f0 / norm, f1 / norm, f2 / norm
-    u0 = _centroid(x, up, 0, lane) - _centroid(x, down, 0, lane)
-    u1 = _centroid(x, up, 1, lane) - _centroid(x, down, 1, lane)
-    u2 = _centroid(x, up, 2, lane) - _centroid(x, down, 2, lane)
-    along = u0 * f0 + u1 * f1 + u2 * f2
-    u0, u1, u2 = u0 - along * f0, u1 - along * f1, u2 - along * f2
-    norm = np.sqrt(u0 * u0 + u1 * u1 + u2 * u2)
-    u0, u1, u2 = u0 / norm, u1 / norm, u2 / norm
-    frame[0, 0], frame[0, 1], frame[0, 2] = f0, f1, f2
-    frame[1, 0], frame[1, 1], frame[1, 2] = u1 * f2 - u2 * f1, u2 * f0 - u0 * f2, u0 * f1 - u1 * f0
-    frame[2, 0], frame[2, 1], frame[2, 2] = u0, u1, u2
-
-
-@njit(**FAST)
-def add_fin_forces(x, v, frame_nodes, fin_nodes, fin_areas, fin_mass, sin_cos, water, dt, f,
-                   scratch) -> None:
-    """Pectoral fins as two-sided plates; fin p's normal is the body's up vector pitched by the
-    fin angle about the body's lateral axis (``sin_cos`` (P, 2, L) its sine and cosine),
-    leading edge up for a positive angle. Same angle on both fins: lift (pitch, depth);
-    opposite angles: roll; a large angle on one side: drag on that side (yaw). ``frame_nodes``:
-    (front, back, up, down) node lists; ``scratch`` (16, L) work space."""
-    kappa_water, kappa_air = water[FLUID_COEFFICIENT], water[AIR_COEFFICIENT]
-    surface_z = water[SURFACE_Z]
-    c0, c1, c2 = water[CURRENT_X], water[CURRENT_Y], water[CURRENT_Z]
-    front, back, up, down = frame_nodes
-    frame = np.empty((3, 3))
-    for lane in range(x.shape[2]):
-        body_frame_into(x, lane, front, back, up, down, frame)
-        for row in range(3):
-            for axis in range(3):
-                scratch[3 * row + axis, lane] = frame[row, axis]
-    for p in range(fin_nodes.shape[0]):
-        nodes = fin_nodes[p]
-        share = 1.0 / nodes.shape[0]
-        scratch[9:13] = 0.0
-        for q in range(nodes.shape[0]):
-            node = nodes[q]
-            for lane in range(x.shape[2]):
-                scratch[9, lane] += share * v[node, 0, lane]
-                scratch[10, lane] += share * v[node, 1, lane]
-                scratch[11, lane] += share * v[node, 2, lane]
-                scratch[12, lane] += share * x[node, 2, lane]
-        area, mass = fin_areas[p], fin_mass[p]
-        for lane in range(x.shape[2]):
-            sin_a, cos_a = sin_cos[p, 0, lane], sin_cos[p, 1, lane]
-            n0 = -sin_a * scratch[0, lane] + cos_a * scratch[6, lane]
-            n1 = -sin_a * scratch[1, lane] + cos_a * scratch[7, lane]
-            n2 = -sin_a * scratch[2, lane] + cos_a * scratch[8, lane]
-            w0, w1, w2 = scratch[9, lane] - c0, scratch[10, lane] - c1, scratch[11, lane] - c2
-            kappa = kappa_air + (kappa_water - kappa_air) * submerged(scratch[12, lane], surface_z)
-            speed = np.sqrt(w0 * w0 + w1 * w1 + w2 * w2)
-            magnitude = share * limited_drag(kappa * area * speed, n0 * w0 + n1 * w1 + n2 * w2,
-                                             mass, dt)
-            scratch[13, lane], scratch[14, lane] = magnitude * n0, magnitude * n1
-            scratch[15, lane] = magnitude * n2
-        for q in range(nodes.shape[0]):
-            node = nodes[q]
-            for lane in range(x.shape[2]):
-                f[node, 0, lane] -= scratch[13, lane]
-                f[node, 1, lane] -= scratch[14, lane]
-                f[node, 2, lane] -= scratch[15, lane]
 
 
 @njit(cache=True, inline="always")

@@ -26,13 +26,8 @@ import numpy as np
 from numba import njit, prange
 
 from .ball import ball_substep
-from .forces import (
-    FAST,
-    add_element_forces,
-    add_face_forces,
-    add_fin_forces,
-    add_gravity_buoyancy,
-)
+from .fins import add_fin_forces
+from .forces import FAST, add_element_forces, add_face_forces, add_gravity_buoyancy
 from .system import AIR_PRESSURE, DENSITY, GRAVITY, SURFACE_Z
 
 

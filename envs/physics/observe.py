@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from .forces import body_frame_into
+from .fins import body_frame_into
 
 
 @njit(cache=True)

@@ -133,9 +133,10 @@ WATER_SLOTS: tuple[str, ...] = tuple(slot for f in dataclass_fields(Water)
 WATER_SIZE = len(WATER_SLOTS)
 _SLOT = {name: index for index, name in enumerate(WATER_SLOTS)}
 # Each slot's index, from the order above (the names are WATER_SLOTS' in capitals; tests/envs/
-# test_water.py checks both agree and round-trip). Module-level ints, so a Numba kernel reading
-# ``water[SURFACE_Z]`` compiles it as a constant index, as fast as a literal; Numba's on-disk
-# cache does not see a change made here, so clear envs/**/__pycache__ after reordering Water.
+# physics/test_water.py checks both agree and round-trip, and pins the order). Module-level
+# ints, so a Numba kernel reading ``water[SURFACE_Z]`` compiles it as a constant index, as
+# fast as a literal; Numba's on-disk cache does not see a change made here, so clear
+# envs/**/__pycache__ after reordering Water.
 FLUID_COEFFICIENT: int = _SLOT["fluid_coefficient"]  # kg/m^3, drag kappa under the surface
 AIR_COEFFICIENT: int = _SLOT["air_coefficient"]  # kg/m^3, drag kappa above it
 FRICTION_COEFFICIENT: int = _SLOT["friction_coefficient"]  # kg/m^3, skin friction, under

@@ -20,7 +20,7 @@ import gymnasium as gym
 import numpy as np
 
 import animat  # noqa: F401  (registers Animat/*)
-from animat.envs.physics import forces
+from animat.envs.physics import fins, forces
 from animat.envs.physics.integrator import CHUNK, NO_BALL, kick_drift, ramp_rest_lengths, step_chunk
 
 
@@ -115,9 +115,9 @@ def breakdown(lanes: int, reps: int = 2000) -> dict[str, float]:
                                                       c.damping, rest, f),
         "faces": lambda: forces.add_face_forces(x, v, c.faces, c.face_weights, c.face_mass,
                                                 c.water, c.dt, f, face_scratch, splash),
-        "fins": lambda: forces.add_fin_forces(x, v, frames, c.fin_nodes, c.fin_areas,
-                                              c.fin_mass, sin_cos, c.water, c.dt, f,
-                                              fin_scratch),
+        "fins": lambda: fins.add_fin_forces(x, v, frames, c.fin_nodes, c.fin_areas,
+                                            c.fin_mass, sin_cos, c.water, c.dt, f,
+                                            fin_scratch),
         "gravity, buoyancy": lambda: forces.add_gravity_buoyancy(x, c.masses, c.volumes,
                                                                  c.lungs, 1000.0, 0.0, 0.0,
                                                                  101325.0, f),

@@ -11,39 +11,25 @@ lock is free: killed, or its last status not writable on a full or read-only dis
 as ``killed``; ``animat run --resume DIR`` continues any unfinished run from its last
 checkpoint. An OS error is one line (exit status 2 for a place that cannot hold a run folder,
 1 while a run works) and leaves no temporary file or half-made folder.
+
+This module makes and reads the folder; :mod:`.lock` is its lock, :mod:`.execute` runs it and
+:mod:`.machine` says what it runs on (``versions.json``).
 """
 
 from __future__ import annotations
 
-import errno
-import fcntl
 import json
 import os
 import shlex
 import socket
-import subprocess
-import sys
 import time
-import traceback
-from contextlib import contextmanager
-from importlib import metadata
 from pathlib import Path
 
 from animat.learners.base import TMP_SUFFIX, LearnResult, atomic_write, read_json
-from animat.learners.logger import CsvSink, Logger, TensorBoardSink
-from animat.learners.registry import make_learner
 
-from .config import ExperimentConfig, learner_params, load_config, to_yaml
-
-PACKAGES = ("artificial-animals", "numpy", "numba", "gymnasium", "stable-baselines3", "torch",
-            "cma", "tensorboard", "pydantic", "pyyaml", "ray")
-
-
-class RunError(RuntimeError):
-    """A run-folder problem (exists already, nothing to resume, ...)."""
-
-
-ERROR_LOG = "error.log"
+from .config import ExperimentConfig, to_yaml
+from .lock import LOCK_NAME, UNWRITABLE, RunError, lock_held, run_lock
+from .machine import versions
 
 
 def one_line(error: BaseException) -> str:
@@ -67,142 +53,6 @@ def default_run_dir(config: ExperimentConfig, root: Path = Path("runs")) -> Path
     while candidate.exists():
         candidate, k = base.with_name(f"{base.name}-{k}"), k + 1
     return candidate
-
-
-def available_cpus() -> int:
-    """CPUs this process may run on."""
-    try:
-        return len(os.sched_getaffinity(0))
-    except AttributeError:  # not Linux
-        return os.cpu_count() or 1
-
-
-def set_threads(threads: int | None) -> int:
-    """Numba's threads for this run: ``threads`` (the CPUs it was given), else every CPU this
-    process may use; never more than Numba started with. Returns the count set."""
-    import numba
-
-    count = max(1, min(int(threads or available_cpus()), numba.config.NUMBA_NUM_THREADS))
-    numba.set_num_threads(count)
-    return count
-
-
-def source_revision() -> dict[str, object]:
-    """The git commit of the code that runs, and whether it has uncommitted changes
-    (``{}`` outside a git checkout: an installed wheel, even in a venv inside some
-    repository, has no commit of its own)."""
-    root = Path(__file__).resolve().parents[2]
-    if not (root / ".git").exists():
-        return {}
-    try:
-        commit = subprocess.run(["git", "-C", str(root), "rev-parse", "HEAD"], check=True,
-                                capture_output=True, text=True, timeout=10).stdout.strip()
-        changes = subprocess.run(["git", "-C", str(root), "status", "--porcelain",
-                                  "--untracked-files=no"], check=True, capture_output=True,
-                                 text=True, timeout=10).stdout.strip()
-    except (OSError, subprocess.SubprocessError):
-        return {}
-    return {"git_commit": commit, "git_dirty": bool(changes)}
-
-
-def versions() -> dict[str, str]:
-    found = {"python": sys.version.split()[0], **source_revision()}
-    for name in PACKAGES:
-        try:
-            found[name] = metadata.version(name)
-        except metadata.PackageNotFoundError:
-            continue
-    return found
-
-
-LOCK_NAME = ".lock"
-# OS errors that say a place cannot hold a run folder (what the user chose), not that the
-# disk failed while working: a read-only file system, no permission, a file in the path
-UNWRITABLE = {errno.EROFS, errno.EACCES, errno.EPERM, errno.ENOTDIR, errno.EEXIST,
-              errno.ENOENT, errno.ENAMETOOLONG, errno.ELOOP}
-
-
-@contextmanager
-def run_lock(folder: Path):
-    """Hold the run folder's exclusive lock for the ``with`` block: ``fcntl.flock`` on its
-    ``.lock`` file, taken without waiting (RunError in one line if another process holds it)
-    and released by the kernel when this process ends however it ends, so a killed run leaves
-    no stale lock. Held while a folder is made and while it runs: one run per folder. A folder
-    that cannot be written (read-only) or a file system without locks is a RunError too."""
-    try:
-        handle = os.open(Path(folder) / LOCK_NAME, os.O_RDWR | os.O_CREAT, 0o644)
-    except OSError as error:
-        if error.errno not in UNWRITABLE:
-            raise  # a full disk: the OS error itself
-        raise RunError(f"{folder}: cannot write into the run folder ({error.strerror}); a run "
-                       f"needs its folder writable") from None
-    try:
-        _lock_exclusive(handle, folder)
-        try:
-            os.ftruncate(handle, 0)
-            os.write(handle, f"{os.getpid()}\n".encode())  # who holds it, for a person to read
-        except OSError:  # a full disk: the lock holds without the note
-            pass
-        yield
-    finally:
-        os.close(handle)  # the only descriptor: closing it releases the lock
-
-
-NO_LOCKS = {errno.ENOLCK, errno.EOPNOTSUPP, errno.ENOTSUP, errno.ENOSYS}  # flock: no locks here
-
-
-LOCK_TRIES = 10  # a reader's shared lock (lock_held) lasts an instant: a few tries 10 ms apart
-
-
-def _lock_exclusive(handle: int, folder: Path) -> None:
-    """``flock`` the open lock file exclusively (a few short tries, so that a reader asking
-    :func:`lock_held` at that instant does not refuse a run); RunError in one line if another
-    process holds it or the file system has no locks (some network file systems)."""
-    try:
-        for attempt in range(LOCK_TRIES):
-            try:
-                fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
-                return
-            except BlockingIOError:
-                if attempt == LOCK_TRIES - 1:
-                    raise
-                time.sleep(0.01)
-    except BlockingIOError:
-        raise RunError(f"{folder}: another process is making or running this run (one run "
-                       f"per folder)") from None
-    except OSError as error:
-        if error.errno not in NO_LOCKS:
-            raise
-        raise RunError(f"{folder}: the file system does not support file locks (flock: "
-                       f"{error.strerror}), which keep one run per folder; put the run folder "
-                       f"on a local disk (--out)") from None
-
-
-def lock_held(folder: Path) -> bool | None:
-    """Whether a process holds the run folder's lock (is making or running it): True or
-    False, or None when the lock cannot tell (no lock file: an older folder; a file system
-    without locks). Takes a shared lock on a read-only descriptor for an instant, so it writes
-    nothing and works on a read-only folder; what a recorded pid cannot tell across hosts or
-    after the pid is reused."""
-    try:
-        handle = os.open(Path(folder) / LOCK_NAME, os.O_RDONLY)
-    except OSError:
-        return None
-    try:
-        fcntl.flock(handle, fcntl.LOCK_SH | fcntl.LOCK_NB)
-        return False
-    except BlockingIOError:
-        return True
-    except OSError:
-        return None
-    finally:
-        os.close(handle)  # releases the shared lock, if taken
-
-
-def folder_busy(folder: Path) -> bool:
-    """Whether another process holds the run folder's lock (:func:`lock_held`; False when it
-    cannot tell)."""
-    return lock_held(folder) is True
 
 
 def _refuse_if_used(folder: Path) -> None:
@@ -271,7 +121,7 @@ def _write_new_run(folder: Path, config: ExperimentConfig, command: list[str]) -
     atomic_write(folder / "config.yaml", lambda file: file.write(to_yaml(config)))
     atomic_write(folder / "command.txt", lambda file: file.write(shlex.join(command) + "\n"))
     write_json(folder / "versions.json", versions())
-    write_json(folder / "result.json", _status("pending", folder))
+    write_json(folder / "result.json", make_status("pending", folder))
 
 
 def _unmake(folder: Path, made: list[Path]) -> None:
@@ -296,7 +146,9 @@ def _remove_empty(made: list[Path]) -> None:
             break
 
 
-def _status(status: str, folder: Path, result: LearnResult | None = None, **extra) -> dict:
+def make_status(status: str, folder: Path, result: LearnResult | None = None, **extra) -> dict:
+    """A result.json's content: ``status``, this process and host, now, and ``result``'s
+    env steps, wall seconds and metrics (none yet without one), with ``extra`` fields."""
     data = {"status": status, "env_steps": 0, "wall_seconds": 0.0, "metrics": {},
             "pid": os.getpid(), "host": socket.gethostname(), "updated": time.time(), **extra}
     if result is not None:
@@ -335,141 +187,3 @@ def _still_running(folder: Path, data: dict) -> bool:
     except PermissionError:
         pass
     return True
-
-
-def flat_hparams(config: ExperimentConfig) -> dict[str, object]:
-    """The config as TensorBoard hyperparameters: dotted names -> number, string or bool."""
-    out: dict[str, object] = {}
-
-    def walk(prefix: str, value) -> None:
-        if isinstance(value, dict):
-            for key, item in value.items():
-                walk(f"{prefix}.{key}" if prefix else str(key), item)
-        elif isinstance(value, bool | int | float | str):
-            out[prefix] = value
-        else:
-            out[prefix] = str(value)
-
-    data = config.model_dump(mode="json")
-    walk("", {k: data[k] for k in ("env", "learner", "budget", "seed")})
-    return out
-
-
-def execute(folder: Path, progress=None, threads: int | None = None,
-            trust_pickles: bool = False) -> dict:
-    """Run (or continue) the experiment of a run folder with ``threads`` Numba threads (the
-    CPUs it was given; default all this process may use), holding the folder's lock; returns
-    the final result.json. RunError if another process holds the lock or the run is done."""
-    folder = Path(folder)
-    with run_lock(folder):
-        if read_status(folder)["status"] == "done":  # finished by whoever held the lock
-            raise RunError(f"{folder}: the run is done; nothing to resume")
-        try:
-            return _execute_locked(folder, progress, threads, trust_pickles)
-        except BaseException as error:
-            if getattr(error, "run_folder", None) is None:  # not recorded yet (e.g. an OS
-                _failed(folder, error, threads)  # error writing a status or the artefacts)
-            raise
-
-
-def _failed(folder: Path, error: BaseException, threads: int | None) -> None:
-    """Mark the run failed with the error's one line (result.json first: readers go by it),
-    its traceback in ``error.log``, each as far as the disk lets (:func:`_record`); tag the
-    error with the folder and the log that holds its traceback (the CLI points at it)."""
-    trace = traceback.format_exc()
-    _record(folder, _status("failed", folder, error=one_line(error), traceback=trace,
-                            threads=threads))
-    log: Path | None = folder / ERROR_LOG
-    try:
-        atomic_write(log, lambda file: file.write(trace))
-    except OSError:
-        log = None
-    for name, value in (("run_folder", folder), ("error_log", log)):
-        try:
-            setattr(error, name, value)
-        except AttributeError:  # an exception type that takes no attributes
-            pass
-
-
-def _record(folder: Path, status: dict) -> bool:
-    """Write ``status`` as result.json, atomically; on a disk too full for a new file,
-    overwrite the one there in place (within the blocks it has: no new space), without the
-    traceback. Returns whether it was written; if not, a "running" one left there is read as
-    killed (:func:`read_status`: the lock is free once this process ends)."""
-    path = folder / "result.json"
-    try:
-        write_json(path, status)
-        return True
-    except OSError:
-        pass
-    brief = json.dumps({k: v for k, v in status.items() if k != "traceback"},
-                       default=str).encode()
-    try:
-        handle = os.open(path, os.O_WRONLY)
-    except OSError:
-        return False
-    try:
-        stat = os.fstat(handle)
-        text = brief + b" " * (stat.st_size - len(brief))  # JSON allows trailing spaces
-        if len(text) > stat.st_blocks * 512:
-            return False  # it would need blocks the file does not have
-        # one write and no truncation: no shorter text leaves the old one's tail behind
-        written = os.write(handle, text)
-        os.fsync(handle)
-        return written == len(text)
-    except OSError:
-        return False
-    finally:
-        os.close(handle)
-
-
-def _execute_locked(folder: Path, progress, threads: int | None, trust_pickles: bool) -> dict:
-    (folder / ERROR_LOG).unlink(missing_ok=True)  # an earlier attempt's
-    clear_debris(folder)  # a killed attempt's
-    try:  # a config its folder can no longer build (a file it needs gone) fails the run too
-        config = load_config(folder / "config.yaml")
-    except Exception as error:
-        _failed(folder, error, threads)
-        raise
-    threads = set_threads(threads)
-    write_json(folder / "result.json", _status("running", folder, threads=threads))
-    sinks = []
-    if config.logging.tensorboard:
-        sinks.append(TensorBoardSink(folder / "tb"))
-    if config.logging.csv:
-        sinks.append(CsvSink(folder / "scalars.csv"))
-    if progress is not None:
-        sinks.append(progress)
-    logger = Logger(sinks)
-    try:
-        learner = make_learner(config.learner.name, config.env.id, config.env.kwargs,
-                               learner_params(folder, config), config.seed, logger)
-        learner.trust_pickles = trust_pickles  # an older version's pickled checkpoint
-        result = learner.learn(config.budget.env_steps, folder / "checkpoints")
-    except BaseException as error:
-        logger.close()
-        _failed(folder, error, threads)
-        raise
-    write_json(folder / "artefacts.json", dict(result.artefacts))
-    final = _status("done", folder, result, threads=threads)
-    write_json(folder / "result.json", final)
-    try:  # extras after the result is safe: a failure here loses nothing
-        logger.hparams(flat_hparams(config), {k: float(v) for k, v in result.metrics.items()})
-    except Exception as error:
-        print(f"animat: warning: {folder}: hyperparameters not written to TensorBoard: {error}",
-              file=sys.stderr)
-    finally:
-        logger.close()
-    return final
-
-
-def resume(folder: Path, progress=None, threads: int | None = None,
-           trust_pickles: bool = False) -> dict:
-    """Continue an unfinished run from its last checkpoint (``trust_pickles``: also from an
-    older version's pickled one)."""
-    status = read_status(folder)
-    if status["status"] == "done":
-        raise RunError(f"{folder}: the run is done; nothing to resume")
-    if status["status"] == "running" and folder_busy(folder):
-        raise RunError(f"{folder}: the run is still running (pid {status.get('pid')})")
-    return execute(folder, progress, threads, trust_pickles)  # a "running" one that died

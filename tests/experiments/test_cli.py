@@ -21,6 +21,7 @@ import yaml
 
 from animat.experiments import cli
 from animat.experiments.launch.config import ConfigError, load_config
+from animat.experiments.parser import make_parser
 
 ROOT = Path(__file__).resolve().parents[2]
 TINY = {
@@ -238,7 +239,7 @@ def test_version_help_examples_and_every_argument_helped(capsys):
         cli.main(["--help"])
     text = capsys.readouterr().out
     assert "examples:" in text and "animat eval runs/try" in text
-    parser = cli._parser()
+    parser = make_parser()
     for name, sub in parser._subparsers._group_actions[0].choices.items():
         for action in sub._actions:
             assert action.help, f"animat {name} {action.dest}: no help text"

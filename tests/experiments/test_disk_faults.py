@@ -17,7 +17,7 @@ from functools import cache
 
 import pytest
 
-from animat.experiments.launch import folders
+from animat.experiments.launch import lock
 from animat.experiments.launch.folders import read_status
 from tests.experiments.test_cli import ROOT, TINY, animat, write_config
 
@@ -229,7 +229,7 @@ def test_a_file_system_without_locks_is_named_in_one_line(tmp_path, monkeypatch)
     def flock(handle, operation):
         raise OSError(errno.ENOLCK, os.strerror(errno.ENOLCK))
 
-    monkeypatch.setattr(folders.fcntl, "flock", flock)
+    monkeypatch.setattr(lock.fcntl, "flock", flock)
     config = write_config(tmp_path / "tiny.yaml", TINY)
     refused = animat("run", config, "--out", tmp_path / "run", check=False)
     _one_line(_said(refused), 2, "the file system does not support file locks",

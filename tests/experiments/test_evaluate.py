@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from animat.experiments.evaluate import evaluate, load
-from animat.experiments.launch.folders import RunError
+from animat.experiments.launch.lock import RunError
 from animat.learners.agents import OpenLoopAgent, PolicyAgent, SkillSet
 from tests.experiments.test_cli import ROOT, TINY, animat, write_config
 

@@ -45,3 +45,20 @@ def test_water_kernels_read_no_bare_slot_number():
     for path in sorted(physics.glob("*.py")):
         hits = [line for line in path.read_text().splitlines() if bare.search(line)]
         assert not hits, f"{path.name}: {hits}"
+
+
+# The slots' order the compiled kernels were built with. Numba's on-disk cache (cache=True)
+# keys a kernel on its own file only, so a reorder of Water's fields changes the slot constants
+# without recompiling the kernels that read them as literals: they would read the wrong slots.
+PINNED_SLOTS = ("fluid_coefficient", "air_coefficient", "friction_coefficient",
+                "air_friction_coefficient", "crossflow", "density", "gravity", "surface_z",
+                "current_x", "current_y", "current_z", "air_pressure")
+
+
+def test_water_slot_order_is_pinned():
+    """A change of Water's fields or their order must be made here on purpose, with the
+    compiled caches cleared."""
+    assert WATER_SLOTS == PINNED_SLOTS, (
+        f"the water's slots are now {WATER_SLOTS}: Numba's cached kernels still read the old "
+        "order; clear them (find envs -name __pycache__ -exec rm -rf {} +), then update "
+        "PINNED_SLOTS in tests/envs/physics/test_water.py")

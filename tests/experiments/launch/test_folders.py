@@ -10,7 +10,8 @@ import time
 import pytest
 
 from animat.experiments.launch.config import ConfigError
-from animat.experiments.launch.folders import read_status, run_lock
+from animat.experiments.launch.folders import read_status
+from animat.experiments.launch.lock import run_lock
 from animat.experiments.sweep import load_seed
 from tests.experiments.test_cli import ROOT, TINY, animat, write_config
 

@@ -1,0 +1,162 @@
+"""Running a run folder: :func:`execute` runs (or continues) the experiment a folder holds,
+under its lock, from its own ``config.yaml``; :func:`resume` continues an unfinished one. The
+run's status goes into ``result.json`` as it goes (running, then done or failed, with the
+error's one line and its traceback in ``error.log``), as far as the disk lets.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import sys
+import traceback
+from pathlib import Path
+
+from animat.learners.base import atomic_write
+from animat.learners.logger import CsvSink, Logger, TensorBoardSink
+from animat.learners.registry import make_learner
+
+from .config import ExperimentConfig, learner_params, load_config
+from .folders import clear_debris, make_status, one_line, read_status, write_json
+from .lock import RunError, folder_busy, run_lock
+from .machine import set_threads
+
+ERROR_LOG = "error.log"
+
+
+def flat_hparams(config: ExperimentConfig) -> dict[str, object]:
+    """The config as TensorBoard hyperparameters: dotted names -> number, string or bool."""
+    out: dict[str, object] = {}
+
+    def walk(prefix: str, value) -> None:
+        if isinstance(value, dict):
+            for key, item in value.items():
+                walk(f"{prefix}.{key}" if prefix else str(key), item)
+        elif isinstance(value, bool | int | float | str):
+            out[prefix] = value
+        else:
+            out[prefix] = str(value)
+
+    data = config.model_dump(mode="json")
+    walk("", {k: data[k] for k in ("env", "learner", "budget", "seed")})
+    return out
+
+
+def execute(folder: Path, progress=None, threads: int | None = None,
+            trust_pickles: bool = False) -> dict:
+    """Run (or continue) the experiment of a run folder with ``threads`` Numba threads (the
+    CPUs it was given; default all this process may use), holding the folder's lock; returns
+    the final result.json. RunError if another process holds the lock or the run is done."""
+    folder = Path(folder)
+    with run_lock(folder):
+        if read_status(folder)["status"] == "done":  # finished by whoever held the lock
+            raise RunError(f"{folder}: the run is done; nothing to resume")
+        try:
+            return _execute_locked(folder, progress, threads, trust_pickles)
+        except BaseException as error:
+            if getattr(error, "run_folder", None) is None:  # not recorded yet (e.g. an OS
+                _failed(folder, error, threads)  # error writing a status or the artefacts)
+            raise
+
+
+def _failed(folder: Path, error: BaseException, threads: int | None) -> None:
+    """Mark the run failed with the error's one line (result.json first: readers go by it),
+    its traceback in ``error.log``, each as far as the disk lets (:func:`_record`); tag the
+    error with the folder and the log that holds its traceback (the CLI points at it)."""
+    trace = traceback.format_exc()
+    _record(folder, make_status("failed", folder, error=one_line(error), traceback=trace,
+                                threads=threads))
+    log: Path | None = folder / ERROR_LOG
+    try:
+        atomic_write(log, lambda file: file.write(trace))
+    except OSError:
+        log = None
+    for name, value in (("run_folder", folder), ("error_log", log)):
+        try:
+            setattr(error, name, value)
+        except AttributeError:  # an exception type that takes no attributes
+            pass
+
+
+def _record(folder: Path, status: dict) -> bool:
+    """Write ``status`` as result.json, atomically; on a disk too full for a new file,
+    overwrite the one there in place (within the blocks it has: no new space), without the
+    traceback. Returns whether it was written; if not, a "running" one left there is read as
+    killed (:func:`read_status`: the lock is free once this process ends)."""
+    path = folder / "result.json"
+    try:
+        write_json(path, status)
+        return True
+    except OSError:
+        pass
+    brief = json.dumps({k: v for k, v in status.items() if k != "traceback"},
+                       default=str).encode()
+    try:
+        handle = os.open(path, os.O_WRONLY)
+    except OSError:
+        return False
+    try:
+        stat = os.fstat(handle)
+        text = brief + b" " * (stat.st_size - len(brief))  # JSON allows trailing spaces
+        if len(text) > stat.st_blocks * 512:
+            return False  # it would need blocks the file does not have
+        # one write and no truncation: no shorter text leaves the old one's tail behind
+        written = os.write(handle, text)
+        os.fsync(handle)
+        return written == len(text)
+    except OSError:
+        return False
+    finally:
+        os.close(handle)
+
+
+def _execute_locked(folder: Path, progress, threads: int | None, trust_pickles: bool) -> dict:
+    (folder / ERROR_LOG).unlink(missing_ok=True)  # an earlier attempt's
+    clear_debris(folder)  # a killed attempt's
+    try:  # a config its folder can no longer build (a file it needs gone) fails the run too
+        config = load_config(folder / "config.yaml")
+    except Exception as error:
+        _failed(folder, error, threads)
+        raise
+    threads = set_threads(threads)
+    write_json(folder / "result.json", make_status("running", folder, threads=threads))
+    sinks = []
+    if config.logging.tensorboard:
+        sinks.append(TensorBoardSink(folder / "tb"))
+    if config.logging.csv:
+        sinks.append(CsvSink(folder / "scalars.csv"))
+    if progress is not None:
+        sinks.append(progress)
+    logger = Logger(sinks)
+    try:
+        learner = make_learner(config.learner.name, config.env.id, config.env.kwargs,
+                               learner_params(folder, config), config.seed, logger)
+        learner.trust_pickles = trust_pickles  # an older version's pickled checkpoint
+        result = learner.learn(config.budget.env_steps, folder / "checkpoints")
+    except BaseException as error:
+        logger.close()
+        _failed(folder, error, threads)
+        raise
+    write_json(folder / "artefacts.json", dict(result.artefacts))
+    final = make_status("done", folder, result, threads=threads)
+    write_json(folder / "result.json", final)
+    try:  # extras after the result is safe: a failure here loses nothing
+        logger.hparams(flat_hparams(config), {k: float(v) for k, v in result.metrics.items()})
+    except Exception as error:
+        print(f"animat: warning: {folder}: hyperparameters not written to TensorBoard: {error}",
+              file=sys.stderr)
+    finally:
+        logger.close()
+    return final
+
+
+def resume(folder: Path, progress=None, threads: int | None = None,
+           trust_pickles: bool = False) -> dict:
+    """Continue an unfinished run from its last checkpoint (``trust_pickles``: also from an
+    older version's pickled one)."""
+    status = read_status(folder)
+    if status["status"] == "done":
+        raise RunError(f"{folder}: the run is done; nothing to resume")
+    if status["status"] == "running" and folder_busy(folder):
+        raise RunError(f"{folder}: the run is still running (pid {status.get('pid')})")
+    return execute(folder, progress, threads, trust_pickles)  # a "running" one that died
