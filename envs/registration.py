@@ -7,16 +7,20 @@ The fish's locomotion ids and the dolphin's tasks run on the batched core
 single envs.
 
 :func:`timing` gives an id's clock (``dt`` and ``episode_steps``) from these kwargs and the
-user's, without building the env.
+user's, without building the env; :func:`body_of` and :func:`task_of` its body and task.
 """
 
 from __future__ import annotations
 
 import inspect
-from typing import Any, NamedTuple
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 import gymnasium as gym
 from gymnasium.envs.registration import load_env_creator
+
+if TYPE_CHECKING:
+    from .bodies.spec import BodySpec
+    from .tasks.base import Task
 
 CORE: dict[str, str] = {"entry_point": "animat.envs.core.env:BodyEnv",
         "vector_entry_point": "animat.envs.core.env:BodyVectorEnv"}
@@ -159,3 +163,59 @@ def _clock(physics_dt: float, frame_skip: int, duration: float) -> Timing | None
         return None
     dt = physics_dt * int(frame_skip)
     return Timing(float(dt), max(1, int(round(duration / dt))))
+
+
+def body_of(env_id: str, env_kwargs: dict | None = None) -> BodySpec:
+    """The body of ``gym.make(env_id, **env_kwargs)``: for an id of the core (the fish's and
+    the dolphin's) :func:`animat.envs.bodies.make_body` of its ``body`` (the registered kwargs
+    of :data:`ENVS` and ``env_kwargs``, these winning), building no env and checking nothing
+    else (:func:`timing` checks the clock's arguments); any other id's env is built and its
+    body read."""
+    from .bodies import make_body
+
+    arguments = _core_arguments(env_id, env_kwargs)
+    if arguments is None:
+        return _built_attribute(env_id, env_kwargs, "body")
+    return make_body(arguments[0]["body"])
+
+
+def task_of(env_id: str, env_kwargs: dict | None = None) -> Task:
+    """The task of ``gym.make(env_id, **env_kwargs)``: for an id of the core
+    :func:`animat.envs.tasks.make_task` of its ``task`` with the kwargs the env does not name
+    (the task's own), as :func:`body_of` reads them; any other id's env is built and its task
+    read."""
+    from .tasks import make_task
+
+    arguments = _core_arguments(env_id, env_kwargs)
+    if arguments is None:
+        return _built_attribute(env_id, env_kwargs, "task")
+    named, task_kwargs = arguments
+    return make_task(named["task"], **task_kwargs)
+
+
+def _core_arguments(env_id: str, env_kwargs: dict | None) -> tuple[dict, dict] | None:
+    """(the core env's named arguments: their defaults, the registered kwargs and
+    ``env_kwargs`` over them; the rest of the kwargs, the task's) of ``env_id``, or None for
+    an id that is not the core's."""
+    entry = ENVS.get(env_id)
+    if entry is None or entry["entry_point"] != CORE["entry_point"]:
+        return None
+    arguments = inspect.signature(load_env_creator(entry["entry_point"])).parameters
+    named = {name: p.default for name, p in arguments.items() if p.kind is not p.VAR_KEYWORD}
+    kwargs = {**entry.get("kwargs", {}), **(env_kwargs or {})}
+    return ({**named, **{k: v for k, v in kwargs.items() if k in named}},
+            {k: v for k, v in kwargs.items() if k not in named})
+
+
+def _built_attribute(env_id: str, env_kwargs: dict | None, name: str) -> Any:
+    """``name`` (``body``, ``task``) of the env built (and closed), or of its core; a
+    ValueError when it has none."""
+    env = gym.make(env_id, **(env_kwargs or {}))
+    try:
+        unwrapped = env.unwrapped
+        value = getattr(unwrapped, name, getattr(getattr(unwrapped, "core", None), name, None))
+    finally:
+        env.close()
+    if value is None:
+        raise ValueError(f"{env_id} has no {name} to read")
+    return value

@@ -3,5 +3,6 @@
 Rooms: :mod:`.launch` (configs, run folders, progress, shipped files), :mod:`.figures` (the
 paper's figures, the stunts, the world's video, the abstraction table) and :mod:`.bench` (the
 benchmarks); beside them the commands: ``cli`` (and its ``parser``), ``sweep``, ``tune``,
-``compare``, ``evaluate``, ``demo`` and ``fingerprint``. Imports run one way: experiments -> learners -> envs.
+``compare``, ``evaluate``, ``demo`` and ``fingerprint``. Imports run one way: experiments ->
+learners -> envs.
 """

@@ -248,11 +248,19 @@ def load_checkpoint(path: str | Path) -> Any | None:
                                     f"{error})") from None
 
 
-# modules an older version's pickled checkpoints name, and where they are now
+# modules an older version's pickled checkpoints name, and where they are now; a
+# "<module>.<Class>" key: that class alone moved out of the module (the rest stayed)
 MOVED = {"animat.learners.annealing": "animat.learners.optimizers.annealing",
          "animat.learners.cmaes": "animat.learners.optimizers.cmaes",
          "animat.learners.abstraction": "animat.learners.controllers.abstraction",
-         "animat.learners.controller": "animat.learners.controllers.tent"}
+         "animat.learners.controller": "animat.learners.controllers.tent",
+         "animat.learners.scorers.active_vision": "animat.learners.scorers.pursuit",
+         "animat.learners.scorers.behaviours": "animat.learners.scorers.living_world",
+         **{f"animat.learners.blackbox.{name}": "animat.learners.blackbox_run"
+            for name in ("Phase", "Run")},
+         **{f"animat.learners.blackbox.{name}": "animat.learners.controllers.periodic"
+            for name in ("ControllerParams", "PeriodicPlayer")},
+         "animat.learners.blackbox.ResultFrom": "animat.learners.controllers.report"}
 
 
 class _Unpickler(pickle.Unpickler):
@@ -262,7 +270,8 @@ class _Unpickler(pickle.Unpickler):
     def find_class(self, module: str, name: str):
         if module.split(".")[0] in ("envs", "learners", "experiments"):
             module = f"animat.{module}"
-        return super().find_class(MOVED.get(module, module), name)
+        module = MOVED.get(f"{module}.{name}", MOVED.get(module, module))
+        return super().find_class(module, name)
 
 
 def unknown_params(params: dict, allowed: set[str], learner: str) -> None:

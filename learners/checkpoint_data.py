@@ -1,4 +1,4 @@
-"""Black-box checkpoints as data: a learner's progress (:class:`~animat.learners.blackbox.Run`)
+"""Black-box checkpoints as data: a learner's progress (:class:`~animat.learners.blackbox_run.Run`)
 written as JSON and read back without pickle.
 
 The progress is a tree of a few known dataclasses (the run, its phases, the optimisers' params
@@ -25,12 +25,12 @@ FORMAT = "artificial-animals black-box checkpoint 1"
 
 
 def _types() -> dict[str, type]:
-    from . import blackbox
+    from . import blackbox_run
     from .optimizers import annealing, cmaes
 
-    return {cls.__name__: cls for cls in (blackbox.Run, blackbox.Phase, annealing.AnnealingParams,
-                                          annealing.AnnealingState, cmaes.CMAESParams,
-                                          cmaes.CMAESState)}
+    return {cls.__name__: cls for cls in (blackbox_run.Run, blackbox_run.Phase,
+                                          annealing.AnnealingParams, annealing.AnnealingState,
+                                          cmaes.CMAESParams, cmaes.CMAESState)}
 
 
 def to_data(value: Any) -> Any:

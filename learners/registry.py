@@ -8,9 +8,9 @@ from .logger import Logger
 from .macro import MacroLearner
 from .ppo.learner import PPOLearner
 from .repertoire import BasicTrainingLearner
-from .scorers.active_vision import ActiveVisionLearner
-from .scorers.behaviours import BehavioursLearner
 from .scorers.handmc import HandMCLearner
+from .scorers.living_world import BehavioursLearner
+from .scorers.pursuit import ActiveVisionLearner
 from .stroke import StrokeCMAESLearner, StrokeLearner
 
 LEARNERS: dict[str, type[Learner]] = {

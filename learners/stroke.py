@@ -19,7 +19,6 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-import gymnasium as gym
 import numpy as np
 
 from animat.envs.bodies.dolphin import (
@@ -29,6 +28,7 @@ from animat.envs.bodies.dolphin import (
     VENTRAL_BACK,
     VENTRAL_MIDDLE,
 )
+from animat.envs.registration import body_of, timing
 
 from .blackbox import BlackBoxLearner
 from .controllers.tent import play
@@ -144,20 +144,15 @@ class StrokeLearnerParams:
 
 
 def _dolphin_episode(env_id: str, env_kwargs: dict, learner: str) -> tuple[float, float]:
-    """(env step, episode duration), s, of a dolphin env; a ValueError naming ``learner`` for a
-    body whose actuators are not the dolphin's (the stroke drives its dorsal and ventral
-    muscles by name)."""
-    env = gym.make(env_id, **env_kwargs)
-    try:
-        core = getattr(env.unwrapped, "core", None)
-        names = tuple(getattr(getattr(core, "body", None), "actuator_names", ()) or ())
-        if names != ACTUATOR_NAMES:
-            raise ValueError(f"learner {learner!r}: the exit stroke drives the dolphin's "
-                             f"actuators {ACTUATOR_NAMES}; {env_id} has {names or 'others'}")
-        dt = float(env.unwrapped.dt)
-        return dt, dt * int(env.unwrapped.episode_steps)
-    finally:
-        env.close()
+    """(env step, episode duration), s, of a dolphin env, without building it; a ValueError
+    naming ``learner`` for a body whose actuators are not the dolphin's (the stroke drives
+    its dorsal and ventral muscles by name)."""
+    dt, steps = timing(env_id, env_kwargs)  # a bad argument: the env's own error, first
+    names = tuple(body_of(env_id, env_kwargs).actuator_names or ())
+    if names != ACTUATOR_NAMES:
+        raise ValueError(f"learner {learner!r}: the exit stroke drives the dolphin's "
+                         f"actuators {ACTUATOR_NAMES}; {env_id} has {names or 'others'}")
+    return dt, dt * steps
 
 
 class StrokeLearner(BlackBoxLearner):

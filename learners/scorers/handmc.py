@@ -7,6 +7,8 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
+from animat.envs.registration import task_of, timing
+
 from ..agents import OpenLoopAgent
 from ..base import LearnResult, Scorer, typed_params
 from ..controllers.tent import play
@@ -40,11 +42,9 @@ class HandMCLearner(Scorer):
         self.speed = self.own.speed
 
     def agent(self, artefacts: dict, folder) -> OpenLoopAgent:
-        import gymnasium as gym
-
-        env = gym.make(self.env_id, **self.env_kwargs)
-        task, dt, steps = env.unwrapped.task, env.unwrapped.dt, env.unwrapped.episode_steps
-        env.close()
+        """The task's MC at the run's ``speed``, played open loop (no env built)."""
+        dt, steps = timing(self.env_id, self.env_kwargs)
+        task = task_of(self.env_id, self.env_kwargs)
         return OpenLoopAgent(task.hand_controller(speed=float(artefacts.get("speed", self.speed))),
                              dt, steps, self.env_id, self.env_kwargs)
 

@@ -1,13 +1,26 @@
 """An env's clock without the env: :func:`animat.envs.registration.timing` reckons ``dt`` (s)
 and ``episode_steps`` of every registered id from its registered kwargs and the user's, and
 builds nothing; what it reckons equals what the env built with the same kwargs reports, and a
-bad argument is the same error (type and one-line message) the env gives."""
+bad argument is the same error (type and one-line message) the env gives. Likewise its body and
+task (:func:`~animat.envs.registration.body_of`, :func:`~animat.envs.registration.task_of`)."""
+
+import dataclasses
 
 import gymnasium as gym
+import numpy as np
 import pytest
 
 import animat  # noqa: F401
-from animat.envs.registration import ENVS, MARINE, PURSUIT, Timing, built_timing, timing
+from animat.envs.registration import (
+    ENVS,
+    MARINE,
+    PURSUIT,
+    Timing,
+    body_of,
+    built_timing,
+    task_of,
+    timing,
+)
 
 NAN = float("nan")
 IDS = sorted(ENVS)
@@ -101,3 +114,46 @@ def test_the_shipped_durations_build_nothing(no_builds):
     assert timing("Animat/DolphinSomersault-v0", {"duration": 9.0}) == Timing(0.05, 180)
     assert timing("Animat/FishPursuit-v0", {"duration": 20.0}) == Timing(0.05, 400)
     assert timing("Animat/MarineWorld-v0", {"duration": 60.0}) == Timing(0.05, 1200)
+
+
+# the body and the task an env is built with, read without building it (body_of, task_of)
+BODY_TASK_KWARGS = ([(i, {}) for i in IDS if i != "Animat/MarineWorld-v0"] + TASK_KWARGS
+                    + [("Animat/FishSwim-v0", {"task": "turn", "angle_deg": 30.0}),
+                       ("Animat/DolphinSpin-v0", {"direction": "up", "duration": 2.0})])
+
+
+def built_body_and_task(env_id: str, kwargs: dict):
+    """(body, task) of the env built with ``kwargs`` (the pursuit's: its core's)."""
+    env = gym.make(env_id, **kwargs)
+    try:
+        core = env.unwrapped.core
+        return core.body, core.task
+    finally:
+        env.close()
+
+
+def same_body(a, b) -> bool:
+    return type(a) is type(b) and all(
+        np.array_equal(getattr(a, f.name), getattr(b, f.name)) for f in dataclasses.fields(a))
+
+
+@pytest.mark.parametrize(("env_id", "kwargs"), BODY_TASK_KWARGS)
+def test_body_of_and_task_of_are_the_built_envs(env_id, kwargs, monkeypatch):
+    body, task = built_body_and_task(env_id, kwargs)
+    with monkeypatch.context() as patch:
+        if env_id in CORE_IDS:
+            patch.setattr(gym, "make", lambda *a, **k: pytest.fail(f"built {a} {k}"))
+        assert same_body(body_of(env_id, kwargs), body)
+        assert task_of(env_id, kwargs) == task and type(task_of(env_id, kwargs)) is type(task)
+    assert body_of(env_id, kwargs).actuator_names == body.actuator_names
+
+
+def test_body_of_and_task_of_refuse_what_the_env_refuses():
+    with pytest.raises(ValueError, match="unknown body"):
+        body_of("Animat/FishSwim-v0", {"body": "whale"})
+    with pytest.raises(ValueError, match="unknown task"):
+        task_of("Animat/FishSwim-v0", {"task": "fly"})
+    with pytest.raises(ValueError, match="has no argument"):
+        task_of("Animat/FishSwim-v0", {"nonsense": 1})
+    with pytest.raises(ValueError, match="Animat/MarineWorld-v0 has no body to read"):
+        body_of("Animat/MarineWorld-v0")

@@ -6,9 +6,11 @@ import gymnasium as gym
 import numpy as np
 import pytest
 
-from animat.learners.base import episode_timing
-from animat.learners.blackbox import PeriodicPlayer, ResultFrom
+from animat.learners.base import CorruptFile, episode_timing
 from animat.learners.controllers.abstraction import AbstractController
+from animat.learners.controllers.periodic import PeriodicPlayer
+from animat.learners.controllers.report import ResultFrom
+from animat.learners.controllers.tent import play
 from animat.learners.logger import Logger, MemorySink
 from animat.learners.optimizers import annealing
 from animat.learners.registry import LEARNERS, make_learner
@@ -163,8 +165,13 @@ def test_the_reported_controller_plays_back_without_building_the_env(tmp_path, m
     expected = PeriodicPlayer(AbstractController.from_dict(artefacts["abstraction"]), 0.5)
     np.testing.assert_array_equal(learner.agent(refined, tmp_path).actions,
                                   expected.actions(0.05, 10))
-    with pytest.raises(ValueError, match="'refined' is not a valid ResultFrom"):
-        learner.agent({**artefacts, "result_from": "refined"}, tmp_path)
+    for value, written in (("refined", '"refined"'), (None, "null"), (1, "1")):
+        with pytest.raises(CorruptFile) as error:
+            learner.agent({**artefacts, "result_from": value}, tmp_path)
+        assert str(error.value).startswith(
+            f"{tmp_path / 'artefacts.json'}: result_from is {written}, not one of "
+            f'"learned", "refined abstraction"'), str(error.value)
+        assert "\n" not in str(error.value)
 
 
 class _Crash(Exception):
@@ -268,7 +275,7 @@ def test_a_checkpoint_written_before_the_animat_namespace_still_loads(tmp_path):
     import pickle
 
     from animat.learners.base import load_checkpoint
-    from animat.learners.blackbox import Run
+    from animat.learners.blackbox_run import Run
 
     old = pickle.dumps(Run(env_steps=640, rounds=2), protocol=0).replace(  # text opcodes
         b"animat.learners.", b"learners.")
@@ -276,3 +283,46 @@ def test_a_checkpoint_written_before_the_animat_namespace_still_loads(tmp_path):
     (tmp_path / "checkpoint.pkl").write_bytes(old)
     run = load_checkpoint(tmp_path / "checkpoint.pkl")
     assert isinstance(run, Run) and run.env_steps == 640 and run.rounds == 2
+
+
+def test_a_checkpoint_naming_the_classes_where_they_were_still_loads(tmp_path):
+    """Pickles of an older version name the black-box run's classes in ``blackbox`` and the
+    scorers' params in ``scorers.active_vision`` and ``scorers.behaviours``: :data:`MOVED`
+    finds them where they are now, with or without ``animat.``."""
+    import pickle
+
+    from animat.learners.base import load_checkpoint
+    from animat.learners.blackbox_run import Phase, Run
+    from animat.learners.controllers.periodic import ControllerParams
+    from animat.learners.scorers.living_world import BehavioursParams
+    from animat.learners.scorers.pursuit import PursuitEvalParams
+
+    payload = {"run": Run([Phase(annealing.AnnealingParams(), None, start={"eval/return": 1.0})],
+                          env_steps=640, rounds=2),
+               "own": ControllerParams(nodes=5), "pursuit": PursuitEvalParams(episodes=3),
+               "world": BehavioursParams(episodes=2)}
+    now = pickle.dumps(payload, protocol=0)  # text opcodes: "c<module>\n<name>\n"
+    for prefix in (b"animat.learners.", b"learners."):
+        old = now
+        for new, was in ((b"blackbox_run", b"blackbox"), (b"controllers.periodic", b"blackbox"),
+                         (b"scorers.pursuit", b"scorers.active_vision"),
+                         (b"scorers.living_world", b"scorers.behaviours")):
+            assert b"animat.learners." + new + b"\n" in old
+            old = old.replace(b"animat.learners." + new + b"\n", prefix + was + b"\n")
+        assert b"blackbox_run" not in old and b"scorers.pursuit" not in old
+        (tmp_path / "checkpoint.pkl").write_bytes(old)
+        assert load_checkpoint(tmp_path / "checkpoint.pkl") == payload
+
+
+def test_the_hand_mc_plays_back_without_building_the_env(tmp_path, monkeypatch):
+    """handmc's agent reads the task and the clock off the id and kwargs
+    (:func:`animat.envs.registration.task_of`, ``timing``)."""
+    env = gym.make("Animat/FishTurn-v0", duration=0.5, angle_deg=45.0)
+    task, dt, steps = env.unwrapped.task, env.unwrapped.dt, env.unwrapped.episode_steps
+    env.close()
+    learner = make_learner("handmc", "Animat/FishTurn-v0", {"duration": 0.5, "angle_deg": 45.0})
+    monkeypatch.setattr(gym, "make", lambda *a, **k: pytest.fail("an env was built"))
+    agent = learner.agent({"speed": 0.5}, tmp_path)
+    assert agent.actions.shape == (steps, 6)
+    expected = play(task.hand_controller(speed=0.5), dt, steps)
+    np.testing.assert_array_equal(agent.actions, expected)

@@ -93,3 +93,14 @@ def test_a_run_keeps_a_stroke_within_its_bounds_that_plays_back_as_scored(name, 
     assert returns[0] == pytest.approx(result.metrics["eval/return"], rel=1e-9)
     assert metrics["flight_rotation_deg"][0] == pytest.approx(
         result.metrics["eval/flight_rotation_deg"], rel=1e-9)
+
+
+def test_the_learner_reads_the_dolphins_body_and_clock_without_building_the_env(monkeypatch):
+    import gymnasium as gym
+
+    monkeypatch.setattr(gym, "make", lambda *a, **k: pytest.fail(f"built {a} {k}"))
+    learner = make_learner("stroke", ENV, KWARGS, {"repertoire": REPERTOIRE, "prefix": PREFIX})
+    assert learner.window == (0.0, 2.0) and learner.max_hold <= 2.0
+    with pytest.raises(ValueError, match="drives the dolphin's actuators"):
+        make_learner("stroke", "Animat/FishSwim-v0", {}, {"repertoire": REPERTOIRE,
+                                                          "prefix": PREFIX})

@@ -1,5 +1,5 @@
 """The paper's vision-guided pursuit controller as a policy (the active-vision learner scores
-it, :mod:`animat.learners.scorers.active_vision`; the living world's eye-driven hunter uses it).
+it, :mod:`animat.learners.scorers.pursuit`; the living world's eye-driven hunter uses it).
 
 :class:`ActiveVisionPolicy` sees only the observation (the two eyes' levels, the gaze, the
 proprioception), never ``info`` or the simulator. Each frame, each eye detects the target by

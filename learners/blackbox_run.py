@@ -1,0 +1,140 @@
+"""A black-box learner's run: the refinement phase's settings (:func:`refine_settings`), its
+progress (:class:`Run`, its :class:`Phase` s, each keeping its best candidate), what a round
+logs (:func:`log_round`), and its checkpoint: where it goes, what is saved there
+(:func:`saved_run`) and how it is written (:func:`save_run`): data
+(:mod:`animat.learners.checkpoint_data`), or a pickle for a trusted run of an older version."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, fields, replace
+from pathlib import Path
+from types import ModuleType
+from typing import Any
+
+import numpy as np
+
+from . import checkpoint_data
+from .base import UntrustedPickle, load_checkpoint, save_checkpoint, unknown_params
+from .logger import Logger
+
+REFINE_KEYS = {"share", "threshold"}
+
+
+def refine_settings(refine: dict | None, learner: str, optimizer: ModuleType,
+                    opt_params: Any) -> dict | None:
+    """The refinement phase's settings of learner ``learner`` (its optimiser module and
+    params ``opt_params``) from ``refine``: {``share`` (the fraction of the run's budget it
+    gets, in (0, 1)), ``threshold`` (the FFT threshold of the abstraction refined, default
+    0.5), and optimiser parameters that differ in the frequency space (e.g. ``step_size``)};
+    smoothing is off there."""
+    if refine is None:
+        return None
+    if not isinstance(refine, dict):
+        raise ValueError(f"learner {learner!r}: refine must be a mapping, got {refine!r}")
+    if "env_steps" in refine:
+        raise ValueError(f"learner {learner!r}: refine.env_steps is gone: give "
+                         "refine.share, the fraction of budget.env_steps it gets (e.g. 0.25)")
+    option_names = {f.name for f in fields(opt_params)}
+    unknown_params(refine, REFINE_KEYS | option_names, f"{learner}.refine")
+    share, threshold = refine.get("share"), refine.get("threshold", 0.5)
+    if not (type(share) in (float, int) and 0.0 < share < 1.0
+            and type(threshold) in (float, int) and 0.0 <= threshold < 1.0):
+        raise ValueError(f"learner {learner!r}: refine needs share in (0, 1) and "
+                         f"threshold in [0, 1); got {share!r}, {threshold!r}")
+    options = optimizer.refine_options({k: v for k, v in refine.items() if k not in REFINE_KEYS})
+    params = replace(opt_params, **options)
+    # the population stays: one batch width for both phases, every row a candidate
+    population = int(optimizer.population(opt_params))
+    if optimizer.population(params) != population:
+        raise ValueError(f"learner {learner!r}: refine cannot change the population "
+                         f"({population})")
+    return {"share": float(share), "threshold": threshold, "params": params}
+
+
+@dataclass
+class Phase:
+    """One optimisation: its optimiser params and state, the best candidate so far
+    ({``x``, ``return``, ``metrics``}), the abstraction whose frequency parameters it searches
+    (refining; None for the nodal search) and, refining, the metrics it started from."""
+
+    params: Any
+    state: Any
+    best: dict | None = None
+    support: Any = None
+    start: dict | None = None
+
+    def track(self, candidates, returns: np.ndarray, metrics: dict) -> None:
+        """The one place the best candidate is kept: its vector, return and metrics."""
+        k = int(np.argmax(returns))
+        if self.best is None or returns[k] > self.best["return"]:
+            self.best = {"x": np.array(candidates[k]), "return": float(returns[k]),
+                         "metrics": {name: float(v[k]) for name, v in metrics.items()}}
+
+
+@dataclass
+class Run:
+    """A learner's progress (what a checkpoint holds): its phases and the counters."""
+
+    phases: list[Phase] = field(default_factory=list)
+    env_steps: int = 0
+    wall: float = 0.0
+    rounds: int = 0
+
+    @classmethod
+    def from_checkpoint(cls, saved) -> Run:
+        """A saved run; checkpoints from before these dataclasses were dicts."""
+        if isinstance(saved, Run):
+            return saved
+        phases = saved.get("phases") or [{"params": saved["params"], "state": saved["state"],
+                                           "best": saved.get("best")}]
+        return cls([Phase(p["params"], p["state"], p.get("best"), p.get("support"),
+                          p.get("start")) for p in phases],
+                   saved["env_steps"], saved["wall"], saved["rounds"])
+
+    def overall_best(self) -> dict | None:
+        """The best candidate of either phase (None before the first round)."""
+        bests = [p.best for p in self.phases if p.best is not None]
+        return max(bests, key=lambda b: b["return"]) if bests else None
+
+
+def log_round(logger: Logger, run: Run, returns: np.ndarray, metrics: dict,
+              train: dict[str, float]) -> None:
+    """Like every learner, ``eval/*``: the current incumbent (the best candidate of this
+    round, scored over the evaluation start states), as PPO logs its current policy;
+    ``best/*``: the best so far (of either phase), which is what the run returns; and the
+    optimiser's own ``train/*`` scalars (``train``)."""
+    k, best, step = int(np.argmax(returns)), run.overall_best(), run.env_steps
+    logger.scalar("eval/return", float(returns[k]), step)
+    for name, values in metrics.items():
+        logger.scalar(f"eval/{name}", float(values[k]), step)
+    logger.scalar("best/return", best["return"], step)
+    for name, value in best["metrics"].items():
+        logger.scalar(f"best/{name}", value, step)
+    for name, value in train.items():
+        logger.scalar(f"train/{name}", value, step)
+
+
+def saved_run(checkpoint_dir: str | Path | None, trust_pickles: bool
+              ) -> tuple[Path | None, object]:
+    """Where the run's checkpoint goes, and what is saved there (None: nothing yet).
+    ``checkpoint.json`` is data (:mod:`animat.learners.checkpoint_data`); an older
+    version's ``checkpoint.pkl`` is read (and the run goes on pickling) only when the
+    caller trusts the folder (``trust_pickles``): unpickling runs whatever its writer put in
+    it."""
+    if not checkpoint_dir:
+        return None, None
+    folder = Path(checkpoint_dir)
+    legacy, path = folder / "checkpoint.pkl", folder / "checkpoint.json"
+    if path.exists() or not legacy.exists():
+        return path, checkpoint_data.load(path)
+    if not trust_pickles:
+        raise UntrustedPickle(legacy)
+    return legacy, load_checkpoint(legacy)
+
+
+def save_run(path: Path, run: Run) -> None:
+    """Write ``run`` to the checkpoint ``path`` :func:`saved_run` chose."""
+    if path.suffix == ".pkl":  # a trusted older run goes on as it was saved
+        save_checkpoint(path, run)
+    else:
+        checkpoint_data.save(path, run)
