@@ -3,7 +3,7 @@ the water and the reward weights is checked where it enters, for its type, finit
 physically sensible range, and a bad one is a ``ValueError`` of one line naming the argument
 and the value, e.g. ``reset_noise_scale must be a finite number in [0, 0.1] BL, got nan``.
 
-The ranges themselves live with what they bound (:mod:`animat.envs.core.batch` for the episode's
+The ranges themselves live with what they bound (:mod:`animat.envs.core.arguments` for the episode's
 cost, :class:`animat.envs.physics.system.Water` for the water, each task for its arguments);
 here are only the checks, so that every message reads the same.
 """

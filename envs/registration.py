@@ -133,7 +133,8 @@ def _core_clock(named: dict[str, Any], kwargs: dict) -> Timing | None:
     """The clock of a core env (:class:`animat.envs.core.env.BodyEnv`) of ``kwargs``: its named
     arguments (``named``: their defaults) and the task's (the rest), checked as it checks them
     (the task, the reward weights, then the batch's numbers)."""
-    from .core.batch import RewardWeights, check_arguments
+    from .core.arguments import check_arguments
+    from .core.reward import RewardWeights
     from .tasks import make_task
 
     args = {**named, **{k: v for k, v in kwargs.items() if k in named}}
@@ -148,7 +149,8 @@ def _core_clock(named: dict[str, Any], kwargs: dict) -> Timing | None:
 def _world_clock(duration: Any) -> Timing | None:
     """The clock of a world env (:data:`WORLDS`) of ``duration`` s: one body batch at the core's
     default ``physics_dt`` and ``frame_skip``, its duration checked as the batch checks it."""
-    from .core.batch import DEFAULT_FRAME_SKIP, check_arguments
+    from .core.arguments import check_arguments
+    from .core.batch import DEFAULT_FRAME_SKIP
     from .physics.system import DEFAULT_DT
 
     check_arguments(1, DEFAULT_DT, DEFAULT_FRAME_SKIP, duration, 0.0, True, 0.0)

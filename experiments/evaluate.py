@@ -31,9 +31,9 @@ import numpy as np
 
 import animat  # noqa: F401
 from animat.learners.agents import SkillSet
-from animat.learners.base import read_json
 from animat.learners.registry import make_learner
 from animat.learners.rollout import score_episode, spread
+from animat.learners.storage.files import read_json
 
 from .launch.config import learner_params, load_config
 from .launch.folders import read_status, write_json

@@ -24,7 +24,7 @@ import json
 import time
 from pathlib import Path
 
-from animat.learners.base import atomic_write
+from animat.learners.storage.files import atomic_write
 
 from .launch.config import ConfigError, ExperimentConfig, load_config, to_yaml
 from .launch.execute import execute

@@ -26,15 +26,7 @@ import gymnasium as gym
 import numpy as np
 
 from .agents import OpenLoopAgent
-from .base import (
-    BudgetError,
-    Learner,
-    LearnResult,
-    check_memory,
-    episode_timing,
-    typed_params,
-    unknown_params,
-)
+from .base import Learner, LearnResult, episode_timing
 from .blackbox_run import Phase, Run, log_round, refine_settings, save_run, saved_run
 from .controllers.periodic import ControllerParams, PeriodicPlayer, controller_from_vector
 from .controllers.report import (
@@ -48,6 +40,7 @@ from .controllers.report import (
 )
 from .optimizers import annealing, cmaes
 from .rollout import BatchEvaluator
+from .validation import BudgetError, check_memory, typed_params, unknown_params
 
 
 class BlackBoxLearner(Learner):
@@ -112,10 +105,10 @@ class BlackBoxLearner(Learner):
         return actuators * self.nodes, f"nodes {self.nodes} x {actuators} actuators"
 
     def _check_memory(self, population: int) -> None:
-        """ValueError in one line (:func:`~animat.learners.base.check_memory`) when a round
-        of ``population`` candidates would not fit in this machine's memory: the optimiser's
-        state over their genes, and their action sequences (float32) over every start
-        state, stacked, then repeated for the batch."""
+        """ValueError in one line (:func:`~animat.learners.validation.check_memory`) when a
+        round of ``population`` candidates would not fit in this machine's memory: the
+        optimiser's state over their genes, and their action sequences (float32) over every
+        start state, stacked, then repeated for the batch."""
         steps, actuators = self._env_sizes()
         dims, made_of = self._genes(actuators)
         params = self.optimizer.with_population(self.opt_params, population)
@@ -152,7 +145,7 @@ class BlackBoxLearner(Learner):
 
     def agent(self, artefacts: dict, folder: Path) -> OpenLoopAgent:
         """The controller the run reported (``result_from``: the learned one, or its refined
-        abstraction), played open loop; a :class:`~animat.learners.base.CorruptFile` naming
+        abstraction), played open loop; a :class:`~animat.learners.storage.files.CorruptFile` naming
         the folder's artefacts.json for a ``result_from`` it does not know."""
         dt, steps = episode_timing(self.env_id, self.env_kwargs)
         result_from(artefacts, Path(folder or "") / "artefacts.json")

@@ -2,7 +2,8 @@
 progress (:class:`Run`, its :class:`Phase` s, each keeping its best candidate), what a round
 logs (:func:`log_round`), and its checkpoint: where it goes, what is saved there
 (:func:`saved_run`) and how it is written (:func:`save_run`): data
-(:mod:`animat.learners.checkpoint_data`), or a pickle for a trusted run of an older version."""
+(:mod:`animat.learners.storage.checkpoint_data`), or a pickle for a trusted run of an older
+version."""
 
 from __future__ import annotations
 
@@ -13,9 +14,10 @@ from typing import Any
 
 import numpy as np
 
-from . import checkpoint_data
-from .base import UntrustedPickle, load_checkpoint, save_checkpoint, unknown_params
 from .logger import Logger
+from .storage import checkpoint_data
+from .storage.pickles import UntrustedPickle, load_checkpoint, save_checkpoint
+from .validation import unknown_params
 
 REFINE_KEYS = {"share", "threshold"}
 
@@ -117,7 +119,7 @@ def log_round(logger: Logger, run: Run, returns: np.ndarray, metrics: dict,
 def saved_run(checkpoint_dir: str | Path | None, trust_pickles: bool
               ) -> tuple[Path | None, object]:
     """Where the run's checkpoint goes, and what is saved there (None: nothing yet).
-    ``checkpoint.json`` is data (:mod:`animat.learners.checkpoint_data`); an older
+    ``checkpoint.json`` is data (:mod:`animat.learners.storage.checkpoint_data`); an older
     version's ``checkpoint.pkl`` is read (and the run goes on pickling) only when the
     caller trusts the folder (``trust_pickles``): unpickling runs whatever its writer put in
     it."""

@@ -19,8 +19,8 @@ from .blackbox import BlackBoxLearner
 from .controllers.concatenation import concatenate
 from .controllers.tent import play
 from .optimizers import annealing
-from .repertoire import Repertoire, kept_in_run
 from .rollout import START_STATES
+from .skills.repertoire import Repertoire, kept_in_run
 
 
 @dataclass(frozen=True)
@@ -174,7 +174,7 @@ class MacroLearner(BlackBoxLearner):
 
     def learn(self, budget_env_steps: int, checkpoint_dir=None):
         """As every black-box learner, composing from the run folder's own copy of the
-        repertoire (:func:`animat.learners.repertoire.kept_in_run`)."""
+        repertoire (:func:`animat.learners.skills.repertoire.kept_in_run`)."""
         self.repertoire = kept_in_run(self.repertoire, checkpoint_dir)
         return super().learn(budget_env_steps, checkpoint_dir)
 

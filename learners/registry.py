@@ -7,10 +7,10 @@ from .blackbox import AnnealingLearner, CMAESLearner
 from .logger import Logger
 from .macro import MacroLearner
 from .ppo.learner import PPOLearner
-from .repertoire import BasicTrainingLearner
 from .scorers.handmc import HandMCLearner
 from .scorers.living_world import BehavioursLearner
 from .scorers.pursuit import ActiveVisionLearner
+from .skills.basic_training import BasicTrainingLearner
 from .stroke import StrokeCMAESLearner, StrokeLearner
 
 LEARNERS: dict[str, type[Learner]] = {

@@ -71,7 +71,7 @@ Every argument is checked as it enters, and a bad one is a ``ValueError`` of one
 it and its value: ``duration`` in (0, 86400] s (and at most 1e9 integration steps of
 ``physics_dt``), ``physics_dt`` in [1e-6, 1] s, ``frame_skip`` an integer in [1, 10000],
 ``num_envs`` in [1, 65536], ``reset_noise_scale`` in [0, 0.1] BL, each reward weight in
-[0, 1e6] (:func:`animat.envs.core.batch.check_arguments`), the water's fields
+[0, 1e6] (:func:`animat.envs.core.arguments.check_arguments`), the water's fields
 (:class:`~envs.physics.system.Water`) and the task's arguments in their ranges (each task's
 docstring): so that no argument gives NaN, and a step and an episode have a bounded cost.
 
@@ -93,93 +93,32 @@ from gymnasium.utils import seeding
 from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
-from ..bodies import make_body
 from ..bodies.spec import BodySpec
-from ..checks import check_integer, shown
+from ..checks import check_integer
 from ..physics.system import DEFAULT_DT
 from ..render.camera import BodyRenderer
 from ..render.seaworld import SeaWorldRenderer
-from ..tasks import make_task
-from ..tasks.base import SingleEpisodeSummary, Task
-from .batch import (
-    DEFAULT_FRAME_SKIP,
-    MAX_NUM_ENVS,
-    BodyBatch,
-    RewardWeights,
-    validate_actions,
-)
+from ..tasks.base import SingleEpisodeSummary
+from .arguments import MAX_NUM_ENVS, validate_actions
+from .batch import DEFAULT_FRAME_SKIP
+from .reward import RewardWeights
 from .sensors import Observer
+from .shell import (
+    PublicSurface,
+    action_space_of,
+    check_render_mode,
+    generator_from_state,
+    make_core,
+    make_renderer,
+    parse_autoreset_mode,
+    render_row,
+    sub_env_seeds,
+)
 
 RENDER_FPS = 20
 
 
-def _make_core(num_envs: int, task: str, task_kwargs: dict, body: str | BodySpec | None,
-               duration: float | None, physics_dt: float, frame_skip: int,
-               reset_noise_scale: float, reward_weights: RewardWeights | dict | None,
-               water: dict | None, fins: bool, base_water: dict | None = None) -> BodyBatch:
-    for name, value in (("water", water), ("base_water", base_water)):
-        if value is not None and not isinstance(value, dict):
-            raise ValueError(f"{name} must be a dict of Water fields, got {shown(value)}")
-    water = {**(base_water or {}), **(water or {})} or None  # water changes fields of the base
-    task_object = make_task(task, **task_kwargs)
-    weights = RewardWeights.from_value(reward_weights)
-    return BodyBatch(num_envs, task_object, body=make_body(body), water=water,
-                     physics_dt=physics_dt, frame_skip=frame_skip,
-                     reset_noise_scale=reset_noise_scale,
-                     duration=task_object.default_duration if duration is None else duration,
-                     weights=weights, fins=fins)
-
-
-class _PublicSurface:
-    """What learners, demos and tests may read of a fish env (both kinds share it)."""
-
-    core: BodyBatch
-
-    @property
-    def task(self) -> Task:
-        return self.core.task
-
-    @property
-    def body(self) -> BodySpec:
-        return self.core.body
-
-    @property
-    def episode_steps(self) -> int:
-        """Env steps per episode (``duration / dt``)."""
-        return self.core.episode_steps
-
-
-def _renderer(core: BodyBatch):
-    """The third-person view: beside the pool, with sky and surface, for a world with a water
-    surface (:class:`~envs.render.seaworld.SeaWorldRenderer`); else behind and above the body."""
-    surface = core.system.water.surface_z
-    if np.isfinite(surface):
-        return SeaWorldRenderer(core.body, core.ball, surface_z=surface)
-    return BodyRenderer(core.body)
-
-
-def _render_row(renderer, core: BodyBatch, row: int) -> np.ndarray:
-    if isinstance(renderer, SeaWorldRenderer):
-        return renderer.render(core.state.x[row], core.state.ball[row])
-    return renderer.render(core.state.x[row])
-
-
-def _action_space(core: BodyBatch) -> gym.spaces.Box:
-    return gym.spaces.Box(-1.0, 1.0, (core.action_size,), np.float32)
-
-
-def _generator(state: dict) -> np.random.Generator:
-    """A random generator continuing from ``state`` (a ``PCG64`` ``bit_generator.state``, the
-    kind Gymnasium's seeding makes); ValueError when it is not one."""
-    generator = np.random.Generator(np.random.PCG64())
-    try:
-        generator.bit_generator.state = state
-    except (TypeError, ValueError, KeyError) as error:
-        raise ValueError(f"not a PCG64 random generator's state ({error})") from None
-    return generator
-
-
-class BodyEnv(_PublicSurface, gym.Env):
+class BodyEnv(PublicSurface, gym.Env):
     """One fish doing one task (see the module docstring for the full description)."""
 
     metadata = {"render_modes": ["rgb_array"], "render_fps": RENDER_FPS}
@@ -192,12 +131,11 @@ class BodyEnv(_PublicSurface, gym.Env):
                  reset_noise_scale: float = 0.005,
                  reward_weights: RewardWeights | dict | None = None,
                  base_water: dict | None = None, **task_kwargs: Any) -> None:
-        if render_mode not in (None, "rgb_array"):
-            raise ValueError(f"render_mode must be None or 'rgb_array', got {render_mode!r}")
-        self.core = _make_core(1, task, task_kwargs, body, duration, physics_dt, frame_skip,
-                               reset_noise_scale, reward_weights, water, fins, base_water)
+        check_render_mode(render_mode)
+        self.core = make_core(1, task, task_kwargs, body, duration, physics_dt, frame_skip,
+                              reset_noise_scale, reward_weights, water, fins, base_water)
         self.observer = Observer(self.core, sensors)
-        self.action_space = _action_space(self.core)
+        self.action_space = action_space_of(self.core)
         self.observation_space = self.observer.single_space
         self.render_mode = render_mode
         self.dt = self.core.dt
@@ -232,8 +170,8 @@ class BodyEnv(_PublicSurface, gym.Env):
         if self.render_mode != "rgb_array":
             return None
         if self._renderer is None:
-            self._renderer = _renderer(self.core)
-        return _render_row(self._renderer, self.core, 0)
+            self._renderer = make_renderer(self.core)
+        return render_row(self._renderer, self.core, 0)
 
     def get_state(self) -> dict:
         """Everything that changes, as arrays and plain values: the fish's state
@@ -245,7 +183,7 @@ class BodyEnv(_PublicSurface, gym.Env):
     def set_state(self, saved: dict) -> None:
         """Continue from ``saved`` (:meth:`get_state`'s dict); ValueError naming what does
         not fit, before anything is changed."""
-        generator = _generator(saved["rng"])
+        generator = generator_from_state(saved["rng"])
         self.core.set_state(saved["core"])
         self.np_random, self._started = generator, bool(saved["started"])
 
@@ -255,16 +193,7 @@ class BodyEnv(_PublicSurface, gym.Env):
         return self.core.state.x[0].copy()
 
 
-def _autoreset_mode(value: str | AutoresetMode) -> AutoresetMode:
-    names = {"next_step": AutoresetMode.NEXT_STEP, "same_step": AutoresetMode.SAME_STEP}
-    if isinstance(value, AutoresetMode) and value in names.values():
-        return value
-    if value not in names:
-        raise ValueError(f"autoreset_mode must be 'next_step' or 'same_step', got {value!r}")
-    return names[value]
-
-
-class BodyVectorEnv(_PublicSurface, VectorEnv):
+class BodyVectorEnv(PublicSurface, VectorEnv):
     """B fish in one batched simulation.
 
     Sub-env i seeded with ``seed + i`` draws exactly what a single :class:`BodyEnv` reset with
@@ -286,17 +215,16 @@ class BodyVectorEnv(_PublicSurface, VectorEnv):
                  reward_weights: RewardWeights | dict | None = None,
                  autoreset_mode: str | AutoresetMode = AutoresetMode.NEXT_STEP,
                  base_water: dict | None = None, **task_kwargs: Any) -> None:
-        mode = _autoreset_mode(autoreset_mode)
+        mode = parse_autoreset_mode(autoreset_mode)
         self.autoreset_mode = mode
         self.metadata = {**self.metadata, "autoreset_mode": mode}
-        if render_mode not in (None, "rgb_array"):
-            raise ValueError(f"render_mode must be None or 'rgb_array', got {render_mode!r}")
+        check_render_mode(render_mode)
         self.num_envs = check_integer("num_envs", num_envs, 1, MAX_NUM_ENVS)
-        self.core = _make_core(self.num_envs, task, task_kwargs, body, duration, physics_dt,
-                               frame_skip, reset_noise_scale, reward_weights, water, fins,
-                               base_water)
+        self.core = make_core(self.num_envs, task, task_kwargs, body, duration, physics_dt,
+                              frame_skip, reset_noise_scale, reward_weights, water, fins,
+                              base_water)
         self.observer = Observer(self.core, sensors)
-        self.single_action_space = _action_space(self.core)
+        self.single_action_space = action_space_of(self.core)
         self.single_observation_space = self.observer.single_space
         self.action_space = batch_space(self.single_action_space, self.num_envs)
         self.observation_space = batch_space(self.single_observation_space, self.num_envs)
@@ -309,7 +237,7 @@ class BodyVectorEnv(_PublicSurface, VectorEnv):
         self._started = False
 
     def reset(self, *, seed: int | list[int | None] | None = None, options: dict | None = None):
-        seeds = self._seeds(seed)
+        seeds = sub_env_seeds(seed, self.num_envs)
         if seeds is not None:
             self._rngs = [seeding.np_random(s)[0] for s in seeds]
         self.core.reset_rows(np.arange(self.num_envs), self._rngs)
@@ -317,15 +245,6 @@ class BodyVectorEnv(_PublicSurface, VectorEnv):
         self._started = True
         info, kinematics = self.core.measure()
         return self.observer.observe(self.core, kinematics), self._with_masks(info)
-
-    def _seeds(self, seed):
-        if seed is None:
-            return None
-        if isinstance(seed, (int, np.integer)):
-            return [int(seed) + i for i in range(self.num_envs)]
-        if len(seed) != self.num_envs:
-            raise ValueError(f"seed list must have {self.num_envs} entries, got {len(seed)}")
-        return list(seed)
 
     def step(self, actions):
         if not self._started:
@@ -367,9 +286,8 @@ class BodyVectorEnv(_PublicSurface, VectorEnv):
         if self.render_mode != "rgb_array":
             return None
         if self._renderer is None:
-            self._renderer = _renderer(self.core)
-        return tuple(_render_row(self._renderer, self.core, row) for row in range(self.num_envs))
-
+            self._renderer = make_renderer(self.core)
+        return tuple(render_row(self._renderer, self.core, row) for row in range(self.num_envs))
 
     def get_state(self) -> dict:
         """Everything that changes, as arrays and plain values: the batch's state
@@ -384,7 +302,7 @@ class BodyVectorEnv(_PublicSurface, VectorEnv):
         not fit, before anything is changed."""
         if len(saved["rngs"]) != self.num_envs:
             raise ValueError(f"a state of {len(saved['rngs'])} sub-envs, not {self.num_envs}")
-        rngs = [_generator(state) for state in saved["rngs"]]
+        rngs = [generator_from_state(state) for state in saved["rngs"]]
         autoreset = np.asarray(saved["autoreset"])
         if autoreset.shape != (self.num_envs,) or autoreset.dtype != bool:
             raise ValueError(f"autoreset must be {self.num_envs} booleans, got {autoreset!r}")

@@ -47,7 +47,7 @@ class World:
     parameters (:meth:`Task.sample`); ``length`` the body length, m; ``position`` (B, 3) the
     centre of mass in the world frame, m; ``x``, ``v`` (B, N, 3) the nodes, m and m/s;
     ``splash`` (B,) the last env step's splash, kg m/s; ``memory`` (B, M) the task's episode
-    memory; ``ball`` (B, 6) and ``touch`` (B, 3) (:class:`animat.envs.core.batch.BodyState`);
+    memory; ``ball`` (B, 6) and ``touch`` (B, 3) (:class:`animat.envs.core.state.BodyState`);
     ``surface_z`` m; ``body`` the ``BodySpec``; ``dt`` the env step, s.
     """
 
@@ -151,7 +151,8 @@ class EpisodeSummary:
 
 class SingleEpisodeSummary:
     """:class:`EpisodeSummary` of one episode in a single env (``info`` of scalars): the
-    summary as floats (the interface of :class:`animat.envs.world.pursuit.env.PursuitSummary`)."""
+    summary as floats (the interface of
+    :class:`animat.envs.world.pursuit.summary.PursuitSummary`)."""
 
     def __init__(self, task: Task) -> None:
         self.batch = EpisodeSummary(task, 1)

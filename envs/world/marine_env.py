@@ -60,10 +60,12 @@ import gymnasium as gym
 import numpy as np
 
 from ..checks import check_integer, check_number, shown
-from ..core.batch import MAX_DURATION, OBS_LIMIT
+from ..core.arguments import MAX_DURATION
+from ..core.batch import OBS_LIMIT
 from .food import FoodParams
 from .scene import WorldView
-from .world import ANGELFISH, MINNOW, SHARK, MarineWorld, WorldParams
+from .start import ANGELFISH, MINNOW, SHARK, WorldParams
+from .world import MarineWorld
 
 SPECIES = {"shark": SHARK, "minnow": MINNOW, "angelfish": ANGELFISH}
 CONTROLS = ("behaviour", "navigation", "muscles")

@@ -13,12 +13,10 @@ node inside an obstacle; two fish's nodes within ``contact_distance``, a predato
 prey aside: that is a hunt), counted once per contact as it begins (for two fish: after they
 have been apart ``apart_time`` s, so that one brush is one collision). Any fish's command or
 actions can come from outside instead (:meth:`step`'s ``commands`` and ``actions``): a learner
-or an eye-driven fish.
+or an eye-driven fish. The world's params, species and start places are in :mod:`.start`.
 """
 
 from __future__ import annotations
-
-from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -27,85 +25,12 @@ from ..motor.navigation import Navigator
 from ..render.camera import yaw_matrix
 from ..tasks.locomotion import SwimTask
 from . import food as food_mod
-from .behaviours import BehaviourParams
-from .food import FoodParams
-from .intention import (
-    AVOID,
-    EAT,
-    HUNT,
-    MATE,
-    NAMES,
-    IntentionGenerator,
-    IntentionParams,
-)
+from .intention import AVOID, EAT, HUNT, MATE, NAMES, IntentionGenerator
 from .life import Lives
-from .mind import Habits, MentalState, MindParams
-from .oracle import Obstacles, OracleParams
-from .percepts import AvoidParams, Tank, perceive
-
-SHARK = Habits("shark", (70, 85, 120), predator=True, prey=("minnow",), eats_food=False,
-               speed=0.7)
-MINNOW = Habits("minnow", (220, 50, 40), schooling=True, fears=("shark",), speed=0.6,
-                sprint=0.8, appetite=0.7)
-ANGELFISH = Habits("angelfish", (230, 210, 40), mates=True, fears=("shark",), speed=0.5,
-                   sprint=0.8)
-PAPER_SPECIES = ((SHARK, 1), (MINNOW, 6), (ANGELFISH, 3))  # 10 fishes
-MAX_TRIES, NEAR_TRIES = 10_000, 200  # random draws for a start place before giving up
-
-
-@dataclass(frozen=True)
-class WorldParams:
-    """The world: ``species`` ((Habits, count), ...); ``obstacles`` (count of pillars);
-    ``obstacle_radius`` (low, high) m; the other parts' params; ``catch_radius``,
-    ``court_distance`` m, ``court_time`` s, ``contact_distance`` m, ``apart_time`` s (see the
-    module docstring);
-    ``duration`` s per episode."""
-
-    species: tuple = PAPER_SPECIES
-    obstacles: int = 5
-    obstacle_radius: tuple[float, float] = (0.12, 0.25)
-    tank: Tank = field(default_factory=Tank)
-    food: FoodParams = field(default_factory=FoodParams)
-    mind: MindParams = field(default_factory=MindParams)
-    intention: IntentionParams = field(default_factory=IntentionParams)
-    behaviour: BehaviourParams = field(default_factory=BehaviourParams)
-    oracle: OracleParams = field(default_factory=OracleParams)
-    avoid: AvoidParams = field(default_factory=AvoidParams)
-    catch_radius: float = 0.1
-    court_distance: float = 0.3
-    court_time: float = 2.0
-    contact_distance: float = 0.02
-    apart_time: float = 1.0
-    duration: float = 60.0
-
-    def __post_init__(self) -> None:
-        if not self.species or any(count < 1 for _, count in self.species):
-            raise ValueError("world: species needs at least one (habits, count >= 1)")
-        if self.obstacles < 0 or not 0 < self.obstacle_radius[0] <= self.obstacle_radius[1]:
-            raise ValueError("world: obstacles must be >= 0 and 0 < obstacle_radius low <= high")
-
-    @property
-    def habits(self) -> list[Habits]:
-        """(F,) the habits of each fish, species by species."""
-        return [h for h, count in self.species for _ in range(count)]
-
-
-def relations(habits: list[Habits]) -> dict[str, np.ndarray]:
-    """(F, F) bool ``hunts``, ``fears``, ``schools_with``, ``courts`` (sexes alternate within
-    a species: its even members female, odd male)."""
-    f = len(habits)
-    index = {}
-    sex = np.zeros(f, int)
-    for k, h in enumerate(habits):
-        sex[k] = index.setdefault(h.name, 0) % 2
-        index[h.name] += 1
-    same = np.array([[a.name == b.name for b in habits] for a in habits]) & ~np.eye(f, dtype=bool)
-    return {"hunts": np.array([[a.predator and b.name in a.prey for b in habits]
-                               for a in habits]),
-            "fears": np.array([[b.name in a.fears for b in habits] for a in habits]),
-            "schools_with": same & np.array([h.schooling for h in habits])[:, None],
-            "courts": same & np.array([h.mates for h in habits])[:, None]
-            & (sex[:, None] != sex[None])}
+from .mind import MentalState
+from .oracle import Obstacles
+from .percepts import perceive
+from .start import WorldParams, free_spot, place_obstacles, relations
 
 
 class MarineWorld:
@@ -133,45 +58,6 @@ class MarineWorld:
         return len(self.habits)
 
     # --- the start ---------------------------------------------------------------------
-    def _place_obstacles(self) -> None:
-        p, tank = self.params, self.params.tank
-        centres, radii = [], []
-        for _ in range(MAX_TRIES):
-            if len(centres) == p.obstacles:
-                break
-            c = self.rng.uniform(-0.6, 0.6, 2) * tank.half_size
-            r = self.rng.uniform(*p.obstacle_radius)
-            if all(np.linalg.norm(c - o) > r + q + 0.5 for o, q in zip(centres, radii)):
-                centres.append(c)
-                radii.append(r)
-        else:
-            raise ValueError(f"world: {p.obstacles} obstacles do not fit 0.5 m apart in the "
-                             f"middle of a {2 * tank.half_size:g} m tank")
-        self.obstacles = Obstacles(np.array(centres).reshape(-1, 2), np.array(radii),
-                                   np.full(len(radii), tank.top_z + 0.1))
-
-    def _free_spot(self, taken: list[np.ndarray], edge: bool = False,
-                   near: np.ndarray | None = None) -> np.ndarray:
-        """A start point 0.3 m clear of obstacles and 0.45 m from those ``taken``: anywhere in
-        the tank, on its rim (``edge``), or within 0.8 m of ``near`` (3,) (after
-        ``NEAR_TRIES`` draws that find none there, anywhere); ValueError if none is found."""
-        tank = self.params.tank
-        for attempt in range(MAX_TRIES):
-            xy = self.rng.uniform(-0.8, 0.8, 2) * tank.half_size
-            if near is not None and attempt < NEAR_TRIES:
-                xy = np.clip(near[:2] + self.rng.uniform(-0.8, 0.8, 2), -0.8 * tank.half_size,
-                             0.8 * tank.half_size)
-            if edge:  # on the rim of the tank
-                side = self.rng.integers(2)
-                xy[side] = np.sign(xy[side] or 1.0) * 0.85 * tank.half_size
-            z = self.rng.uniform(tank.seabed_z + 0.2, tank.top_z - 0.2)
-            point = np.array([*xy, z])
-            if np.all(self.obstacles.clearance(point) > 0.3) and all(
-                    np.linalg.norm(point - t) > 0.45 for t in taken):
-                return point
-        raise ValueError(f"world: no start 0.45 m from {len(taken)} fish and 0.3 m from the "
-                         f"obstacles in a {2 * tank.half_size:g} m tank: too many fish")
-
     def place_fish(self, row: int, position: np.ndarray, yaw: float) -> None:
         """Put fish ``row`` at rest with its head at ``position`` (3,) m, heading ``yaw`` rad
         (a start: staging a scene, a new fish entering; never a behaviour)."""
@@ -183,16 +69,16 @@ class MarineWorld:
         """A new episode: obstacles, fish, food and minds drawn from ``rng``."""
         self.rng, f, p = rng, self.num_fish, self.params
         self.core.reset_rows(np.arange(f), [rng] * f)
-        self._place_obstacles()
+        self.obstacles = place_obstacles(rng, p)
         taken: list[np.ndarray] = []
         schools: dict[str, tuple[np.ndarray, float]] = {}
         for row, habits in enumerate(self.habits):
             if habits.schooling and habits.name in schools:  # a school starts as one
                 centre, yaw = schools[habits.name]
-                taken.append(self._free_spot(taken, near=centre))
+                taken.append(free_spot(rng, p.tank, self.obstacles, taken, near=centre))
                 self.place_fish(row, taken[-1], yaw + rng.uniform(-0.3, 0.3))
                 continue
-            taken.append(self._free_spot(taken))
+            taken.append(free_spot(rng, p.tank, self.obstacles, taken))
             yaw = rng.uniform(-np.pi, np.pi)
             schools.setdefault(habits.name, (taken[-1], yaw))
             self.place_fish(row, taken[-1], yaw)
@@ -343,7 +229,8 @@ class MarineWorld:
             for pairs, fresh in ((self.courting, 0.0), (self.fish_contact, False),
                                  (self.apart, np.inf), (self.apart_before, np.inf)):
                 pairs[row, :] = pairs[:, row] = fresh  # a new fish: no past with the others
-            spot = self._free_spot([heads[k] for k in range(self.num_fish) if k != row], True)
+            others = [heads[k] for k in range(self.num_fish) if k != row]
+            spot = free_spot(self.rng, self.params.tank, self.obstacles, others, True)
             self.place_fish(row, spot, np.arctan2(-spot[1], -spot[0]))
             self.core.state.origin[row] = self.core.kinematics().com[row]
             self.navigator.reset(np.array([row]))

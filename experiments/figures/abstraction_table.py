@@ -14,7 +14,7 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from animat.learners.base import read_json
+from animat.learners.storage.files import read_json
 
 
 def abstraction_rows(runs, metric: str) -> list[dict]:

@@ -191,8 +191,8 @@ def check_buildable(config: ExperimentConfig, source: str, params: dict | None =
     ``params``: the learner params to build with (default the config's)."""
     import gymnasium as gym
 
-    from animat.learners.base import BudgetError
     from animat.learners.registry import make_learner
+    from animat.learners.validation import BudgetError
 
     try:
         gym.make(config.env.id, **config.env.kwargs).close()

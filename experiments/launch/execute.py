@@ -12,9 +12,9 @@ import sys
 import traceback
 from pathlib import Path
 
-from animat.learners.base import atomic_write
 from animat.learners.logger import CsvSink, Logger, TensorBoardSink
 from animat.learners.registry import make_learner
+from animat.learners.storage.files import atomic_write
 
 from .config import ExperimentConfig, learner_params, load_config
 from .folders import clear_debris, make_status, one_line, read_status, write_json

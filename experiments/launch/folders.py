@@ -25,7 +25,8 @@ import socket
 import time
 from pathlib import Path
 
-from animat.learners.base import TMP_SUFFIX, LearnResult, atomic_write, read_json
+from animat.learners.base import LearnResult
+from animat.learners.storage.files import TMP_SUFFIX, atomic_write, read_json
 
 from .config import ExperimentConfig, to_yaml
 from .lock import LOCK_NAME, UNWRITABLE, RunError, lock_held, run_lock
@@ -78,8 +79,8 @@ def _unfinished(folder: Path) -> bool:
 
 def clear_debris(folder: Path) -> None:
     """Remove the temporary files a killed process left in a run folder (``*.tmp``, which
-    :func:`animat.learners.base.atomic_write` writes before it renames one into place); only
-    under the folder's lock, when no other process can be writing them."""
+    :func:`animat.learners.storage.files.atomic_write` writes before it renames one into
+    place); only under the folder's lock, when no other process can be writing them."""
     for path in Path(folder).rglob(f"*{TMP_SUFFIX}"):
         if path.is_file():
             path.unlink(missing_ok=True)

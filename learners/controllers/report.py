@@ -11,8 +11,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..base import CorruptFile
 from ..rollout import BatchEvaluator
+from ..storage.files import CorruptFile
 from .abstraction import AbstractController, abstract, most_compact
 from .periodic import PeriodicPlayer, controller_from_vector
 from .tent import TentController

@@ -1,6 +1,7 @@
-"""PPO (stable-baselines3), the modern baseline: the learner, its checkpoints as data, the
-VecEnvs whose state is saved with them, rl-baselines3-zoo's hyperparameter forms.
+"""PPO (stable-baselines3), the modern baseline: the learner (what SB3 is handed as it learns
+in :mod:`.hooks`), its checkpoints as data, the VecEnvs whose state is saved with them,
+rl-baselines3-zoo's hyperparameter forms.
 
 May import :mod:`animat.envs` and the learners' interface (:mod:`animat.learners.base`,
-rollout, agents, logger).
+validation, storage, rollout, agents, logger).
 """

@@ -8,7 +8,7 @@ A checkpoint is a folder ``checkpoints/ppo/save-<k>/``:
 - ``normalize.npz``: the observation and return statistics of ``VecNormalize`` (read with
   ``allow_pickle=False``), when the run normalises;
 - ``state.json``: ``num_timesteps``, SB3's update count, the learner's wall time and metrics;
-- ``resume.json`` (:mod:`animat.learners.checkpoint_data`'s JSON, arrays bit for bit): what
+- ``resume.json`` (:mod:`animat.learners.storage.checkpoint_data`'s JSON, arrays bit for bit): what
   continues the run exactly besides the weights: the random generators (torch's, NumPy's
   global one and Python's, which SB3 seeds and draws from), the envs' state (their
   ``get_state()``: :mod:`animat.learners.ppo.vec_envs`), the observation and episode starts
@@ -35,8 +35,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import checkpoint_data
-from ..base import CorruptFile, atomic_write, read_json
+from ..storage import checkpoint_data
+from ..storage.files import CorruptFile, atomic_write, read_json
 
 FOLDER = "ppo"
 LATEST = "latest.json"

@@ -21,16 +21,13 @@ from pydantic import ValidationError
 from animat.envs.tasks.base import EpisodeSummary
 
 from ..agents import PolicyAgent
-from ..base import (
-    BudgetError,
-    Learner,
-    LearnResult,
-    UntrustedPickle,
-    check_memory,
-    read_json,
-)
+from ..base import Learner, LearnResult
 from ..rollout import START_STATES, score_episode, spread
+from ..storage.files import read_json
+from ..storage.pickles import UntrustedPickle
+from ..validation import BudgetError, check_memory
 from . import checkpoint as ppo_checkpoint
+from .hooks import progress_callback, sb3_logger
 from .zoo import PPOParams, normalize_kwargs, policy_kwargs, schedule
 
 OWN_KEYS = {"eval_every", "torch_threads", "checkpoint_every"}
@@ -50,35 +47,6 @@ def ppo_params(params: dict, owner: str) -> PPOParams:
         message = ("unknown parameter" if first["type"] == "extra_forbidden"
                    else first["msg"].removeprefix("Value error, "))
         raise ValueError(f"{owner}: {where}: {message}") from None
-
-
-def _next_multiple(step: int, every: int) -> int:
-    """The first multiple of ``every`` after ``step``."""
-    return (int(step) // int(every) + 1) * int(every)
-
-
-# SB3's count of learn() iterations restarts at a resume; the env step (x) already says it
-NOT_FORWARDED = {"time/iterations"}
-
-
-def sb3_logger(logger):
-    """An SB3 logger whose records (``train/*``, ``rollout/*``, ``time/*`` at the env step
-    they were dumped) go into this run's logger, beside ``eval/*``."""
-    from stable_baselines3.common.logger import KVWriter
-    from stable_baselines3.common.logger import Logger as SB3Logger
-
-    class Forward(KVWriter):
-        def write(self, key_values: dict, key_excluded: dict, step: int = 0) -> None:
-            for key, value in key_values.items():
-                if key in NOT_FORWARDED:
-                    continue
-                if isinstance(value, int | float | np.number) and np.isfinite(value):
-                    logger.scalar(key, float(value), step)
-
-        def close(self) -> None:
-            pass
-
-    return SB3Logger(folder=None, output_formats=[Forward()])
 
 
 class PPOLearner(Learner):
@@ -265,8 +233,8 @@ class PPOLearner(Learner):
         # SB3 collects whole rollouts: as many as fit, so the budget is never overrun
         remaining = (budget_env_steps - model.num_timesteps) // rollout * rollout
         if remaining > 0:
-            progress = _progress(self, model, venv, folder, state, start,
-                                 final=model.num_timesteps + remaining)
+            progress = progress_callback(self, model, venv, folder, state, start,
+                                         final=model.num_timesteps + remaining)
             model.learn(remaining, callback=progress, reset_num_timesteps=not resumed)
         state["metrics"] = self.evaluate(model, venv)  # the policy the run returns
         self.logger.scalars(state["metrics"], model.num_timesteps)
@@ -284,35 +252,3 @@ class PPOLearner(Learner):
         state["wall"] = time.perf_counter() - start
         ppo_checkpoint.save(folder, model, venv, {"wall": state["wall"],
                                                   "metrics": state["metrics"]})
-
-
-def _progress(learner: PPOLearner, model, venv, folder: Path | None, state: dict,
-              start: float, final: int):
-    """SB3's callback for a run: an evaluation every ``eval_every`` env steps (but at the run's
-    ``final`` step, where :meth:`PPOLearner.learn` evaluates the last policy: one value per
-    step), a checkpoint every ``checkpoint_every`` between rollouts."""
-    from stable_baselines3.common.callbacks import BaseCallback
-
-    every_eval, every_save = learner.hp["eval_every"], learner.hp["checkpoint_every"]
-
-    class Progress(BaseCallback):
-        def __init__(self) -> None:
-            super().__init__()
-            self.next_eval = _next_multiple(model.num_timesteps, every_eval)
-            self.next_save = _next_multiple(model.num_timesteps, every_save)
-
-        def _on_step(self) -> bool:
-            if self.next_eval <= self.num_timesteps < final:
-                state["metrics"] = learner.evaluate(model, venv)
-                learner.logger.scalars(state["metrics"], self.num_timesteps)
-                self.next_eval = _next_multiple(self.num_timesteps, every_eval)
-            return True
-
-        def _on_rollout_start(self) -> None:
-            # between rollouts (the last one trained on): a checkpoint at a whole number
-            # of rollouts, so that a resumed run collects exactly what the whole one would
-            if folder and self.num_timesteps >= self.next_save:
-                learner._save(folder, model, venv, state, start)
-                self.next_save = _next_multiple(self.num_timesteps, every_save)
-
-    return Progress()

@@ -18,9 +18,9 @@ import math
 
 from pydantic import BaseModel, ConfigDict, Field, ValidationInfo, field_validator
 
-from animat.envs.core.batch import MAX_NUM_ENVS
+from animat.envs.core.arguments import MAX_NUM_ENVS
 
-from ..base import check_memory
+from ..validation import check_memory
 
 NORMALIZE_KEYS = {"norm_obs", "norm_reward", "clip_obs", "clip_reward", "epsilon"}
 

@@ -10,9 +10,10 @@ from pathlib import Path
 from animat.envs.registration import task_of, timing
 
 from ..agents import OpenLoopAgent
-from ..base import LearnResult, Scorer, typed_params
+from ..base import LearnResult, Scorer
 from ..controllers.tent import play
 from ..rollout import START_STATES, BatchEvaluator
+from ..validation import typed_params
 
 
 @dataclass(frozen=True)

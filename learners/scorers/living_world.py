@@ -14,8 +14,9 @@ import gymnasium as gym
 import numpy as np
 
 from ..agents import PolicyAgent
-from ..base import LearnResult, Scorer, typed_params
+from ..base import LearnResult, Scorer
 from ..rollout import START_STATES, score_policy
+from ..validation import typed_params
 
 
 @dataclass(frozen=True)

@@ -13,8 +13,9 @@ import animat  # noqa: F401
 from animat.envs.world.pursuit.policy import ActiveVisionParams, ActiveVisionPolicy
 
 from ..agents import PolicyAgent
-from ..base import LearnResult, Scorer, typed_params
+from ..base import LearnResult, Scorer
 from ..rollout import score_policy
+from ..validation import typed_params
 
 
 @dataclass(frozen=True)

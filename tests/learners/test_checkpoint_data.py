@@ -8,9 +8,10 @@ import pickle
 import numpy as np
 import pytest
 
-from animat.learners import checkpoint_data
-from animat.learners.base import CorruptFile, UntrustedPickle, save_checkpoint
 from animat.learners.registry import make_learner
+from animat.learners.storage import checkpoint_data
+from animat.learners.storage.files import CorruptFile
+from animat.learners.storage.pickles import UntrustedPickle, save_checkpoint
 from tests.experiments.test_cli import TINY, animat, write_config
 from tests.learners.ppo.test_checkpoint import Planted
 
@@ -93,8 +94,8 @@ def test_an_older_pickle_naming_a_module_before_the_move_still_loads(tmp_path):
     """A trusted older checkpoint names ``learners.annealing`` (before the package moved under
     ``animat.`` and the optimisers into their room): the unpickler finds the class where it is
     now."""
-    from animat.learners.base import load_checkpoint
     from animat.learners.optimizers.annealing import AnnealingParams
+    from animat.learners.storage.pickles import load_checkpoint
 
     text = pickle.dumps(AnnealingParams(chains=3), protocol=2)
     assert b"animat.learners.optimizers.annealing" in text

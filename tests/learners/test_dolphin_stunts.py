@@ -7,8 +7,8 @@ from pathlib import Path
 import numpy as np
 
 from animat.learners.macro import MacroLearner
-from animat.learners.repertoire import Repertoire
 from animat.learners.rollout import BatchEvaluator
+from animat.learners.skills.repertoire import Repertoire
 
 ROOT = Path(__file__).resolve().parents[2]
 REPERTOIRE = ROOT / "repertoires" / "dolphin.json"

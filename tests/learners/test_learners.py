@@ -6,7 +6,7 @@ import gymnasium as gym
 import numpy as np
 import pytest
 
-from animat.learners.base import CorruptFile, episode_timing
+from animat.learners.base import episode_timing
 from animat.learners.controllers.abstraction import AbstractController
 from animat.learners.controllers.periodic import PeriodicPlayer
 from animat.learners.controllers.report import ResultFrom
@@ -15,6 +15,7 @@ from animat.learners.logger import Logger, MemorySink
 from animat.learners.optimizers import annealing
 from animat.learners.registry import LEARNERS, make_learner
 from animat.learners.rollout import BatchEvaluator
+from animat.learners.storage.files import CorruptFile
 
 ENV = "Animat/FishSwim-v0"
 TINY_ENV = {"duration": 0.5}  # 10 env steps per episode, 40 per candidate (4 start states)
@@ -274,8 +275,8 @@ def test_a_checkpoint_written_before_the_animat_namespace_still_loads(tmp_path):
     """Run folders from before the move under ``animat.`` pickled ``learners.*`` classes."""
     import pickle
 
-    from animat.learners.base import load_checkpoint
     from animat.learners.blackbox_run import Run
+    from animat.learners.storage.pickles import load_checkpoint
 
     old = pickle.dumps(Run(env_steps=640, rounds=2), protocol=0).replace(  # text opcodes
         b"animat.learners.", b"learners.")
@@ -291,11 +292,11 @@ def test_a_checkpoint_naming_the_classes_where_they_were_still_loads(tmp_path):
     finds them where they are now, with or without ``animat.``."""
     import pickle
 
-    from animat.learners.base import load_checkpoint
     from animat.learners.blackbox_run import Phase, Run
     from animat.learners.controllers.periodic import ControllerParams
     from animat.learners.scorers.living_world import BehavioursParams
     from animat.learners.scorers.pursuit import PursuitEvalParams
+    from animat.learners.storage.pickles import load_checkpoint
 
     payload = {"run": Run([Phase(annealing.AnnealingParams(), None, start={"eval/return": 1.0})],
                           env_steps=640, rounds=2),
@@ -310,6 +311,28 @@ def test_a_checkpoint_naming_the_classes_where_they_were_still_loads(tmp_path):
             assert b"animat.learners." + new + b"\n" in old
             old = old.replace(b"animat.learners." + new + b"\n", prefix + was + b"\n")
         assert b"blackbox_run" not in old and b"scorers.pursuit" not in old
+        (tmp_path / "checkpoint.pkl").write_bytes(old)
+        assert load_checkpoint(tmp_path / "checkpoint.pkl") == payload
+
+
+def test_a_pickle_naming_the_repertoire_module_still_loads(tmp_path):
+    """Pickles of an older version name the repertoire's and basic training's classes in
+    ``repertoire``: :data:`MOVED` finds them in the skills room, with or without ``animat.``."""
+    import pickle
+
+    from animat.learners.skills.basic_training import BasicTrainingParams
+    from animat.learners.skills.repertoire import Skill
+    from animat.learners.storage.pickles import load_checkpoint
+
+    payload = {"skill": Skill("swim", None, {"duration": 4.0}),
+               "params": BasicTrainingParams(regimen="dolphin")}
+    now = pickle.dumps(payload, protocol=0)  # text opcodes: "c<module>\n<name>\n"
+    for prefix in (b"animat.learners.", b"learners."):
+        old = now
+        for new in (b"skills.repertoire", b"skills.basic_training"):
+            assert b"animat.learners." + new + b"\n" in old
+            old = old.replace(b"animat.learners." + new + b"\n", prefix + b"repertoire\n")
+        assert b"skills" not in old
         (tmp_path / "checkpoint.pkl").write_bytes(old)
         assert load_checkpoint(tmp_path / "checkpoint.pkl") == payload
 

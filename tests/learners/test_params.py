@@ -8,7 +8,7 @@ from pathlib import Path
 import gymnasium as gym
 import pytest
 
-from animat.learners.repertoire import Repertoire
+from animat.learners.skills.repertoire import Repertoire
 from tests.experiments.test_cli import ROOT, TINY, animat, write_config
 
 FISH = json.loads((ROOT / "repertoires" / "fish.json").read_text())

@@ -6,7 +6,7 @@ import pytest
 from animat.learners.controllers.abstraction import abstract
 from animat.learners.controllers.tent import TentController
 from animat.learners.macro import MacroLearner, MacroSequence
-from animat.learners.repertoire import Repertoire, Skill
+from animat.learners.skills.repertoire import Repertoire, Skill
 
 CHANNELS = 6  # actuations of the test skills (any number)
 

@@ -17,8 +17,9 @@ from animat.envs.vision.retina import (
     gaze_rotation,
     render_eyes,
 )
-from animat.envs.world.pursuit.env import OBSERVER, PursuitSummary
+from animat.envs.world.pursuit.env import OBSERVER
 from animat.envs.world.pursuit.senses import default_sensors
+from animat.envs.world.pursuit.summary import PursuitSummary
 
 
 def test_pursuit_observation_info_and_renders():

@@ -12,7 +12,8 @@ from animat.envs.world.intention import FLEE, MATE
 from animat.envs.world.marine_env import GAZE_RANGE
 from animat.envs.world.mind import MentalState, MindParams, advance
 from animat.envs.world.oracle import Obstacles
-from animat.envs.world.world import ANGELFISH, MINNOW, SHARK, MarineWorld, WorldParams
+from animat.envs.world.start import ANGELFISH, MINNOW, SHARK, WorldParams
+from animat.envs.world.world import MarineWorld
 
 
 def _world(species, food: int = 0, seed: int = 0) -> MarineWorld:

@@ -9,10 +9,11 @@ import shutil
 import pytest
 import torch
 
-from animat.learners.base import CorruptFile, UntrustedPickle, read_json
 from animat.learners.logger import Logger, MemorySink
 from animat.learners.ppo import checkpoint as ppo_checkpoint
 from animat.learners.registry import make_learner
+from animat.learners.storage.files import CorruptFile, read_json
+from animat.learners.storage.pickles import UntrustedPickle
 from tests.experiments.test_cli import animat, write_config
 from tests.learners.test_learners import _Crash, _CrashingSink
 

@@ -74,8 +74,8 @@ def test_a_resumed_ppo_run_collects_exactly_its_budget(tmp_path, monkeypatch):
     with pytest.raises(Killed):
         make_learner("ppo", "Animat/FishSwim-v0", {"duration": 0.5}, params).learn(320, tmp_path)
     monkeypatch.setattr(ppo.PPOLearner, "_save", staticmethod(save))
-    from animat.learners.base import read_json
     from animat.learners.ppo.checkpoint import latest
+    from animat.learners.storage.files import read_json
 
     assert read_json(latest(tmp_path) / "state.json")["num_timesteps"] % 64 == 0  # whole rollouts
     resumed = make_learner("ppo", "Animat/FishSwim-v0", {"duration": 0.5}, params).learn(

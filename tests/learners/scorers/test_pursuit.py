@@ -15,9 +15,9 @@ from animat.envs.world.pursuit.policy import (
     ActiveVisionPolicy,
     prey_model_histogram,
 )
-from animat.learners.base import BudgetError
 from animat.learners.registry import make_learner
 from animat.learners.rollout import score_episode
+from animat.learners.validation import BudgetError
 
 
 @pytest.mark.parametrize("seed", [0, 3])

@@ -19,14 +19,14 @@ from typing import Any
 
 import numpy as np
 
-from .base import CorruptFile, atomic_write
+from .files import CorruptFile, atomic_write
 
 FORMAT = "artificial-animals black-box checkpoint 1"
 
 
 def _types() -> dict[str, type]:
-    from . import blackbox_run
-    from .optimizers import annealing, cmaes
+    from .. import blackbox_run
+    from ..optimizers import annealing, cmaes
 
     return {cls.__name__: cls for cls in (blackbox_run.Run, blackbox_run.Phase,
                                           annealing.AnnealingParams, annealing.AnnealingState,
@@ -35,7 +35,7 @@ def _types() -> dict[str, type]:
 
 def to_data(value: Any) -> Any:
     """``value`` as JSON-able data (see the module's docstring)."""
-    from .controllers.abstraction import AbstractController
+    from ..controllers.abstraction import AbstractController
 
     if isinstance(value, AbstractController):
         return {"__type__": "AbstractController", "data": value.to_dict()}
@@ -63,7 +63,7 @@ def to_data(value: Any) -> Any:
 
 def from_data(data: Any, types: dict[str, type] | None = None) -> Any:
     """The value :func:`to_data` wrote; ValueError for a type it does not know."""
-    from .controllers.abstraction import AbstractController
+    from ..controllers.abstraction import AbstractController
 
     types = _types() if types is None else types
     if isinstance(data, list):

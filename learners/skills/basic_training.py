@@ -1,26 +1,27 @@
-"""Basic training (the paper's Section 4.2) and the repertoire it leaves behind.
+"""Basic training (the paper's Section 4.2): primitive skills learned one by one into a
+repertoire.
 
 A regimen of primitive skills (swim at several speeds, turns of several angles left and
 right; for the dolphin later: turn-down, turn-up, turn-left, turn-right, move-forward) is
 learned one skill at a time by annealing, each learned controller abstracted by FFT, and the
-abstractions kept in a repertoire file: one JSON with readable metadata (skill, task, env,
-objective, duration, parameter counts, metrics) beside the Fourier coefficients.
+abstractions kept in a repertoire file (:mod:`animat.learners.skills.repertoire`).
 """
 
 from __future__ import annotations
 
-import json
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
-from .agents import OpenLoopAgent, SkillSet
-from .base import Learner, LearnResult, atomic_write, episode_timing, typed_params
-from .blackbox import AnnealingLearner
-from .controllers.abstraction import AbstractController
-from .logger import Logger
+from ..agents import OpenLoopAgent, SkillSet
+from ..base import Learner, LearnResult, episode_timing
+from ..blackbox import AnnealingLearner
+from ..controllers.abstraction import AbstractController
+from ..logger import Logger
+from ..validation import typed_params
+from .repertoire import Repertoire, Skill
 
 FISH_REGIMEN = [
     {"name": "swim_slow", "env_id": "Animat/FishSwim-v0",
@@ -58,102 +59,6 @@ DOLPHIN_REGIMEN = [
        "params": {"period": 0.2, "nodes": 6}} for direction in ("down", "up")),
 ]
 REGIMENS = {"fish": FISH_REGIMEN, "dolphin": DOLPHIN_REGIMEN}
-FORMAT = "artificial-animals repertoire 1"  # a repertoire file's "format"
-
-
-@dataclass(frozen=True)
-class Skill:
-    """One repertoire entry: an abstracted controller and what it was learned for."""
-
-    name: str
-    controller: AbstractController
-    metadata: dict
-
-    @property
-    def duration(self) -> float:
-        """The duration the skill was learned over, s."""
-        return float(self.metadata["duration"])
-
-
-class Repertoire:
-    """Named skills; saved as JSON (``save``/``load``)."""
-
-    def __init__(self, skills: list[Skill] | None = None) -> None:
-        self.skills = {skill.name: skill for skill in (skills or [])}
-
-    def __getitem__(self, name: str) -> Skill:
-        if name not in self.skills:
-            raise KeyError(f"no skill {name!r} in the repertoire; it has {sorted(self.skills)}")
-        return self.skills[name]
-
-    def __len__(self) -> int:
-        return len(self.skills)
-
-    @property
-    def names(self) -> list[str]:
-        return sorted(self.skills)
-
-    def add(self, skill: Skill) -> None:
-        self.skills[skill.name] = skill
-
-    def save(self, path: str | Path, replace: bool = True) -> None:
-        """Write atomically as JSON (``replace`` False: FileExistsError if ``path`` exists)."""
-        data = {"format": FORMAT,
-                "skills": [{"name": s.name, "metadata": s.metadata,
-                            "controller": s.controller.to_dict()}
-                           for s in (self.skills[n] for n in self.names)]}
-        atomic_write(path, lambda file: json.dump(data, file, indent=1), replace=replace)
-
-    @classmethod
-    def load(cls, path: str | Path) -> Repertoire:
-        """The repertoire file at ``path``; a ValueError in one line naming it for anything
-        else (not JSON, another format, no skills, a skill named twice or unreadable)."""
-        try:
-            data = json.loads(Path(path).read_text())
-        except json.JSONDecodeError as error:
-            raise ValueError(f"{path}: not a repertoire file: not valid JSON ({error.msg} at "
-                             f"line {error.lineno})") from None
-        if not isinstance(data, dict) or data.get("format") != FORMAT:
-            raise ValueError(f"{path}: not a repertoire file (no \"format\": \"{FORMAT}\")")
-        return cls(_read_skills(data.get("skills"), path))
-
-
-def _read_skills(entries, path: str | Path) -> list[Skill]:
-    """The skills of a repertoire file's ``skills`` list (at least one, each name once); a
-    ValueError naming the file and the entry otherwise."""
-    if not isinstance(entries, list) or not entries:
-        raise ValueError(f"{path}: a repertoire file's skills must be a non-empty list, got "
-                         f"{entries!r:.60}")
-    skills: list[Skill] = []
-    for k, entry in enumerate(entries):
-        name = entry.get("name") if isinstance(entry, dict) else None
-        if not isinstance(name, str) or not name:
-            raise ValueError(f"{path}: skill {k} has no name (a string)")
-        if any(skill.name == name for skill in skills):
-            raise ValueError(f"{path}: skill {name!r} appears twice; a repertoire names each "
-                             f"skill once")
-        try:
-            if not isinstance(entry["metadata"], dict):
-                raise TypeError("its metadata is not a mapping")
-            controller = AbstractController.from_dict(entry["controller"])
-        except (KeyError, TypeError, ValueError, IndexError, AttributeError) as error:
-            raise ValueError(f"{path}: skill {name!r} cannot be read ({type(error).__name__}: "
-                             f"{error})") from None
-        skills.append(Skill(name, controller, entry["metadata"]))
-    return skills
-
-
-def kept_in_run(repertoire: Repertoire, checkpoint_dir: str | Path | None) -> Repertoire:
-    """The repertoire a run composes from: on its first start ``repertoire``, saved into the
-    run folder (``checkpoint_dir/repertoire.json``); resumed, the copy it began with, so that
-    a resumed run and a play-back use it whatever happens to the repertoire file later."""
-    if not checkpoint_dir:
-        return repertoire
-    copy = Path(checkpoint_dir) / "repertoire.json"
-    if copy.exists():
-        return Repertoire.load(copy)
-    repertoire.save(copy)
-    return repertoire
 
 
 def learn_skill(spec: dict, env_steps: int, seed: int, threshold: float | None,

@@ -1,0 +1,63 @@
+"""The metrics of a ``Animat/FishPursuit-v0`` episode (:class:`PursuitSummary`), gathered from
+each step's info of :class:`animat.envs.world.pursuit.env.FishPursuitEnv`."""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+class PursuitSummary:
+    """Episode metrics of a pursuit from each step's info (the same interface as
+    :class:`animat.envs.tasks.base.EpisodeSummary`, one episode): ``fovea_fraction`` (share of the
+    frames
+    after the first foveation with the prey in both foveas), ``fovea_fraction_150`` (the same
+    over the ``WINDOW`` = 150 frames after it, or as many as the episode has),
+    ``distance_closed_bl``,
+    ``passer_fraction`` (frames after it with the passer in both foveas and the prey not: the
+    gaze taken by the passer), ``first_foveation_frame`` (-1: never), and over the frames
+    with the prey in both foveas: ``vergence_first_deg`` and ``vergence_last_deg`` (means of
+    the first and last ``ENDS`` = 40 of them) and ``range_error`` (the median of
+    ``|range_estimate / target_distance - 1|`` over those where the eyes converge, so that
+    the range is finite; NaN when there are none)."""
+
+    WINDOW, ENDS = 150, 40
+
+    def __init__(self, body_length: float, start_distance: float) -> None:
+        self.length, self.start = body_length, start_distance
+        self.frames, self.first, self.held, self.passer, self.held_window = 0, None, 0, 0, 0
+        self.vergence: list[float] = []
+        self.range_errors: list[float] = []
+        self.last: dict = {}
+
+    def update(self, info: dict) -> None:
+        if self.first is None and info["target_in_fovea"]:
+            self.first = self.frames
+        if self.first is not None:
+            self.held += bool(info["target_in_fovea"])
+            if self.frames < self.first + self.WINDOW:
+                self.held_window += bool(info["target_in_fovea"])
+            self.passer += bool(info["passer_in_fovea"] and not info["target_in_fovea"])
+        if info["target_in_fovea"]:
+            self.vergence.append(float(np.degrees(info["vergence"])))
+            if np.isfinite(info["range_estimate"]):  # the eyes converge
+                self.range_errors.append(abs(info["range_estimate"] / info["target_distance"]
+                                             - 1))
+        self.frames += 1
+        self.last = info
+
+    def summary(self) -> dict[str, float]:
+        after = max(self.frames - (self.first if self.first is not None else self.frames), 1)
+        seen = self.first is not None
+        return {"fovea_fraction": self.held / after if seen else 0.0,
+                "fovea_fraction_150": self.held_window / min(after, self.WINDOW) if seen else 0.0,
+                "passer_fraction": self.passer / after,
+                "distance_closed_bl": (self.start - self.last["target_distance"]) / self.length,
+                "first_foveation_frame": float(self.first if self.first is not None else -1),
+                "vergence_first_deg": _mean(self.vergence[:self.ENDS]),
+                "vergence_last_deg": _mean(self.vergence[-self.ENDS:]),
+                "range_error": float(np.median(self.range_errors)) if self.range_errors
+                else float("nan")}
+
+
+def _mean(values: list[float]) -> float:
+    return float(np.mean(values)) if values else float("nan")

@@ -1,0 +1,111 @@
+"""The repertoire: skills (each an FFT-abstracted controller and what it was learned for) kept
+in one JSON file, readable metadata (skill, task, env, objective, duration, parameter counts,
+metrics) beside the Fourier coefficients. Basic training writes it
+(:mod:`animat.learners.skills.basic_training`); the macro and stroke learners compose from it.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass
+from pathlib import Path
+
+from ..controllers.abstraction import AbstractController
+from ..storage.files import atomic_write
+
+FORMAT = "artificial-animals repertoire 1"  # a repertoire file's "format"
+
+
+@dataclass(frozen=True)
+class Skill:
+    """One repertoire entry: an abstracted controller and what it was learned for."""
+
+    name: str
+    controller: AbstractController
+    metadata: dict
+
+    @property
+    def duration(self) -> float:
+        """The duration the skill was learned over, s."""
+        return float(self.metadata["duration"])
+
+
+class Repertoire:
+    """Named skills; saved as JSON (``save``/``load``)."""
+
+    def __init__(self, skills: list[Skill] | None = None) -> None:
+        self.skills = {skill.name: skill for skill in (skills or [])}
+
+    def __getitem__(self, name: str) -> Skill:
+        if name not in self.skills:
+            raise KeyError(f"no skill {name!r} in the repertoire; it has {sorted(self.skills)}")
+        return self.skills[name]
+
+    def __len__(self) -> int:
+        return len(self.skills)
+
+    @property
+    def names(self) -> list[str]:
+        return sorted(self.skills)
+
+    def add(self, skill: Skill) -> None:
+        self.skills[skill.name] = skill
+
+    def save(self, path: str | Path, replace: bool = True) -> None:
+        """Write atomically as JSON (``replace`` False: FileExistsError if ``path`` exists)."""
+        data = {"format": FORMAT,
+                "skills": [{"name": s.name, "metadata": s.metadata,
+                            "controller": s.controller.to_dict()}
+                           for s in (self.skills[n] for n in self.names)]}
+        atomic_write(path, lambda file: json.dump(data, file, indent=1), replace=replace)
+
+    @classmethod
+    def load(cls, path: str | Path) -> Repertoire:
+        """The repertoire file at ``path``; a ValueError in one line naming it for anything
+        else (not JSON, another format, no skills, a skill named twice or unreadable)."""
+        try:
+            data = json.loads(Path(path).read_text())
+        except json.JSONDecodeError as error:
+            raise ValueError(f"{path}: not a repertoire file: not valid JSON ({error.msg} at "
+                             f"line {error.lineno})") from None
+        if not isinstance(data, dict) or data.get("format") != FORMAT:
+            raise ValueError(f"{path}: not a repertoire file (no \"format\": \"{FORMAT}\")")
+        return cls(_read_skills(data.get("skills"), path))
+
+
+def _read_skills(entries, path: str | Path) -> list[Skill]:
+    """The skills of a repertoire file's ``skills`` list (at least one, each name once); a
+    ValueError naming the file and the entry otherwise."""
+    if not isinstance(entries, list) or not entries:
+        raise ValueError(f"{path}: a repertoire file's skills must be a non-empty list, got "
+                         f"{entries!r:.60}")
+    skills: list[Skill] = []
+    for k, entry in enumerate(entries):
+        name = entry.get("name") if isinstance(entry, dict) else None
+        if not isinstance(name, str) or not name:
+            raise ValueError(f"{path}: skill {k} has no name (a string)")
+        if any(skill.name == name for skill in skills):
+            raise ValueError(f"{path}: skill {name!r} appears twice; a repertoire names each "
+                             f"skill once")
+        try:
+            if not isinstance(entry["metadata"], dict):
+                raise TypeError("its metadata is not a mapping")
+            controller = AbstractController.from_dict(entry["controller"])
+        except (KeyError, TypeError, ValueError, IndexError, AttributeError) as error:
+            raise ValueError(f"{path}: skill {name!r} cannot be read ({type(error).__name__}: "
+                             f"{error})") from None
+        skills.append(Skill(name, controller, entry["metadata"]))
+    return skills
+
+
+def kept_in_run(repertoire: Repertoire, checkpoint_dir: str | Path | None) -> Repertoire:
+    """The repertoire a run composes from: on its first start ``repertoire``, saved into the
+    run folder (``checkpoint_dir/repertoire.json``); resumed, the copy it began with, so that
+    a resumed run and a play-back use it whatever happens to the repertoire file later."""
+    if not checkpoint_dir:
+        return repertoire
+    copy = Path(checkpoint_dir) / "repertoire.json"
+    if copy.exists():
+        return Repertoire.load(copy)
+    repertoire.save(copy)
+    return repertoire
