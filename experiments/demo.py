@@ -1,12 +1,15 @@
 """Swim demo: the hand-designed motor controllers drive the fish; prints what they achieve.
 
-``animat demo [--seconds 10] [--video DIR]`` (or ``python -m animat.experiments.demo``): swims
-at full speed with the swim-MC and prints the biology figures of its cruise (tail-beat frequency
-f, peak-to-peak tail amplitude A, speed U along the start heading, Strouhal number fA/U, stride
-U/f), turns left and right with the turn-MCs, and rises and dives with the fin-MC (fin angles
-through the action space); with ``--video`` it records the swim to DIR. ``--model-sweep`` prints
-how the Strouhal number and stride respond to the force model and the swim-MC's gains (the
-measurements behind the README's note that a resistive model alone cannot reach fish-like St).
+``animat demo [--seconds 10] [--video DIR]`` (or ``python -m animat.experiments.demo``): for
+each water, the paper's resistive one (``Water(model="resistive")``, the default) and the
+reactive one of Lighthill's theory (``model="reactive"``), swims at full speed with the
+swim-MC and prints the biology figures of its cruise (tail-beat frequency f, peak-to-peak tail
+amplitude A, speed U along the start heading, Strouhal number fA/U, stride U/f), the fastest
+head-to-tail wave of a grid and the same wave reversed, a C-start, the turn-MCs, and the
+fin-MC (fin angles through the action space); the dolphin's fluke stroke; with ``--video`` it
+records the swim to DIR. ``--model-sweep`` prints how the Strouhal number and stride respond
+to the force model and the swim-MC's gains. The figures' functions are in
+:mod:`animat.experiments.biology`.
 """
 
 from __future__ import annotations
@@ -18,41 +21,25 @@ import numpy as np
 
 import animat  # noqa: F401
 from animat.envs.core.env import BodyEnv
-from animat.envs.motor.fish import SwimParams, fin_mc, swim_mc, to_action, turn_duration, turn_mc
+from animat.envs.motor.fish import (
+    REACTIVE_SWIM,
+    REACTIVE_TURN,
+    CStartParams,
+    SwimParams,
+    TurnParams,
+    fin_mc,
+    swim_mc,
+    turn_duration,
+    turn_mc,
+)
 
+from .biology import c_start, cruise_figures, dolphin_cruise, fish_cruise, gait_grid, play
 from .parser import demo_arguments
 
-TAIL_TIPS = [21, 22]
-
-
-def play(env: gym.Env, actuation, seconds: float, fins=None) -> tuple[list[dict], np.ndarray]:
-    """Run ``actuation(t) -> u (6,)`` for ``seconds`` (with fin commands ``fins`` (2,) in
-    [-1, 1] appended when given); returns the per-step infos and the tail tip's track (T, 3)."""
-    env.reset(seed=0)
-    infos, tail = [], []
-    for k in range(int(round(seconds / env.unwrapped.dt))):
-        action = to_action(actuation((k + 1) * env.unwrapped.dt))
-        if fins is not None:
-            action = np.append(action, fins).astype(np.float32)
-        infos.append(env.step(action)[4])
-        tail.append(env.unwrapped.node_positions[TAIL_TIPS].mean(axis=0))
-    return infos, np.array(tail)
-
-
-def cruise_figures(infos: list[dict], tail: np.ndarray, dt: float, length: float,
-                   hz: float, start: float) -> dict[str, float]:
-    """Biology figures over the part of a swim after ``start`` s: U (BL/s, net travel per
-    second), A (BL, the tail tip's peak-to-peak excursion across the travel direction), f (Hz),
-    St = fA/U and the stride U/f (BL per beat)."""
-    first = int(round(start / dt))
-    com = np.array([i["com"] for i in infos])[first:, :2]
-    travel = com[-1] - com[0]
-    speed = np.linalg.norm(travel) / ((len(com) - 1) * dt)
-    across = np.array([-travel[1], travel[0]]) / np.linalg.norm(travel)
-    sway = (tail[first:, :2] - com) @ across
-    amplitude = sway.max() - sway.min()
-    return {"U": speed / length, "A": amplitude / length, "f": hz,
-            "St": hz * amplitude / speed, "stride": speed / length / hz}
+# Each water's hand controllers: the paper's gains, and those recalibrated on reactive water.
+CONTROLLERS: dict[str, tuple[SwimParams, TurnParams]] = {
+    "resistive": (SwimParams(), TurnParams()), "reactive": (REACTIVE_SWIM, REACTIVE_TURN)}
+GRID_HZ, GRID_LAGS = [2.0, 3.0, 4.0], [0.0, 0.5, 1.0, 1.5, 2.0]  # Hz; rad per segment
 
 
 SWEEP = [  # (label, Water fields, SwimParams fields)
@@ -66,6 +53,12 @@ SWEEP = [  # (label, Water fields, SwimParams fields)
     ("phase lag 0.5 pi", {}, {"phase_lag": 0.5 * np.pi}),
     ("phase lag 0", {}, {"phase_lag": 0.0}),
     ("5 Hz", {}, {"max_hz": 5.0}),
+    ("reactive", {"model": "reactive"}, {}),
+    ("reactive, amplitude x0.5 (its swim-MC)", {"model": "reactive"}, {"max_amplitude": 0.5}),
+    ("reactive, added mass x0.5", {"model": "reactive", "added_mass": 0.5},
+     {"max_amplitude": 0.5}),
+    ("reactive, no skin friction", {"model": "reactive", "friction_coefficient": 0.0},
+     {"max_amplitude": 0.5}),
 ]
 
 
@@ -73,11 +66,7 @@ def model_sweep(seconds: float = 10.0) -> list[tuple[str, dict[str, float]]]:
     """Cruise figures of the full-speed swim-MC for each row of ``SWEEP`` (seeded start)."""
     rows = []
     for label, water, gains in SWEEP:
-        params = SwimParams(**gains)
-        env = BodyEnv("swim", duration=seconds, water=water)
-        infos, tail = play(env, lambda t, params=params: swim_mc(1.0, t, params), seconds)
-        rows.append((label, cruise_figures(infos, tail, env.dt, env.body_length, params.max_hz,
-                                           seconds / 2)))
+        rows.append((label, fish_cruise(water, SwimParams(**gains), seconds)))
     return rows
 
 
@@ -90,41 +79,72 @@ def main(argv: list[str] | None = None) -> None:
 def run(args: argparse.Namespace) -> None:
     """Print the swim, turns and fins' figures (see the module's docstring)."""
     if args.model_sweep:
-        print(f"{'variant':<32} {'U BL/s':>7} {'A BL':>6} {'f Hz':>5} {'St':>5} {'stride':>7}")
+        print(f"{'variant':<40} {'U BL/s':>7} {'A BL':>6} {'f Hz':>5} {'St':>5} {'stride':>7}")
         for label, fig in model_sweep(args.seconds):
-            print(f"{label:<32} {fig['U']:>7.2f} {fig['A']:>6.2f} {fig['f']:>5.1f} "
+            print(f"{label:<40} {fig['U']:>7.2f} {fig['A']:>6.2f} {fig['f']:>5.1f} "
                   f"{fig['St']:>5.2f} {fig['stride']:>7.2f}")
         return
-    env = BodyEnv("swim", duration=args.seconds, render_mode="rgb_array" if args.video else None)
-    if args.video:
+    for model in CONTROLLERS:
+        print(f"== {model} water (water={{'model': '{model}'}}) ==")
+        water_figures(model, args)
+
+
+def water_figures(model: str, args: argparse.Namespace) -> None:
+    """Print one water's figures (the module's docstring), its recalibrated controllers'."""
+    water, (swim, turn) = {"model": model}, CONTROLLERS[model]
+    video = bool(args.video) and model == "resistive"
+    env = BodyEnv("swim", duration=args.seconds, water=water,
+                  render_mode="rgb_array" if video else None)
+    if video:
         env = gym.wrappers.RecordVideo(env, args.video, episode_trigger=lambda e: e == 0,
                                        disable_logger=True)
     length, dt = env.unwrapped.body_length, env.unwrapped.dt
-    infos, tail = play(env, lambda t: swim_mc(1.0, t), args.seconds)
-    fig = cruise_figures(infos, tail, dt, length, SwimParams().max_hz, args.seconds / 2)
+    infos, tail = play(env, lambda t: swim_mc(1.0, t, swim), args.seconds)
+    fig = cruise_figures(infos, tail, dt, length, swim.max_hz, args.seconds / 2)
     along = infos[-1]["com"][0] - infos[len(infos) // 2 - 1]["com"][0]
-    print(f"swim-MC, speed 1, over the last {args.seconds / 2:g} s: U {fig['U']:.2f} BL/s "
-          f"({along / length / (args.seconds / 2):.2f} along the start heading), tail beat "
-          f"f {fig['f']:.1f} Hz, amplitude A {fig['A']:.2f} BL (peak to peak), "
-          f"Strouhal fA/U {fig['St']:.2f}, stride {fig['stride']:.2f} BL per beat; heading "
-          f"{infos[-1]['heading_deg']:+.1f} deg at {args.seconds:g} s")
+    heading_speed = along / length / (args.seconds / 2)
+    print(f"swim-MC (amplitude {swim.max_amplitude:g}), speed 1, over the last "
+          f"{args.seconds / 2:g} s: U {fig['U']:.2f} BL/s ({heading_speed:.2f}"
+          f" along the start heading), tail beat f {fig['f']:.1f} Hz, amplitude A "
+          f"{fig['A']:.2f} BL (peak to peak), Strouhal fA/U {fig['St']:.2f}, stride "
+          f"{fig['stride']:.2f} BL per beat; heading {infos[-1]['heading_deg']:+.1f} deg at "
+          f"{args.seconds:g} s")
     env.close()
-    end = turn_duration(np.pi / 2)
+    grid = gait_grid(water, GRID_HZ, GRID_LAGS)
+    f, k = np.unravel_index(np.argmax(grid[..., 0]), grid[..., 0].shape)
+    kept = grid[..., 1] / grid[..., 0]
+    print(f"waves of contraction, {GRID_HZ} Hz x lags {GRID_LAGS} rad per segment: the fastest "
+          f"{GRID_HZ[f]:g} Hz, lag {GRID_LAGS[k]:g}, at {grid[f, k, 0]:.2f} BL/s; reversed "
+          f"{grid[f, k, 1]:.2f} ({grid[f, k, 1] / grid[f, k, 0]:.0%}; speeds along the start "
+          f"heading, negative: it turned back); each wave reversed "
+          f"keeps {kept.min():.0%}-{kept.max():.0%}")
+    headings = c_start(water, CStartParams())
+    start = CStartParams()
+    print(f"C-start (bend {start.bend:g} s, counter-stroke {start.counter:g} s): "
+          f"{headings.max():.1f} deg at most within 1 s, {headings[-1]:.1f} at 1 s")
+    end = turn_duration(np.pi / 2, turn)
     for left in (True, False):
         sign = 1.0 if left else -1.0
-        turn = BodyEnv("turn", duration=end + 3.0)
-        turn_infos, _ = play(turn, lambda t, left=left: turn_mc(np.pi / 2, t, left), end + 3.0)
-        headings = sign * np.array([i["heading_deg"] for i in turn_infos])
+        env = BodyEnv("turn", duration=end + 3.0, water=water)
+        turn_infos, _ = play(env, lambda t, left=left: turn_mc(np.pi / 2, t, left, turn),
+                             end + 3.0)
+        headings = sign * np.degrees(np.unwrap(np.radians([i["heading_deg"]
+                                                           for i in turn_infos])))
         at_end = headings[int(round(end / dt)) - 1]
-        print(f"{'left' if left else 'right'}-turn-MC, 90 deg: {at_end:.1f} deg when it ends at "
-              f"{end:.1f} s, {headings.max():.1f} at most, {headings[-1]:.1f} 3 s later")
+        print(f"{'left' if left else 'right'}-turn-MC, 90 deg: {at_end:.1f}"
+              f" deg when it ends at {end:.1f} s, {headings.max():.1f} at most, "
+              f"{headings[-1]:.1f} 3 s later")
     for pitch in (1.0, -1.0):
-        dive = BodyEnv("swim", duration=6.0, fins=True)
-        fin_infos, _ = play(dive, lambda t: swim_mc(1.0, t), 6.0,
+        dive = BodyEnv("swim", duration=6.0, fins=True, water=water)
+        fin_infos, _ = play(dive, lambda t: swim_mc(1.0, t, swim), 6.0,
                             fins=fin_mc(pitch=pitch) / fin_mc(pitch=1.0)[0])
         z = np.array([i["com"][2] for i in fin_infos]) / length
         print(f"fin-MC pitch {pitch:+.0f} while swimming: depth change {z[-1] - z[0]:+.2f} BL "
               f"in 6 s, {(z[-1] - z[59]) / 3.0:+.3f} BL/s over the last 3 s")
+    dolphin = dolphin_cruise(water)
+    print(f"dolphin fluke stroke, 5 Hz, last 3 of 6 s: U {dolphin['U']:.2f} BL/s, A "
+          f"{dolphin['A']:.2f} BL, St {dolphin['St']:.2f}, stride {dolphin['stride']:.2f} BL per "
+          "beat (the dolphin has no cross-sections yet: the resistive forces in both waters)")
 
 
 if __name__ == "__main__":

@@ -61,6 +61,18 @@ class BodySpec:
             shrinks with depth, Boyle's law; default none).
         face_parts: (F,) the part of the body each face belongs to, for contacts: 0 body,
             1 nose, 2 tail (:data:`animat.envs.physics.ball.PART_NAMES`; default all body).
+        section_nodes: (J, K) the cross-sections of the body from head to tail, as the nodes
+            each is the weighted mean of (a ring, the nose, the tail's trailing edge), for the
+            water's reactive force (:mod:`animat.envs.physics.reactive`); each node in at most
+            one section. Default none (J = 0): the body feels the resistive forces only.
+        section_weights: (J, K) each node's share of its section (rows sum to 1).
+        section_lengths: (J,) the length of body each section stands for, m (they add up to
+            the body's length).
+        section_areas: (J,) the section's added mass per unit length per unit water density
+            for motion across it in the body's plane of undulation, m^2: ``pi b^2`` for a
+            half-extent b across the motion (an ellipse's, or a thin plate's of span 2b;
+            Lighthill 1960). The plane is sideways: the force pushes each section along its
+            left (:mod:`animat.envs.physics.reactive`).
     """
 
     name: str
@@ -87,8 +99,16 @@ class BodySpec:
     # None: zeros (no air; every face part of the body), filled in by __post_init__
     lung_volumes: np.ndarray = None  # type: ignore[assignment]
     face_parts: np.ndarray = None  # type: ignore[assignment]
+    section_nodes: np.ndarray = None  # type: ignore[assignment]
+    section_weights: np.ndarray = None  # type: ignore[assignment]
+    section_lengths: np.ndarray = None  # type: ignore[assignment]
+    section_areas: np.ndarray = None  # type: ignore[assignment]
 
     def __post_init__(self) -> None:
+        if self.section_nodes is None:
+            for name, shape in (("section_nodes", (0, 1)), ("section_weights", (0, 1)),
+                                ("section_lengths", (0,)), ("section_areas", (0,))):
+                object.__setattr__(self, name, np.zeros(shape))
         if self.lung_volumes is None:
             object.__setattr__(self, "lung_volumes", np.zeros(len(self.masses)))
         if self.face_parts is None:
@@ -99,6 +119,8 @@ class BodySpec:
             "faces": np.int64, "face_weights": float, "fin_nodes": np.int64, "fin_areas": float,
             "frame_front": np.int64, "frame_back": np.int64, "frame_up": np.int64,
             "frame_down": np.int64, "lung_volumes": float, "face_parts": np.int64,
+            "section_nodes": np.int64, "section_weights": float, "section_lengths": float,
+            "section_areas": float,
         }
         for name, dtype in conversions.items():
             object.__setattr__(self, name, frozen_array(getattr(self, name), dtype))
@@ -162,9 +184,51 @@ def validate_body(body: BodySpec) -> None:
         (body.fin_areas.shape == (body.fin_nodes.shape[0],), "one fin area per fin"),
         (len(body.fin_names) == body.fin_nodes.shape[0], "one fin name per fin"),
     ]
-    for ok, message in checks:
+    for ok, message in checks + section_checks(body):
         if not ok:
             raise ValueError(f"BodySpec {body.name!r}: {message}")
     lengths = body.rest_lengths
     if np.any(lengths <= 0):
         raise ValueError(f"BodySpec {body.name!r}: an element has zero rest length")
+
+
+def section_checks(body: BodySpec) -> list[tuple[bool, str]]:
+    """(ok, message) pairs for the cross-sections (:attr:`BodySpec.section_nodes`)."""
+    nodes, weights = body.section_nodes, body.section_weights
+    j = nodes.shape[0]
+    used = nodes[weights > 0] if weights.shape == nodes.shape else nodes.ravel()
+    return [
+        (nodes.ndim == 2 and weights.shape == nodes.shape, "section_weights must match "
+         "section_nodes (J, K)"),
+        (j == 0 or (nodes.min() >= 0 and nodes.max() < body.num_nodes),
+         "section_nodes index a missing node"),
+        (j == 0 or (np.all(weights >= 0) and np.allclose(weights.sum(axis=1), 1.0)),
+         "section_weights must be >= 0 with rows summing to 1"),
+        (len(np.unique(used)) == len(used), "a node is in more than one section"),
+        (body.section_lengths.shape == (j,) and np.all(body.section_lengths >= 0),
+         "section_lengths must be (J,) >= 0"),
+        (body.section_areas.shape == (j,) and np.all(body.section_areas >= 0),
+         "section_areas must be (J,) >= 0"),
+        (j != 1, "a body needs no section or at least two (head and tail)"),
+    ]
+
+
+def chain_sections(stations: list[float], groups: list[list[int]],
+                   half_extents: list[float], scale: float) -> dict[str, np.ndarray]:
+    """The cross-section fields of a :class:`BodySpec` for a body laid out as a chain of
+    stations, head to tail: station k at body-frame x ``stations[k]`` (model units, falling
+    toward the tail) holds the nodes ``groups[k]`` (equal shares) and has the half-extent
+    ``b = half_extents[k]`` (model units) across the plane of undulation: its added-mass area
+    is ``pi b^2``. Each section stands for the
+    body from half-way to the station in front to half-way to the one behind (the first from
+    its own x, the last to its own x). ``scale`` is metres per model unit."""
+    xs = np.asarray(stations, dtype=float)
+    bounds = np.concatenate([[xs[0]], 0.5 * (xs[1:] + xs[:-1]), [xs[-1]]])
+    width = max(len(g) for g in groups)
+
+    nodes = np.array([g + [g[-1]] * (width - len(g)) for g in groups])
+    weights = np.array([[1.0 / len(g)] * len(g) + [0.0] * (width - len(g)) for g in groups])
+    areas = np.pi * np.asarray(half_extents, dtype=float) ** 2
+    return {"section_nodes": nodes, "section_weights": weights,
+            "section_lengths": (bounds[:-1] - bounds[1:]) * scale,
+            "section_areas": areas * scale**2}

@@ -52,10 +52,31 @@ class TurnParams:
 
 
 @dataclass(frozen=True)
+class CStartParams:
+    """C-start (the escape turn of fish: Domenici & Blake 1997, J. Exp. Biol. 200): every
+    turn-side segment fully contracted for ``bend`` s (stage 1, the body bent into a C), then
+    the other side's at ``counter_amplitude`` for ``counter`` s (stage 2, the counter-stroke
+    that throws the tail back and propels the fish out of the turn), then relaxed."""
+
+    bend: float = 0.15
+    counter: float = 0.2
+    counter_amplitude: float = 1.0
+
+
+@dataclass(frozen=True)
 class FinParams:
     """Fin-MC gain: the fin angle (rad) for a command of 1."""
 
     max_angle: float = np.radians(30.0)
+
+
+# The controllers recalibrated on the reactive water (Water(model="reactive")), where the same
+# muscles move the fish much further: the full-speed swim at half the activation swims with a
+# fish's tail amplitude (0.24 BL peak to peak, St 0.32, 0.76 BL per beat at 3 Hz), and a turn
+# stroke of 0.9 turns about 23 degrees (the 90-degree turn-MC ends at 84 degrees, peaks at 92).
+# Measured by the demo (animat demo) and held by tests/envs/physics/test_reactive.py.
+REACTIVE_SWIM = SwimParams(max_amplitude=0.5)
+REACTIVE_TURN = TurnParams(angle_per_stroke=np.radians(23.0), amplitude=0.9)
 
 
 def _check_unit(name: str, value: float, low: float, high: float) -> float:
@@ -106,6 +127,36 @@ def turn_mc(angle: float, t: np.ndarray | float, left: bool = True,
     for segment in (LEFT_FRONT, LEFT_MIDDLE, LEFT_BACK) if left else (
             RIGHT_FRONT, RIGHT_MIDDLE, RIGHT_BACK):
         u[..., segment] = envelope
+    return u
+
+
+def cstart_mc(t: np.ndarray | float, left: bool = True,
+              params: CStartParams = CStartParams()) -> np.ndarray:
+    """A C-start to the left (``left=True``) or right from ``t = 0``. Returns u (..., 6)."""
+    t = np.asarray(t, dtype=float)
+    bend = (t >= 0.0) & (t <= params.bend)
+    counter = (t > params.bend) & (t <= params.bend + params.counter)
+    turn_side, other = (slice(0, 3), slice(3, 6)) if left else (slice(3, 6), slice(0, 3))
+    u = np.zeros(t.shape + (6,))
+    u[..., turn_side] = np.where(bend, 1.0, 0.0)[..., None]
+    u[..., other] = np.where(counter, params.counter_amplitude, 0.0)[..., None]
+    return u
+
+
+def wave_mc(hz: float, lag: float, amplitude: float, t: np.ndarray | float,
+            ease: float = 1.0) -> np.ndarray:
+    """A wave of contraction over the three segments, front to back: segment k of the left
+    side at ``amplitude (1 + sin(2 pi hz t - k lag)) / 2`` and of the right side in
+    antiphase, eased in over ``ease`` s; a negative ``lag`` runs the wave tail to head.
+    Returns u (..., 6)."""
+    t = np.asarray(t, dtype=float)
+    scale = 0.5 * amplitude * (np.clip(t / ease, 0.0, 1.0) if ease > 0 else np.ones_like(t))
+    u = np.zeros(t.shape + (6,))
+    for k, (left, right) in enumerate(((LEFT_FRONT, RIGHT_FRONT), (LEFT_MIDDLE, RIGHT_MIDDLE),
+                                       (LEFT_BACK, RIGHT_BACK))):
+        wave = np.sin(2.0 * np.pi * hz * t - k * lag)
+        u[..., left] = scale * (1.0 + wave)
+        u[..., right] = scale * (1.0 - wave)
     return u
 
 

@@ -4,6 +4,9 @@ One step of size h, with every force evaluated at the start of the step::
 
     v' = v + h M^-1 f(x, v, t),    x' = x + h v'.
 
+In reactive water (:mod:`animat.envs.physics.reactive`) M is the nodes' mass plus the added
+mass of the water their cross-sections carry, taken at the start of the step.
+
 Why this scheme (measured against the implicit Euler it replaced; see the README's physics
 section): for forces that are central and equal-and-opposite (the Voigt elements), it conserves
 linear and angular momentum exactly, whatever the step and the actuation —
@@ -28,7 +31,8 @@ from numba import njit, prange
 from .ball import ball_substep
 from .fins import add_fin_forces
 from .forces import FAST, add_element_forces, add_face_forces, add_gravity_buoyancy
-from .system import AIR_PRESSURE, DENSITY, GRAVITY, SURFACE_Z
+from .reactive import MEAN_ROWS, SECTION_ROWS, add_reactive_forces, solve_added_mass
+from .system import AIR_PRESSURE, DENSITY, GRAVITY, REACTIVE, SURFACE_Z
 
 
 @njit(**FAST)
@@ -81,6 +85,10 @@ def step_chunk(x, v, u_start, u_end, fin_angles, substeps, c, splash, ball, touc
     splash_lanes = np.zeros(lanes)
     fin_scratch = np.empty((16, lanes))
     frame_nodes = (c.frame_front, c.frame_back, c.frame_up, c.frame_down)
+    reactive = c.water[REACTIVE] > 0.0 and c.section_nodes.shape[0] > 0
+    sections = np.empty((c.section_nodes.shape[0], SECTION_ROWS, lanes))
+    section_means = np.empty((c.section_nodes.shape[0], MEAN_ROWS, lanes))
+    up_scratch = np.empty((3, lanes))
     for s in range(substeps):
         ramp_rest_lengths(c.rest_lengths, c.actuator, c.max_contraction, u_start, u_end,
                           s / substeps, rest)
@@ -92,6 +100,11 @@ def step_chunk(x, v, u_start, u_end, fin_angles, substeps, c, splash, ball, touc
                        c.water, c.dt, fl, fin_scratch)
         add_gravity_buoyancy(xl, c.masses, c.volumes, c.lungs, c.water[DENSITY],
                              c.water[GRAVITY], c.water[SURFACE_Z], c.water[AIR_PRESSURE], fl)
+        if reactive:
+            add_reactive_forces(xl, vl, c.frame_up, c.frame_down, c.section_nodes,
+                                c.section_weights, c.section_lengths, c.section_areas, c.water,
+                                c.dt, fl, sections, section_means, up_scratch)
+            solve_added_mass(fl, c.masses, c.section_nodes, c.section_weights, sections)
         kick_drift(xl, vl, fl, c.masses, c.dt)
         if ball_args.shape[0] > 0:
             ball_substep(xl.transpose(2, 0, 1), vl.transpose(2, 0, 1), c.masses, c.faces,

@@ -22,6 +22,8 @@ from ..bodies.spec import BodySpec, frozen_array
 from ..checks import check_number, check_vector, is_real, shown
 
 REACTION_LAWS = ("crossflow", "paper")
+WATER_MODELS = ("reactive", "resistive")
+MAX_ADDED_MASS = 4.0  # the largest added-mass coefficient (1 is Lighthill's section)
 # The ranges Water accepts (low, high, unit; air_pressure must be above its low): physically
 # sensible media that the integrator keeps finite, every field at its bound at once, at the
 # largest physics_dt System accepts, with the reset noise at its bound (tests/envs/
@@ -59,11 +61,17 @@ class Water:
         current: (3,) water velocity in the world frame, m/s.
         air_pressure: at the surface, Pa; sets how lungs compress with depth (Boyle's law,
             :func:`animat.envs.physics.forces.compressed`).
+        model: ``"reactive"`` adds to the resistive forces the water's reactive force of
+            Lighthill's elongated-body theory on the body's cross-sections (added mass and the
+            momentum shed at the trailing edge; :mod:`animat.envs.physics.reactive`);
+            ``"resistive"`` is the paper's water of 1995, the faces' drag and friction alone.
+        added_mass: the reactive model's added mass as a multiple of the sections'
+            (``rho pi b^2`` per unit length), dimensionless, in [0, 4].
 
-    ``Water(fluid_coefficient=0, air_coefficient=0, friction_coefficient=0, gravity=0)`` is a
-    vacuum (:func:`vacuum`). Each field must be finite and within its range: the two drag
-    coefficients and ``density`` in [0, 2e4] kg/m^3, the two friction coefficients in
-    [0, 50] kg/m^3, ``gravity`` in [0, 100] m/s^2,
+    ``Water(fluid_coefficient=0, air_coefficient=0, friction_coefficient=0, gravity=0,
+    density=0)`` is a vacuum (:func:`vacuum`). Each field must be finite and within its
+    range: the two drag coefficients and ``density`` in [0, 2e4] kg/m^3, the two friction
+    coefficients in [0, 50] kg/m^3, ``gravity`` in [0, 100] m/s^2, ``added_mass`` in [0, 4],
     ``air_pressure`` in (0, 1e7] Pa (:data:`WATER_LIMITS`), each ``current`` component in
     [-20, 20] m/s, ``surface_z`` in [-1e4, 1e4] m or ``inf``; a bad one is a ValueError of
     one line naming the field and its value.
@@ -79,6 +87,8 @@ class Water:
     surface_z: float = float("inf")
     current: tuple[float, float, float] = (0.0, 0.0, 0.0)
     air_pressure: float = 101325.0
+    model: str = "resistive"
+    added_mass: float = 1.0
 
     def __post_init__(self) -> None:
         """Check every field: a finite number in its range (:data:`WATER_LIMITS`), ``current``
@@ -90,6 +100,10 @@ class Water:
         if not (isinstance(self.reaction, str) and self.reaction in REACTION_LAWS):
             raise ValueError(f"Water.reaction must be one of {REACTION_LAWS}, got "
                              f"{shown(self.reaction)}")
+        if not (isinstance(self.model, str) and self.model in WATER_MODELS):
+            raise ValueError(f"Water.model must be one of {WATER_MODELS}, got "
+                             f"{shown(self.model)}")
+        check_number("Water.added_mass", self.added_mass, 0.0, MAX_ADDED_MASS, "")
         if not (is_real(self.surface_z) and self.surface_z == float("inf")):
             check_number("Water.surface_z", self.surface_z, -MAX_SURFACE_Z, MAX_SURFACE_Z, "m",
                          note="or inf: no surface")
@@ -115,11 +129,13 @@ class Water:
     def as_args(self) -> np.ndarray:
         """(WATER_SIZE,) float64, the numbers the compiled force terms read: the one place the
         water is packed for the kernels. A slot per number, the fields in their order (SI
-        units as above), ``reaction`` as the flag ``crossflow`` (1.0 cross-flow, 0.0 paper)
+        units as above), ``reaction`` as the flag ``crossflow`` (1.0 cross-flow, 0.0 paper),
+        ``model`` as the flag ``reactive`` (1.0 reactive, 0.0 resistive)
         and ``current`` as its x, y, z components (:data:`SPLIT_FIELDS`); a kernel reads slot
         ``water[SURFACE_Z]`` by its constant (:data:`WATER_SLOTS`)."""
         numbers = {"reaction": (1.0 if self.reaction == "crossflow" else 0.0,),
-                   "current": self.current}
+                   "current": self.current,
+                   "model": (1.0 if self.model == "reactive" else 0.0,)}
         return np.array([number for f in dataclass_fields(self)
                          for number in numbers.get(f.name, (getattr(self, f.name),))],
                         dtype=np.float64)
@@ -127,7 +143,8 @@ class Water:
 
 # The water as the kernels see it (Water.as_args): one float64 array, a slot per number, Water's
 # fields in their order, each one slot but these, named here by their slots.
-SPLIT_FIELDS = {"reaction": ("crossflow",), "current": ("current_x", "current_y", "current_z")}
+SPLIT_FIELDS = {"reaction": ("crossflow",), "current": ("current_x", "current_y", "current_z"),
+                "model": ("reactive",)}
 WATER_SLOTS: tuple[str, ...] = tuple(slot for f in dataclass_fields(Water)
                                      for slot in SPLIT_FIELDS.get(f.name, (f.name,)))
 WATER_SIZE = len(WATER_SLOTS)
@@ -149,12 +166,15 @@ CURRENT_X: int = _SLOT["current_x"]  # m/s, the water's velocity in the world fr
 CURRENT_Y: int = _SLOT["current_y"]  # m/s
 CURRENT_Z: int = _SLOT["current_z"]  # m/s
 AIR_PRESSURE: int = _SLOT["air_pressure"]  # Pa, at the surface (lungs' compression)
+REACTIVE: int = _SLOT["reactive"]  # 1.0 the reactive (added-mass) water, 0.0 resistive only
+ADDED_MASS: int = _SLOT["added_mass"]  # the reactive force's added-mass coefficient
 
 
 def vacuum() -> Water:
-    """No fluid, no friction, no gravity: internal forces only."""
+    """No fluid, no friction, no gravity: internal forces only (``density`` 0: no added mass
+    either)."""
     return Water(fluid_coefficient=0.0, air_coefficient=0.0, friction_coefficient=0.0,
-                 air_friction_coefficient=0.0, gravity=0.0)
+                 air_friction_coefficient=0.0, gravity=0.0, density=0.0)
 
 
 class KernelArgs(NamedTuple):
@@ -182,6 +202,10 @@ class KernelArgs(NamedTuple):
     frame_down: np.ndarray
     water: np.ndarray  # (WATER_SIZE,) Water.as_args, read as water[SURFACE_Z] etc.
     dt: float
+    section_nodes: np.ndarray
+    section_weights: np.ndarray
+    section_lengths: np.ndarray
+    section_areas: np.ndarray
 
 
 DEFAULT_DT = 0.05 / 40  # s; 40 steps per 0.05 s env step (README: convergence table)
@@ -232,7 +256,8 @@ class System:
             b.rest_lengths, b.actuator, float(b.max_contraction), b.faces, b.face_weights,
             self.face_mass, b.fin_nodes, b.fin_areas, self.fin_mass, b.frame_front,
             b.frame_back, b.frame_up, b.frame_down,
-            frozen_array(self.water.as_args()), float(self.dt))
+            frozen_array(self.water.as_args()), float(self.dt), b.section_nodes,
+            b.section_weights, b.section_lengths, b.section_areas)
 
 
 def effective_masses(masses: np.ndarray, nodes: np.ndarray, weights: np.ndarray) -> np.ndarray:

@@ -2,9 +2,10 @@
 
 Run ``python -m animat.experiments.bench.physics`` or ``animat bench``. It measures, in the
 same process and in interleaved rounds (median of each), ``Animat/FishSwim-v0`` as one env and
-as the native batch of 256, and, when ``mujoco`` is installed (the ``bench`` extra),
+as the native batch of 256, both in the resistive water and in the reactive one
+(``water={"model": "reactive"}``), and, when ``mujoco`` is installed (the ``bench`` extra),
 Gymnasium's ``Swimmer-v5`` as one env and as a sync vector of 256, all with uniformly random
-actions, and prints the ratios.
+actions, and prints the ratios (the reactive water's cost against the resistive one's too).
 Simulated seconds per wall second of a vector env count every sub-env's time.
 ``--breakdown`` prints where an integration step's time goes instead: each force term, the
 kick-drift and the whole fused step, in ns per body and step, for one body and for a SIMD
@@ -20,7 +21,7 @@ import gymnasium as gym
 import numpy as np
 
 import animat  # noqa: F401  (registers Animat/*)
-from animat.envs.physics import fins, forces
+from animat.envs.physics import fins, forces, reactive
 from animat.envs.physics.integrator import CHUNK, NO_BALL, kick_drift, ramp_rest_lengths, step_chunk
 
 
@@ -39,12 +40,19 @@ def sim_seconds_per_second(env, dt: float, num_envs: int, seconds: float, seed: 
     return steps * dt * num_envs / elapsed
 
 
+REACTIVE = {"model": "reactive"}
+
+
 def make_configurations(num_envs: int) -> dict[str, tuple]:
     """{name: (env, dt, sub-env count)}; Swimmer-v5 only when mujoco is installed."""
     single = gym.make("Animat/FishSwim-v0")
     batch = gym.make_vec("Animat/FishSwim-v0", num_envs=num_envs)
     configs = {"fish, 1 env": (single, single.unwrapped.dt, 1),
                f"fish, native batch of {num_envs}": (batch, batch.dt, num_envs)}
+    single = gym.make("Animat/FishSwim-v0", water=REACTIVE)
+    batch = gym.make_vec("Animat/FishSwim-v0", num_envs=num_envs, water=REACTIVE)
+    configs["fish, reactive water, 1 env"] = (single, single.unwrapped.dt, 1)
+    configs[f"fish, reactive water, native batch of {num_envs}"] = (batch, batch.dt, num_envs)
     try:
         import mujoco  # noqa: F401
     except ImportError:
@@ -70,14 +78,19 @@ def run(seconds: float = 6.0, num_envs: int = 256, rounds: int = 3) -> dict[str,
 
 
 def report(results: dict[str, float], num_envs: int = 256) -> str:
-    lines = [f"{'configuration':<36} {'sim s / wall s':>15}"]
-    lines += [f"{name:<36} {value:>15.1f}" for name, value in results.items()]
+    lines = [f"{'configuration':<50} {'sim s / wall s':>15}"]
+    lines += [f"{name:<50} {value:>15.1f}" for name, value in results.items()]
+    batch = f"native batch of {num_envs}"
     pairs = [("fish, 1 env", "Swimmer-v5, 1 env"),
-             (f"fish, native batch of {num_envs}", f"Swimmer-v5, sync vector of {num_envs}")]
+             (f"fish, {batch}", f"Swimmer-v5, sync vector of {num_envs}"),
+             ("fish, reactive water, 1 env", "Swimmer-v5, 1 env"),
+             (f"fish, reactive water, {batch}", f"Swimmer-v5, sync vector of {num_envs}"),
+             ("fish, reactive water, 1 env", "fish, 1 env"),
+             (f"fish, reactive water, {batch}", f"fish, {batch}")]
     for ours, theirs in pairs:
         if ours in results and theirs in results:
             lines.append(f"ratio {ours} / {theirs}: {results[ours] / results[theirs]:.2f}x")
-    if len(results) == 2:
+    if len(results) == 4:
         lines.append("(install the 'bench' extra, i.e. mujoco, to compare with Swimmer-v5)")
     return "\n".join(lines)
 
@@ -92,8 +105,9 @@ def _timed(fn, reps: int) -> float:
 
 def breakdown(lanes: int, reps: int = 2000) -> dict[str, float]:
     """ns per body and integration step of each part of the step, for a chunk of ``lanes``
-    bodies in a swimming state (each part called on its own, so call overhead included)."""
-    env = gym.make("Animat/FishSwim-v0")
+    bodies in a swimming state (each part called on its own, so call overhead included), in
+    the reactive water (the fused step in both)."""
+    env = gym.make("Animat/FishSwim-v0", water=REACTIVE)
     env.reset(seed=0)
     for k in range(20):
         env.step(np.full(6, np.sin(k), np.float32))
@@ -108,6 +122,9 @@ def breakdown(lanes: int, reps: int = 2000) -> dict[str, float]:
     splash = np.zeros(lanes)
     frames = (c.frame_front, c.frame_back, c.frame_up, c.frame_down)
     xb, vb = np.repeat(x0[None], lanes, axis=0), np.zeros((lanes,) + x0.shape)
+    sections = np.zeros((len(c.section_nodes), reactive.SECTION_ROWS, lanes))
+    means = np.zeros((len(c.section_nodes), reactive.MEAN_ROWS, lanes))
+    up = np.empty((3, lanes))
     parts = {
         "muscle rest lengths": lambda: ramp_rest_lengths(c.rest_lengths, c.actuator,
                                                          c.max_contraction, u, u, 0.5, rest),
@@ -121,14 +138,21 @@ def breakdown(lanes: int, reps: int = 2000) -> dict[str, float]:
         "gravity, buoyancy": lambda: forces.add_gravity_buoyancy(x, c.masses, c.volumes,
                                                                  c.lungs, 1000.0, 0.0, 0.0,
                                                                  101325.0, f),
+        "reactive force (sections)": lambda: reactive.add_reactive_forces(
+            x, v, c.frame_up, c.frame_down, c.section_nodes, c.section_weights,
+            c.section_lengths, c.section_areas, c.water, c.dt, f, sections, means, up),
+        "added mass (solve)": lambda: reactive.solve_added_mass(f, c.masses, c.section_nodes,
+                                                                c.section_weights, sections),
         "kick-drift": lambda: kick_drift(x, v, f, c.masses, 0.0),
     }
     out = {name: 1e9 * _timed(fn, reps) / lanes for name, fn in parts.items()}
     steps = 40
-    out["fused step (all of it)"] = 1e9 * _timed(
-        lambda: step_chunk(xb, vb, u, u, np.zeros((lanes, 2)), steps, c, np.zeros(lanes),
-                           *NO_BALL),
-        max(1, reps // steps)) / lanes / steps
+    resistive = gym.make("Animat/FishSwim-v0").unwrapped.core.system.kernel_args
+    for name, args in (("fused step, reactive water", c), ("fused step, resistive", resistive)):
+        out[name] = 1e9 * _timed(
+            lambda args=args: step_chunk(xb, vb, u, u, np.zeros((lanes, 2)), steps, args,
+                                         np.zeros(lanes), *NO_BALL),
+            max(1, reps // steps)) / lanes / steps
     return out
 
 

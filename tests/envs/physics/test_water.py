@@ -13,11 +13,12 @@ from animat.envs.physics.system import SPLIT_FIELDS, WATER_SIZE, WATER_SLOTS, Wa
 # Every field a different number, so that a slot read from the wrong index shows.
 DISTINCT = Water(fluid_coefficient=1.0, air_coefficient=2.0, friction_coefficient=3.0,
                  air_friction_coefficient=4.0, reaction="paper", density=6.0, gravity=7.0,
-                 surface_z=8.0, current=(9.0, 10.0, 11.0), air_pressure=12.0)
+                 surface_z=8.0, current=(9.0, 10.0, 11.0), air_pressure=12.0,
+                 model="reactive", added_mass=14.0 / 7.0)
 EXPECTED = {"fluid_coefficient": 1.0, "air_coefficient": 2.0, "friction_coefficient": 3.0,
             "air_friction_coefficient": 4.0, "crossflow": 0.0, "density": 6.0, "gravity": 7.0,
             "surface_z": 8.0, "current_x": 9.0, "current_y": 10.0, "current_z": 11.0,
-            "air_pressure": 12.0}
+            "air_pressure": 12.0, "reactive": 1.0, "added_mass": 2.0}
 
 
 def test_water_packing_round_trips_every_field_to_its_slot_constant():
@@ -35,6 +36,7 @@ def test_water_packing_round_trips_every_field_to_its_slot_constant():
     assert packed | {slot for slots in SPLIT_FIELDS.values() for slot in slots} == set(EXPECTED)
     assert Water().as_args()[system.CROSSFLOW] == 1.0  # the default law: cross-flow
     assert Water().as_args()[system.SURFACE_Z] == np.inf  # no surface
+    assert Water(model="resistive").as_args()[system.REACTIVE] == 0.0
 
 
 def test_water_kernels_read_no_bare_slot_number():
@@ -52,7 +54,7 @@ def test_water_kernels_read_no_bare_slot_number():
 # without recompiling the kernels that read them as literals: they would read the wrong slots.
 PINNED_SLOTS = ("fluid_coefficient", "air_coefficient", "friction_coefficient",
                 "air_friction_coefficient", "crossflow", "density", "gravity", "surface_z",
-                "current_x", "current_y", "current_z", "air_pressure")
+                "current_x", "current_y", "current_z", "air_pressure", "reactive", "added_mass")
 
 
 def test_water_slot_order_is_pinned():

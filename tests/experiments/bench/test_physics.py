@@ -8,12 +8,14 @@ def test_the_benchmark_prints_every_configuration_and_the_ratios():
     out = animat("bench", "--seconds", "0.6", "--num-envs", "8").stdout
     assert "fish, 1 env" in out and "fish, native batch of 8" in out
     assert "ratio fish, 1 env / Swimmer-v5, 1 env" in out  # the bench extra is installed here
+    assert "fish, reactive water, native batch of 8" in out
+    assert "ratio fish, reactive water, 1 env / fish, 1 env" in out
 
 
 def test_the_breakdown_times_every_part_and_the_fused_step():
     lines = animat("bench", "--breakdown").stdout.strip().splitlines()
-    assert lines[0].startswith("part of a step") and len(lines) == 8
+    assert lines[0].startswith("part of a step") and len(lines) == 11
     for line in lines[1:]:
         one, chunk = (float(v) for v in line.split()[-2:])
         assert one > 0 and chunk > 0
-    assert lines[-1].startswith("fused step")
+    assert lines[-2].startswith("fused step, reactive") and lines[-1].startswith("fused step")

@@ -1,0 +1,121 @@
+"""How the animals swim, in the figures biologists measure them by: for each water model.
+
+The demo (:mod:`animat.experiments.demo`) prints these and the physics tests hold them to the
+ranges of real fish. Every figure comes from the hand motor controllers
+(:mod:`animat.envs.motor.fish`, :mod:`animat.envs.motor.dolphin`) from the seeded start:
+
+* :func:`cruise_figures` of a swim: speed U (BL/s, net travel over the last half), the tail's
+  peak-to-peak amplitude A across the travel (BL), the beat frequency f (Hz), the Strouhal
+  number ``St = f A / U`` and the stride ``U / f`` (BL per beat). Real fish cruise at St
+  0.2-0.4 with A about 0.2 BL and 0.5-1 BL per beat (Taylor, Nudds & Thomas 2003, Nature 425;
+  Videler 1993, Fish Swimming); dolphins at St 0.2-0.3 (Rohr & Fish 2004, J. Exp. Biol. 207).
+* :func:`gait_grid`: the speeds of head-to-tail waves of muscle contraction over the three
+  segments (frequency, phase lag per segment) and of the same waves run tail to head.
+* :func:`c_start`: the heading a C-start reaches (a one-sided bend, then a counter-stroke).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import gymnasium as gym
+import numpy as np
+
+import animat  # noqa: F401  (registers the envs)
+
+from ..envs.core.batch import BodyBatch
+from ..envs.core.env import BodyEnv
+from ..envs.motor.dolphin import DOLPHIN_SWIM, dolphin_swim_mc
+from ..envs.motor.fish import CStartParams, SwimParams, cstart_mc, swim_mc, to_action, wave_mc
+from ..envs.tasks.locomotion import SwimTask
+
+TAIL_TIPS = [21, 22]  # the trailing edge's nodes, the fish's and the dolphin's
+
+
+def play(env: gym.Env, actuation: Callable, seconds: float, fins=None
+         ) -> tuple[list[dict], np.ndarray]:
+    """Run ``actuation(t) -> u (6,)`` for ``seconds`` (with fin commands ``fins`` (2,) in
+    [-1, 1] appended when given) from the seeded start; returns the per-step infos and the
+    trailing edge's track (T, 3), m."""
+    env.reset(seed=0)
+    infos, tail = [], []
+    for k in range(int(round(seconds / env.unwrapped.dt))):
+        action = to_action(actuation((k + 1) * env.unwrapped.dt))
+        if fins is not None:
+            action = np.append(action, fins).astype(np.float32)
+        infos.append(env.step(action)[4])
+        tail.append(env.unwrapped.node_positions[TAIL_TIPS].mean(axis=0))
+    return infos, np.array(tail)
+
+
+def cruise_figures(infos: list[dict], tail: np.ndarray, dt: float, length: float,
+                   hz: float, start: float, vertical: bool = False) -> dict[str, float]:
+    """Biology figures over the part of a swim after ``start`` s: U (BL/s, net travel per
+    second), A (BL, the tail tip's peak-to-peak excursion across the travel direction: in the
+    horizontal plane, or with ``vertical`` in the vertical plane, the dolphin's), f (Hz),
+    St = fA/U and the stride U/f (BL per beat)."""
+    first = int(round(start / dt))
+    com = np.array([i["com"] for i in infos])[first:]
+    travel = com[-1] - com[0]
+    speed = np.linalg.norm(travel) / ((len(com) - 1) * dt)
+    heading = travel / np.linalg.norm(travel)
+    if vertical:
+        across = np.array([0.0, 0.0, 1.0]) - heading[2] * heading
+    else:
+        across = np.array([-heading[1], heading[0], 0.0])
+    across /= np.linalg.norm(across)
+    sway = (tail[first:] - com) @ across
+    amplitude = sway.max() - sway.min()
+    return {"U": speed / length, "A": amplitude / length, "f": hz,
+            "St": hz * amplitude / speed, "stride": speed / length / hz}
+
+
+def fish_cruise(water: dict, params: SwimParams, seconds: float = 10.0) -> dict[str, float]:
+    """:func:`cruise_figures` of the fish's swim-MC at full speed over the last half of
+    ``seconds``."""
+    env = BodyEnv("swim", duration=seconds, water=water)
+    infos, tail = play(env, lambda t: swim_mc(1.0, t, params), seconds)
+    return cruise_figures(infos, tail, env.dt, env.body_length, params.max_hz, seconds / 2)
+
+
+def dolphin_cruise(water: dict, params: SwimParams = DOLPHIN_SWIM, seconds: float = 6.0
+                   ) -> dict[str, float]:
+    """:func:`cruise_figures` of the dolphin's fluke stroke at full speed (its own pool, 3 m
+    down), the flukes' sway measured in the vertical plane."""
+    env = gym.make("Animat/DolphinForward-v0", water=water, duration=seconds)
+    infos, tail = play(env, lambda t: dolphin_swim_mc(1.0, t, params), seconds)
+    figures = cruise_figures(infos, tail, env.unwrapped.dt, env.unwrapped.body_length,
+                             params.max_hz, seconds / 2, vertical=True)
+    env.close()
+    return figures
+
+
+def gait_grid(water: dict, hz: list[float], lags: list[float], amplitude: float = 1.0,
+              seconds: float = 8.0) -> np.ndarray:
+    """(len(hz), len(lags), 2) the fish's speed (BL/s, net travel along the start heading over
+    the last half of ``seconds``) for the head-to-tail wave of each frequency and phase lag per
+    segment (rad; :func:`animat.envs.motor.fish.wave_mc`) in ``[..., 0]`` and the same wave
+    run tail to head (the lag negated) in ``[..., 1]``: one batch of fish, seeded starts."""
+    combos = [(f, sign * lag) for f in hz for lag in lags for sign in (1.0, -1.0)]
+    core = BodyBatch(len(combos), SwimTask(), water=water, duration=100.0)
+    core.reset_rows(np.arange(len(combos)), [np.random.default_rng(0) for _ in combos])
+    steps = int(round(seconds / core.dt))
+    heading, coms = core.kinematics().frames[:, 0, :2].copy(), []
+    for k in range(steps):
+        t = (k + 1) * core.dt
+        u = np.stack([wave_mc(f, lag, amplitude, t) for f, lag in combos])
+        info = core.step(2.0 * u - 1.0)[1]
+        coms.append(info["com"][:, :2].copy())
+    travel = coms[-1] - coms[steps // 2 - 1]
+    along = np.einsum("bk,bk->b", travel, heading / np.linalg.norm(heading, axis=1)[:, None])
+    speed = along / (seconds - (steps // 2) * core.dt) / core.body.length
+    return speed.reshape(len(hz), len(lags), 2)
+
+
+def c_start(water: dict, params: CStartParams, seconds: float = 1.0) -> np.ndarray:
+    """(T,) the fish's heading (deg, unwrapped, positive to the turn's side) every env step
+    of a left C-start from rest (:func:`animat.envs.motor.fish.cstart_mc`)."""
+    env = BodyEnv("swim", duration=seconds, water=water)
+    infos, _ = play(env, lambda t: cstart_mc(t, True, params), seconds)
+    env.close()
+    return np.degrees(np.unwrap(np.radians([i["heading_deg"] for i in infos])))

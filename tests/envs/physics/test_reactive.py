@@ -1,0 +1,210 @@
+"""The reactive water (``Water(model="reactive")``, :mod:`animat.envs.physics.reactive`): the
+solver's invariants, and a fish that swims like a fish in it.
+
+Invariants: in a vacuum it is the resistive step bit for bit; in an ideal fluid (no drag, no
+gravity) it creates no energy (the body's and the carried water's kinetic energy plus the
+elastic energy); a rotated start gives the rotated trajectory; the default step is converged
+(within 5% of a step 4x smaller); the tissue holds (passive elements within 0.7-1.3 of rest).
+Biology (the hand controllers recalibrated for it, :data:`animat.envs.motor.fish.REACTIVE_SWIM`
+and ``REACTIVE_TURN``): the cruise's Strouhal number, stride and amplitude in the ranges of
+real fish, a C-start of at least 60 degrees within 1 s, a 90-degree turn within 10 degrees.
+"""
+
+import numpy as np
+import pytest
+
+from animat.envs.bodies.fish import fish_body
+from animat.envs.core.batch import DEFAULT_FRAME_SKIP, BodyBatch
+from animat.envs.motor.fish import (
+    REACTIVE_SWIM,
+    REACTIVE_TURN,
+    CStartParams,
+    FinParams,
+    cstart_mc,
+    fin_mc,
+    swim_mc,
+    to_action,
+    turn_duration,
+    turn_mc,
+)
+from animat.envs.physics.integrator import step_batch
+from animat.envs.physics.reactive import water_energy
+from animat.envs.physics.system import DEFAULT_DT, System, Water, vacuum
+from animat.envs.tasks.locomotion import SwimTask
+from animat.experiments.biology import c_start, fish_cruise, play
+
+REACTIVE = {"model": "reactive"}
+IDEAL = Water(model="reactive", fluid_coefficient=0.0, air_coefficient=0.0,
+              friction_coefficient=0.0, air_friction_coefficient=0.0, gravity=0.0)
+
+
+def _start(body, count, seed):
+    rng = np.random.default_rng(seed)
+    x = np.repeat(body.rest_positions[None], count, axis=0) + rng.normal(0, 1e-3, (count, 23, 3))
+    return x, rng.normal(0.0, 0.05, x.shape)
+
+
+def test_in_a_vacuum_the_reactive_step_is_the_resistive_one_bit_for_bit():
+    body = fish_body()
+    resistive = System(body, vacuum())
+    reactive = System(body, Water(**{**vars(vacuum()), "model": "reactive"}))
+    rng = np.random.default_rng(1)
+    actions = rng.uniform(0, 1, (40, 3, 6))
+    runs = []
+    for system in (resistive, reactive):
+        x, v = _start(body, 3, 0)
+        u_prev = np.zeros((3, 6))
+        for u in actions:
+            step_batch(x, v, u_prev, u, np.zeros((3, 2)), 40, system.kernel_args)
+            u_prev = u
+        runs.append((x, v))
+    assert np.array_equal(runs[0][0], runs[1][0]) and np.array_equal(runs[0][1], runs[1][1])
+
+
+def _total_energy(body, x, v):
+    r = x[:, body.elements[:, 1]] - x[:, body.elements[:, 0]]
+    stretch = np.linalg.norm(r, axis=2) - body.rest_lengths
+    return (0.5 * np.einsum("n,bnk->b", body.masses, v**2) + water_energy(x, v, body, IDEAL)
+            + 0.5 * np.einsum("e,be->b", body.stiffness, stretch**2))
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_an_ideal_fluid_creates_no_energy(seed):
+    """A passive fish set moving and vibrating (random node velocities, 0.05 m/s) in water
+    with no drag and no gravity: its energy with the water's it carries never rises more
+    than 1% above the start over 10 s, read every 0.05 s (the dampers and the wake take it)."""
+    body = fish_body()
+    system = System(body, IDEAL)
+    x, v = _start(body, 1, seed)
+    zeros = np.zeros((1, 6))
+    energies = [_total_energy(body, x, v)[0]]
+    for _ in range(200):
+        step_batch(x, v, zeros, zeros, np.zeros((1, 2)), 40, system.kernel_args)
+        energies.append(_total_energy(body, x, v)[0])
+    energies = np.array(energies)
+    assert energies.max() <= 1.01 * energies[0], energies.max() / energies[0]
+    assert energies[-1] < energies[0]
+
+
+def test_a_rigidly_rotated_state_follows_the_rotated_trajectory_in_reactive_water():
+    body = fish_body()
+    system = System(body, Water(model="reactive", gravity=0.0))
+    a, b = 0.7, -0.4
+    rz = np.array([[np.cos(a), -np.sin(a), 0], [np.sin(a), np.cos(a), 0], [0, 0, 1]])
+    ry = np.array([[np.cos(b), 0, np.sin(b)], [0, 1, 0], [-np.sin(b), 0, np.cos(b)]])
+    rotation = rz @ ry
+    x, v = _start(body, 1, 3)
+    xr, vr = x @ rotation.T, v @ rotation.T
+    actions = np.random.default_rng(4).uniform(0, 1, (40, 1, 6))
+    for states in ((x, v), (xr, vr)):
+        u_prev = np.zeros((1, 6))
+        for u in actions:
+            step_batch(*states, u_prev, u, np.zeros((1, 2)), 40, system.kernel_args)
+            u_prev = u
+    scale = np.abs(x).max()
+    assert np.abs(x @ rotation.T - xr).max() < 1e-9 * scale
+    assert np.abs(x[0, :, 0] - _start(body, 1, 3)[0][0, :, 0]).max() > 0.05  # it moved
+
+
+def _figures(refine: int) -> dict[str, float]:
+    """The convergence figures of tests/envs/physics/test_convergence.py in reactive water,
+    with the recalibrated swim and turn."""
+    core = BodyBatch(3, SwimTask(), physics_dt=DEFAULT_DT / refine, water=REACTIVE,
+                     frame_skip=DEFAULT_FRAME_SKIP * refine, duration=100.0, fins=True)
+    core.reset_rows(np.arange(3), [np.random.default_rng(0) for _ in range(3)])
+    fins = np.zeros((3, 2))
+    fins[2] = fin_mc(pitch=1.0) / FinParams().max_angle
+    dt, turn_end = core.dt, turn_duration(np.pi / 2, REACTIVE_TURN)
+    coms, headings = [], []
+    for k in range(200):
+        t = (k + 1) * dt
+        swim = to_action(swim_mc(1.0, t, REACTIVE_SWIM))
+        turn = to_action(turn_mc(np.pi / 2, t, True, REACTIVE_TURN))
+        actions = np.concatenate([np.stack([swim, turn, swim]), fins], axis=1)
+        _, info, _ = core.step(actions.astype(np.float64))
+        coms.append(info["com"].copy())
+        headings.append(info["heading_deg"][1])
+    com = np.array(coms) / core.body.length
+    return {"swim speed BL/s": (com[-1, 0, 0] - com[99, 0, 0]) / 5.0,
+            "turn heading deg": headings[int(round(turn_end / dt)) - 1],
+            "fin depth change BL": com[119, 2, 2] - com[0, 2, 2]}
+
+
+@pytest.fixture(scope="module")
+def refined():
+    return _figures(1), _figures(4)
+
+
+@pytest.mark.parametrize("name", ["swim speed BL/s", "turn heading deg", "fin depth change BL"])
+def test_reactive_default_step_is_within_five_percent_of_a_step_four_times_smaller(refined,
+                                                                                   name):
+    default, fine = refined
+    assert abs(default[name] - fine[name]) <= 0.05 * abs(fine[name]), (default, fine)
+
+
+def test_the_90_degree_turn_ends_within_10_degrees_and_does_not_glide_back(refined):
+    default, _ = refined
+    assert abs(default["turn heading deg"] - 90.0) <= 10.0, default
+
+
+def _strain_range(actions: np.ndarray) -> tuple[float, float]:
+    """Min and max passive strain in reactive water over actions (T, B, 6), seeded starts."""
+    core = BodyBatch(actions.shape[1], SwimTask(), duration=1e3, water=REACTIVE)
+    core.reset_rows(np.arange(actions.shape[1]),
+                    [np.random.default_rng(k) for k in range(actions.shape[1])])
+    body, passive = core.body, core.body.actuator < 0
+    low, high = np.inf, 0.0
+    for action in actions:
+        core.step(action)
+        x = core.state.x
+        r = x[:, body.elements[passive, 1]] - x[:, body.elements[passive, 0]]
+        strain = np.linalg.norm(r, axis=2) / body.rest_lengths[passive]
+        low, high = min(low, strain.min()), max(high, strain.max())
+    return low, high
+
+
+def test_the_recalibrated_controllers_keep_the_tissue_within_limits_in_reactive_water():
+    t = 0.05 * np.arange(1, 161)
+    plays = [swim_mc(s, t, REACTIVE_SWIM) for s in (0.3, 1.0)]
+    plays += [turn_mc(np.pi / 2, t, left, REACTIVE_TURN) for left in (True, False)]
+    plays += [cstart_mc(t, left) for left in (True, False)]
+    low, high = _strain_range(to_action(np.stack(plays, axis=1)).astype(np.float64))
+    assert 0.7 <= low and high <= 1.3, (low, high)
+
+
+@pytest.mark.xfail(strict=True, reason="open (issue 24): random full-range actions at 20 Hz "
+                   "strain the tail's passive elements to 0.3-2.1 of rest in reactive water "
+                   "(the caudal fin's tips, carrying 8.5 times their mass of water, fold and "
+                   "tear; within 0.76-1.27 at added_mass 0.5); the resistive water keeps them "
+                   "within 0.80-1.23")
+def test_random_actions_keep_the_tissue_within_limits_in_reactive_water():
+    low, high = _strain_range(np.random.default_rng(0).uniform(-1, 1, (500, 16, 6)))
+    assert 0.7 <= low and high <= 1.3, (low, high)
+
+
+def test_the_cruise_swims_like_a_fish():
+    """St 0.2-0.5, a stride of at least 0.5 BL per beat, a peak-to-peak tail amplitude of
+    0.1-0.25 BL (the resistive water's: St 1.19, 0.28 BL per beat)."""
+    figures = fish_cruise(REACTIVE, REACTIVE_SWIM)
+    assert 0.2 <= figures["St"] <= 0.5, figures
+    assert figures["stride"] >= 0.5, figures
+    assert 0.1 <= figures["A"] <= 0.25, figures
+
+
+def test_a_c_start_turns_at_least_60_degrees_within_a_second():
+    headings = c_start(REACTIVE, CStartParams())
+    assert headings.max() >= 60.0, headings.max()
+    resistive = c_start({"model": "resistive"}, CStartParams())
+    assert resistive.max() < 30.0  # the paper's water cannot (23 degrees at most)
+
+
+def test_the_turn_mc_holds_its_heading_after_the_turn():
+    """The recalibrated 90-degree turn: 3 s after it ends the heading is within 10 degrees of
+    90 and has glided back less than 10 degrees from its peak."""
+    end = turn_duration(np.pi / 2, REACTIVE_TURN)
+    from animat.envs.core.env import BodyEnv
+    env = BodyEnv("turn", duration=end + 3.0, water=REACTIVE)
+    infos, _ = play(env, lambda t: turn_mc(np.pi / 2, t, True, REACTIVE_TURN), end + 3.0)
+    headings = np.degrees(np.unwrap(np.radians([i["heading_deg"] for i in infos])))
+    assert abs(headings[-1] - 90.0) <= 10.0 and headings.max() - headings[-1] <= 10.0, (
+        headings.max(), headings[-1])
