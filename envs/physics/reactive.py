@@ -22,7 +22,7 @@ section's area, ``C_m`` ``Water.added_mass``, ``s`` the share of the section und
 surface), the water's momentum per unit length is ``p_j = m_j w e_j`` (N s/m) and the force
 on the section
 
-    F_j = -d/dt (l_j p_j) - (Phi_{j+1/2} - Phi_{j-1/2}),    Phi_j = u+ p_j - 1/2 m_j w^2 t_j,
+    F_j = -e_j d/dt (l_j m_j w_j) - (Phi_{j+1/2} - Phi_{j-1/2}),  Phi_j = u+ p_j - 1/2 m_j w^2 t_j,
 
 with the momentum flux Phi carried toward the tail by the water streaming past the body
 (``u+ = max(u, 0)``: the water streams tailward only past a body moving forward), taken at the
@@ -32,22 +32,32 @@ trailing-edge force ``-[u m w e - 1/2 m w^2 t]_tail``: the momentum shed into th
 mean over a tail beat is the thrust ``1/2 m (<h_t^2> - U^2 <h_x^2>)`` of the small-amplitude
 theory.
 
+The water's momentum changes along the section's normal: the force is ``-e_j d/dt(l_j m_j w_j)``,
+and the rotation of the momentum with the normal (``-l m w de/dt``, along the body) is left out
+together with the position term of the carried water's Lagrangian (``+dT/dx``, whose moment is
+Munk's), the two balancing each other's work in an ideal fluid. So the section's force has the power
+``-dT/dt`` with ``T = 1/2 l m w^2`` the carried water's kinetic energy (no energy created or
+lost by it), and the caudal fin is not driven along the body by its own spin. Measured: with
+``-l m w de/dt`` kept, random full-range actions strained the tail's elements to 1.45-1.5 of
+rest and blew a body up (NaN) within 20 s (16 bodies, 25 s each), the fin's term alone doing
+it; with ``+dT/dx`` as well the fish yawed +-45 degrees at every beat instead of +-12.
+
 The time derivative splits in two. ``-l_j m_j e e' dv_j/dt`` is inertia: it goes to the
 left-hand side, lumped onto the section's nodes by their shares, so each node's mass becomes
 ``m_i I + w_i l_j m_j e e'`` and the integrator solves for its acceleration
 (:func:`solve_added_mass`, a Sherman-Morrison update: exact, and stable however large the added
 mass is against the node's own, as at the caudal fin, where it is several times the tail's).
-The rest, ``-l_j d(m_j e e')/dt v_j`` (the section's normal turning, ``de/dt`` from the nodes'
-velocities with U held, and water taken on as it goes under the surface), is explicit. A
-section that leaves the water does not get back the momentum of the water it leaves (the water
-keeps it). The position term of a Lagrangian of the carried water's kinetic energy (``+dT/dx``,
-whose moment is Munk's) is left out, as Lighthill's theory leaves it: with it the fish yawed
-+-45 degrees at every beat instead of +-12 (measured).
+The rest, ``-l_j m_j (de/dt . v_j) e`` (the section's normal turning under the water's velocity,
+``de/dt`` from the nodes' velocities with U held) and ``-l_j (dm_j/dt) w e`` (water taken on as
+the section goes under the surface), is explicit. A section that leaves the water does not get
+back the momentum of the water it leaves (the water keeps it).
 
 Only the fish has sections so far. The dolphin (vertical undulation, flukes carrying about 15
 times their nodes' mass of water) was tried with sections in its vertical plane: the flukes'
 twist about the body's axis grew passively (its vertical share 0.01 -> 0.15 in 1.8 s) and the
-swimming dolphin blew up within 0.35 s, also at a step 4x smaller, so it stays resistive.
+swimming dolphin blew up within 0.35 s, also at a step 4x smaller; with the present form
+(no ``-l m w de/dt``) the flukes still flip (their vertical share 0.8 within 0.75 s, the body's
+mean speed 18 m/s), also at a third of the added mass, so it stays resistive.
 
 In a vacuum (``density`` 0) every term is zero and the step is the resistive one, bit for bit;
 a body without sections feels no reactive force.
@@ -156,7 +166,7 @@ def _normal_and_rate(r0, r1, r2, q0, q1, q2, u0, u1, u2):
 @njit(**FAST)
 def _section_terms(front, back, own, frame, density_area, length, c0, c1, c2, out) -> None:
     """A section's normal e (out[0:3]), added mass l m (out[3]), momentum flux Phi (out[4:7])
-    and the explicit part of -d/dt(l p) (out[7:10]), (SECTION_ROWS, L), from its means and wet
+    and the explicit part of -e d/dt(l m w) (out[7:10]), (SECTION_ROWS, L), from its means and wet
     shares ``own`` and those of the sections in ``front`` of it and ``back`` of it
     (MEAN_ROWS, L); ``frame`` (3, L) the body's up. Two lane loops, each calling no function
     that takes an array and writing few rows, so that both run in SIMD."""
@@ -189,9 +199,10 @@ def _section_terms(front, back, own, frame, density_area, length, c0, c1, c2, ou
         w0, w1, w2 = own[3, lane] - c0, own[4, lane] - c1, own[5, lane] - c2
         side = e0 * w0 + e1 * w1 + e2 * w2  # w, m/s
         rate = g0 * w0 + g1 * w1 + g2 * w2  # (de/dt).w, m/s^2
-        out[7, lane] = -length * (m * (rate * e0 + side * g0) + gain * side * e0)
-        out[8, lane] = -length * (m * (rate * e1 + side * g1) + gain * side * e1)
-        out[9, lane] = -length * (m * (rate * e2 + side * g2) + gain * side * e2)
+        push = -length * (m * rate + gain * side)  # -l d(m w)/dt less m dw/dt (implicit), N
+        out[7, lane] = push * e0
+        out[8, lane] = push * e1
+        out[9, lane] = push * e2
 
 
 @njit(**FAST)

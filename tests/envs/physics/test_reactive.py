@@ -157,6 +157,7 @@ def _strain_range(actions: np.ndarray) -> tuple[float, float]:
     for action in actions:
         core.step(action)
         x = core.state.x
+        assert np.isfinite(x).all(), "a body blew up"
         r = x[:, body.elements[passive, 1]] - x[:, body.elements[passive, 0]]
         strain = np.linalg.norm(r, axis=2) / body.rest_lengths[passive]
         low, high = min(low, strain.min()), max(high, strain.max())
@@ -172,12 +173,10 @@ def test_the_recalibrated_controllers_keep_the_tissue_within_limits_in_reactive_
     assert 0.7 <= low and high <= 1.3, (low, high)
 
 
-@pytest.mark.xfail(strict=True, reason="open (issue 24): random full-range actions at 20 Hz "
-                   "strain the tail's passive elements to 0.3-2.1 of rest in reactive water "
-                   "(the caudal fin's tips, carrying 8.5 times their mass of water, fold and "
-                   "tear; within 0.76-1.27 at added_mass 0.5); the resistive water keeps them "
-                   "within 0.80-1.23")
 def test_random_actions_keep_the_tissue_within_limits_in_reactive_water():
+    """Random full-range actions at 20 Hz, 16 bodies for 25 s: no NaN, tissue within limits
+    (0.77-1.24 of rest measured, the resistive water 0.80-1.23; with the fin's -l m w de/dt
+    term kept, 0.75-1.46 and a NaN at 20 s)."""
     low, high = _strain_range(np.random.default_rng(0).uniform(-1, 1, (500, 16, 6)))
     assert 0.7 <= low and high <= 1.3, (low, high)
 
