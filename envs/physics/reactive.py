@@ -56,8 +56,11 @@ Only the fish has sections so far. The dolphin (vertical undulation, flukes carr
 times their nodes' mass of water) was tried with sections in its vertical plane: the flukes'
 twist about the body's axis grew passively (its vertical share 0.01 -> 0.15 in 1.8 s) and the
 swimming dolphin blew up within 0.35 s, also at a step 4x smaller; with the present form
-(no ``-l m w de/dt``) the flukes still flip (their vertical share 0.8 within 0.75 s, the body's
-mean speed 18 m/s), also at a third of the added mass, so it stays resistive.
+(no ``-l m w de/dt``; sections about the body's left, the rings' half heights, the flukes'
+span) random full-range actions hold the tissue (0.81-1.30 of rest, resistive 0.81-1.29) and a
+light stroke swims like a dolphin (5 Hz at a tenth of the activation: 1.65 BL/s, St 0.30), but
+the full stroke tumbles the body in pitch loops with its nodes at 20-40 m/s and blows up within
+5.5 s, so it stays resistive.
 
 In a vacuum (``density`` 0) every term is zero and the step is the resistive one, bit for bit;
 a body without sections feels no reactive force.
