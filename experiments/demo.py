@@ -54,11 +54,11 @@ SWEEP = [  # (label, Water fields, SwimParams fields)
     ("phase lag 0", {}, {"phase_lag": 0.0}),
     ("5 Hz", {}, {"max_hz": 5.0}),
     ("reactive", {"model": "reactive"}, {}),
-    ("reactive, amplitude x0.5 (its swim-MC)", {"model": "reactive"}, {"max_amplitude": 0.5}),
+    ("reactive, amplitude x0.6 (its swim-MC)", {"model": "reactive"}, {"max_amplitude": 0.6}),
     ("reactive, added mass x0.5", {"model": "reactive", "added_mass": 0.5},
-     {"max_amplitude": 0.5}),
+     {"max_amplitude": 0.6}),
     ("reactive, no skin friction", {"model": "reactive", "friction_coefficient": 0.0},
-     {"max_amplitude": 0.5}),
+     {"max_amplitude": 0.6}),
 ]
 
 

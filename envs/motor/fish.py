@@ -71,14 +71,14 @@ class FinParams:
 
 
 # The controllers recalibrated on the reactive water (Water(model="reactive")), where the same
-# muscles move the fish much further: the full-speed swim at half the activation swims with a
-# fish's tail amplitude (0.23 BL peak to peak, St 0.23, 1.03 BL per beat at 3 Hz, 3.1 BL/s),
-# and a turn stroke of 0.75 turns about 23 degrees (the 90-degree turn-MC ends at 92 degrees,
-# peaks at 96, holds 93); the C-start's defaults (CStartParams) turn 107 degrees within 1 s
+# muscles move the fish much further: the full-speed swim at 0.6 of the activation swims with a
+# fish's tail amplitude (0.20 BL peak to peak, St 0.22, 0.91 BL per beat at 3 Hz, 2.7 BL/s),
+# and a turn stroke of 0.8 turns about 23 degrees (the 90-degree turn-MC ends at 91 degrees,
+# peaks at 96, holds 91); the C-start's defaults (CStartParams) turn 72 degrees within 1 s
 # there (the resistive water turns 23 at most).
 # Measured by the demo (animat demo) and held by tests/envs/physics/test_reactive.py.
-REACTIVE_SWIM = SwimParams(max_amplitude=0.5)
-REACTIVE_TURN = TurnParams(angle_per_stroke=np.radians(23.0), amplitude=0.75)
+REACTIVE_SWIM = SwimParams(max_amplitude=0.6)
+REACTIVE_TURN = TurnParams(angle_per_stroke=np.radians(23.0), amplitude=0.8)
 
 
 def _check_unit(name: str, value: float, low: float, high: float) -> float:

@@ -103,7 +103,7 @@ def step_chunk(x, v, u_start, u_end, fin_angles, substeps, c, splash, ball, touc
         if reactive:
             add_reactive_forces(xl, vl, c.frame_up, c.frame_down, c.section_nodes,
                                 c.section_weights, c.section_lengths, c.section_areas, c.water,
-                                c.dt, fl, sections, section_means, up_scratch)
+                                c.dt, fl, sections, section_means, up_scratch, c.masses)
             solve_added_mass(fl, c.masses, c.section_nodes, c.section_weights, sections)
         kick_drift(xl, vl, fl, c.masses, c.dt)
         if ball_args.shape[0] > 0:

@@ -26,11 +26,17 @@ on the section
 
 with the momentum flux Phi carried toward the tail by the water streaming past the body
 (``u+ = max(u, 0)``: the water streams tailward only past a body moving forward), taken at the
-half-way points (the mean of the two sections'), nothing in front of the nose, and the last
-section's own at the trailing edge. Summed over the body the flux terms telescope to Lighthill's
-trailing-edge force ``-[u m w e - 1/2 m w^2 t]_tail``: the momentum shed into the wake, whose
-mean over a tail beat is the thrust ``1/2 m (<h_t^2> - U^2 <h_x^2>)`` of the small-amplitude
-theory.
+half-way points upwind (``Phi_{j+1/2} = Phi_j``, the section in front's), nothing in front of
+the nose, and the last section's own at the trailing edge. Summed over the body the flux terms
+telescope to Lighthill's trailing-edge force ``-[u m w e - 1/2 m w^2 t]_tail``: the momentum
+shed into the wake, whose mean over a tail beat is the thrust ``1/2 m (<h_t^2> - U^2 <h_x^2>)``
+of the small-amplitude theory. The trailing edge's force along the body (its thrust) goes to
+the nodes of the last two sections by their masses, as the fin's rays carry it to the tail
+stock: the caudal fin's two light tips on their soft edges cannot. Measured, on random
+actions, the recalibrated motor controllers and random fin angles: with central half-way
+fluxes a FishTurn body's caudal fin grew 5% a step and blew up (one of 256 in 400 steps); with
+the thrust on the fin's tips alone the C-start's tail folded (0.4 of rest) within 0.35 s of
+its release and blew up.
 
 The water's momentum changes along the section's normal: the force is ``-e_j d/dt(l_j m_j w_j)``,
 and the rotation of the momentum with the normal (``-l m w de/dt``, along the body) is left out
@@ -75,7 +81,8 @@ from .forces import FAST, wet_fraction
 from .system import ADDED_MASS, CURRENT_X, CURRENT_Y, CURRENT_Z, DENSITY, SURFACE_Z
 
 SECTION_ROWS = 10  # rows of the sections' terms per section (add_reactive_forces's ``s``)
-MEAN_ROWS = 8  # rows of the sections' means and wet shares (its ``means``)
+MEAN_ROWS = 8
+  # rows of the sections' means and wet shares (its ``means``)
 
 
 @njit(cache=True, inline="always")
@@ -112,16 +119,17 @@ def _body_up(x, up, down, out) -> None:
 
 @njit(**FAST)
 def add_reactive_forces(x, v, up, down, nodes, weights, lengths, areas, water, dt, f, s, means,
-                        frame) -> None:
+                        frame, masses) -> None:
     """Add each section's reactive force (the module's ``F_j``) to its nodes by their shares.
 
     ``nodes``, ``weights`` (J, K), ``lengths`` (J,) m and ``areas`` (J,) m^2: the body's
     sections (``BodySpec.section_*``); ``up``, ``down`` the node lists of the body's up
     direction; ``water`` :meth:`Water.as_args`; ``dt`` the step, s; ``f`` (N, 3, L) the force
-    accumulator, N. Work space: ``s`` (J, SECTION_ROWS, L), ``means`` (J, MEAN_ROWS, L) and
-    ``frame`` (3, L). On return ``s[j, 0:3]`` holds each section's normal e and ``s[j, 3]``
-    its added mass ``l m`` (kg), for :func:`solve_added_mass`. (Inputs and outputs of each
-    lane loop are separate arrays, so that the loops run in SIMD.)"""
+    accumulator, N; ``masses`` (N,) the nodes' masses, kg. Work space: ``s`` (J, SECTION_ROWS,
+    L), ``means`` (J, MEAN_ROWS, L) and ``frame`` (3, L). On return ``s[j, 0:3]`` holds each
+    section's normal e and ``s[j, 3]`` its added mass ``l m`` (kg), for
+    :func:`solve_added_mass`. (Inputs and outputs of each lane loop are separate arrays, so
+    that the loops run in SIMD.)"""
     count = nodes.shape[0]
     rho = water[DENSITY] * water[ADDED_MASS]
     surface_z = water[SURFACE_Z]
@@ -137,7 +145,7 @@ def add_reactive_forces(x, v, up, down, nodes, weights, lengths, areas, water, d
     for j in range(count):
         _section_terms(means[max(j - 1, 0)], means[min(j + 1, count - 1)], means[j], frame,
                        rho * areas[j], lengths[j], c0, c1, c2, s[j])
-    _add_section_forces(nodes, weights, f, s, means)
+    _add_section_forces(nodes, weights, f, s, means, masses)
 
 
 @njit(**FAST)
@@ -209,27 +217,49 @@ def _section_terms(front, back, own, frame, density_area, length, c0, c1, c2, ou
 
 
 @njit(**FAST)
-def _add_section_forces(nodes, weights, f, s, total) -> None:
+def _add_section_forces(nodes, weights, f, s, total, masses) -> None:
     """f += each section's F_j = s[j, 7:10] - (Phi_{j+1/2} - Phi_{j-1/2}), Phi_j = s[j, 4:7],
-    shared among its nodes (F_j assembled in ``total[j, 0:3]``)."""
-    count = nodes.shape[0]
+    shared among its nodes by their weights (F_j assembled in ``total[j, 0:3]``, which holds
+    the sections' centres on entry), except the trailing edge's force along the body: that
+    goes to the nodes of the last two sections by their masses (``masses`` (N,), kg)."""
+    count, lanes = nodes.shape[0], f.shape[2]
+    along = np.empty((4, lanes))  # the trailing edge's tangent (rows 0:3) and force along it
+    for lane in range(lanes):
+        along[0, lane], along[1, lane], along[2, lane] = _normalised(
+            total[count - 2, 0, lane] - total[count - 1, 0, lane],
+            total[count - 2, 1, lane] - total[count - 1, 1, lane],
+            total[count - 2, 2, lane] - total[count - 1, 2, lane])
     for j in range(count):
-        ahead, behind = max(j - 1, 0), min(j + 1, count - 1)
-        # the half-way fluxes: none in front of the nose, the section's own at the tail
-        front = 0.5 if j > 0 else 0.0
-        back = 0.5 if j + 1 < count else 0.0
-        own = (0.5 if j > 0 else 0.0) - (0.5 if j + 1 < count else 1.0)
+        # the half-way fluxes upwind, Phi_{j+1/2} = Phi_j (the water streams tailward): none
+        # in front of the nose, the last section's own at the trailing edge
+        front = 1.0 if j > 0 else 0.0
         for a in range(3):
-            for lane in range(f.shape[2]):
-                total[j, a, lane] = (s[j, 7 + a, lane] + own * s[j, 4 + a, lane]
-                                     + front * s[ahead, 4 + a, lane]
-                                     - back * s[behind, 4 + a, lane])
+            for lane in range(lanes):
+                total[j, a, lane] = (s[j, 7 + a, lane] - s[j, 4 + a, lane]
+                                     + front * s[max(j - 1, 0), 4 + a, lane])
+    last = count - 1
+    for lane in range(lanes):
+        along[3, lane] = (total[last, 0, lane] * along[0, lane]
+                          + total[last, 1, lane] * along[1, lane]
+                          + total[last, 2, lane] * along[2, lane])
+        for a in range(3):
+            total[last, a, lane] -= along[3, lane] * along[a, lane]
+    pool = 0.0
     for j in range(count):
         for k in range(nodes.shape[1]):
             node, share = nodes[j, k], weights[j, k]
+            if j >= count - 2 and share > 0.0:
+                pool += masses[node]
             for a in range(3):
-                for lane in range(f.shape[2]):
+                for lane in range(lanes):
                     f[node, a, lane] += share * total[j, a, lane]
+    for j in range(count - 2, count):
+        for k in range(nodes.shape[1]):
+            node = nodes[j, k]
+            if weights[j, k] > 0.0:
+                for a in range(3):
+                    for lane in range(lanes):
+                        f[node, a, lane] += masses[node] / pool * along[3, lane] * along[a, lane]
 
 
 @njit(**FAST)
@@ -274,7 +304,7 @@ def _carried(x, v, body, water):
     add_reactive_forces(xl, vl, body.frame_up, body.frame_down, body.section_nodes,
                         body.section_weights, body.section_lengths, body.section_areas,
                         water.as_args(), 1.0, np.zeros_like(xl), s, means,
-                        np.empty((3, x.shape[0])))
+                        np.empty((3, x.shape[0])), body.masses)
     w = means[:, 3:6] - np.asarray(water.current)[None, :, None]
     normal = s[:, 0:3]
     side = np.einsum("jab,jab->jb", normal, w)
