@@ -63,10 +63,11 @@ times their nodes' mass of water) was tried with sections in its vertical plane:
 twist about the body's axis grew passively (its vertical share 0.01 -> 0.15 in 1.8 s) and the
 swimming dolphin blew up within 0.35 s, also at a step 4x smaller; with the present form
 (no ``-l m w de/dt``; sections about the body's left, the rings' half heights, the flukes'
-span) random full-range actions hold the tissue (0.81-1.30 of rest, resistive 0.81-1.29) and a
-light stroke swims like a dolphin (5 Hz at a tenth of the activation: 1.65 BL/s, St 0.30), but
-the full stroke tumbles the body in pitch loops with its nodes at 20-40 m/s and blows up within
-5.5 s, so it stays resistive.
+span) random full-range actions hold the tissue (0.81-1.29 of rest, resistive 0.81-1.29) and a
+light stroke swims like a dolphin (5 Hz at a tenth of the activation: 1.45 BL/s, St 0.29), but
+the full stroke tumbles the body in pitch loops with the flukes at 14-36 m/s (with central
+fluxes and the thrust on the fluke tips it blew up within 5.5 s; with the present ones it
+tumbles on), so it stays resistive.
 
 In a vacuum (``density`` 0) every term is zero and the step is the resistive one, bit for bit;
 a body without sections feels no reactive force.
