@@ -36,7 +36,10 @@ stock: the caudal fin's two light tips on their soft edges cannot. Measured, on 
 actions, the recalibrated motor controllers and random fin angles: with central half-way
 fluxes a FishTurn body's caudal fin grew 5% a step and blew up (one of 256 in 400 steps); with
 the thrust on the fin's tips alone the C-start's tail folded (0.4 of rest) within 0.35 s of
-its release and blew up.
+its release and blew up. Not held: the swim-MC's full activation at 5 Hz strains the tail
+stock to 1.36 of rest. Shared by the last four sections (the last three rings and the fin)
+that stroke held 1.19, but random fin angles of +-90 degrees blew a body up (one of 64 in
+6 s); shared by the whole body the thrust lost its moment (the C-start 59 degrees, not 72).
 
 The water's momentum changes along the section's normal: the force is ``-e_j d/dt(l_j m_j w_j)``,
 and the rotation of the momentum with the normal (``-l m w de/dt``, along the body) is left out
