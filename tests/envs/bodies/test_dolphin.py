@@ -124,6 +124,7 @@ def test_the_fluke_stroke_drives_the_dolphin_fast_within_tissue_limits():
     for _ in range(200):
         random_core.step(rng.uniform(-1, 1, (8, 6)))
         x = random_core.state.x
+        assert np.isfinite(x).all(), "a body blew up"  # min/max would pass over a NaN
         r = x[:, BODY.elements[passive, 1]] - x[:, BODY.elements[passive, 0]]
         strain = np.linalg.norm(r, axis=2) / BODY.rest_lengths[passive]
         low, high = min(low, strain.min()), max(high, strain.max())

@@ -22,6 +22,7 @@ def _passive_strain_range(actions: np.ndarray) -> tuple[float, float]:
     for action in actions:
         core.step(action.astype(np.float64))
         x = core.state.x
+        assert np.isfinite(x).all(), "a body blew up"  # min/max would pass over a NaN
         r = x[:, body.elements[passive, 1]] - x[:, body.elements[passive, 0]]
         strain = np.linalg.norm(r, axis=2) / body.rest_lengths[passive]
         low, high = min(low, strain.min()), max(high, strain.max())
