@@ -81,6 +81,17 @@ REACTIVE_SWIM = SwimParams(max_amplitude=0.6)
 REACTIVE_TURN = TurnParams(angle_per_stroke=np.radians(23.0), amplitude=0.8)
 
 
+def calibrated(model: str) -> tuple[SwimParams, TurnParams]:
+    """The swim-MC's and turn-MC's parameters calibrated for a water model (``Water.model``):
+    the paper's for ``"resistive"``, :data:`REACTIVE_SWIM` and :data:`REACTIVE_TURN` for
+    ``"reactive"``."""
+    if model == "reactive":
+        return REACTIVE_SWIM, REACTIVE_TURN
+    if model == "resistive":
+        return SwimParams(), TurnParams()
+    raise ValueError(f"no motor controllers are calibrated for water model {model!r}")
+
+
 def _check_unit(name: str, value: float, low: float, high: float) -> float:
     value = float(value)
     if not (low <= value <= high):

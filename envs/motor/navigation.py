@@ -12,20 +12,40 @@ fish env's action: the six actuations as ``2u - 1`` and the two fin entries.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
-from .fish import FinParams, fin_mc, swim_mc, to_action, turn_duration, turn_mc
+from .fish import (
+    FinParams,
+    SwimParams,
+    TurnParams,
+    calibrated,
+    fin_mc,
+    swim_mc,
+    to_action,
+    turn_duration,
+    turn_mc,
+)
 
 
 @dataclass(frozen=True)
 class NavigationParams:
     """turn_threshold: |turn| below which the fish swims; max_turn: rad, the turn of a
-    command of 1."""
+    command of 1; swim, turn: the MCs' parameters (the water's calibration:
+    :func:`animat.envs.motor.fish.calibrated`)."""
 
     turn_threshold: float = 0.15
     max_turn: float = np.pi / 2
+    swim: SwimParams = field(default_factory=SwimParams)
+    turn: TurnParams = field(default_factory=TurnParams)
+
+
+def navigation_for(water) -> NavigationParams:
+    """The default navigation with the motor controllers calibrated for ``water`` (a
+    :class:`~animat.envs.physics.system.Water`)."""
+    swim, turn = calibrated(water.model)
+    return NavigationParams(swim=swim, turn=turn)
 
 
 class Navigator:
@@ -53,7 +73,7 @@ class Navigator:
         for k in range(len(self.kind)):
             speed, turn, pitch = np.clip(commands[k], [0.0, -1.0, -1.0], 1.0)
             elapsed = time[k] - self.start[k]
-            if self.kind[k] != 0 and elapsed >= turn_duration(self.angle[k]):
+            if self.kind[k] != 0 and elapsed >= turn_duration(self.angle[k], self.params.turn):
                 self.kind[k], self.start[k] = 0, time[k]  # the turn is over: swim again
             if (reflex is not None and reflex[k] and self.kind[k] * turn < 0
                     and abs(turn) > self.params.turn_threshold):
@@ -63,9 +83,9 @@ class Navigator:
                 self.angle[k] = abs(turn) * self.params.max_turn
             elapsed = time[k] - self.start[k]
             if self.kind[k] == 0:
-                u = swim_mc(float(speed), elapsed)
+                u = swim_mc(float(speed), elapsed, self.params.swim)
             else:
-                u = turn_mc(float(self.angle[k]), elapsed, self.kind[k] > 0)
+                u = turn_mc(float(self.angle[k]), elapsed, self.kind[k] > 0, self.params.turn)
             out[k, :6] = to_action(u)
             out[k, 6:] = fin_mc(pitch=float(pitch)) / FinParams().max_angle
         return out

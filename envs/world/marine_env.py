@@ -49,7 +49,9 @@ No termination; truncation after ``duration`` s (60).
 ``duration`` (s, 60; in (0, 86400]), ``species`` ({name: count} of shark, minnow, angelfish;
 default 1, 6, 3; each count in [0, 100]), ``food`` (15; in [0, 1000]), ``obstacles`` (5; in
 [0, 100]), ``agent`` (a fish index or None), ``control``,
-``vision`` (a fish index or None: that fish hunts by its eyes), ``render_mode``
+``vision`` (a fish index or None: that fish hunts by its eyes), ``water`` (the water's fields,
+``Water.from_dict``, e.g. ``{"model": "reactive"}``; the fishes' motor controllers calibrated
+for its model), ``render_mode``
 (``"rgb_array"``: the tank from above a corner, 480x360). Public: ``world``, ``dt``,
 ``body_length``, ``episode_steps``, ``episode_summary()``.
 """
@@ -73,11 +75,12 @@ SUMMED = ("food_eaten", "catches", "matings", "obstacle_collisions", "fish_colli
 MAX_SPECIES_COUNT, MAX_FOOD, MAX_OBSTACLES = 100, 1000, 100  # the sizes the env accepts
 
 
-def world_params(duration: float, species: dict | None, food: int, obstacles: int
-                 ) -> WorldParams:
+def world_params(duration: float, species: dict | None, food: int, obstacles: int,
+                 water: dict | None = None) -> WorldParams:
     """The world of the env's arguments, each checked (a ValueError of one line naming it):
     ``duration`` in (0, 86400] s, ``species`` a dict of known names to counts in [0, 100]
-    with at least one fish, ``food`` in [0, 1000], ``obstacles`` in [0, 100]."""
+    with at least one fish, ``food`` in [0, 1000], ``obstacles`` in [0, 100], ``water`` the
+    water's fields (checked by ``Water.from_dict`` when the world is made)."""
     check_number("duration", duration, 0.0, MAX_DURATION, "s", low_open=True)
     counts = {"shark": 1, "minnow": 6, "angelfish": 3} if species is None else species
     if not isinstance(counts, dict):
@@ -92,7 +95,7 @@ def world_params(duration: float, species: dict | None, food: int, obstacles: in
     chosen = tuple((SPECIES[name], n) for name, n in counts.items() if n > 0)
     return WorldParams(species=chosen, obstacles=check_integer("obstacles", obstacles, 0,
                                                                MAX_OBSTACLES),
-                       duration=float(duration),
+                       duration=float(duration), water=water,
                        food=FoodParams(count=check_integer("food", food, 0, MAX_FOOD)))
 
 
@@ -123,12 +126,12 @@ class MarineWorldEnv(gym.Env):
     def __init__(self, render_mode: str | None = None, duration: float = 60.0,
                  species: dict | None = None, food: int = 15, obstacles: int = 5,
                  agent: int | None = None, control: str = "behaviour",
-                 vision: int | None = None) -> None:
+                 vision: int | None = None, water: dict | None = None) -> None:
         if render_mode not in (None, "rgb_array"):
             raise ValueError(f"render_mode must be None or 'rgb_array', got {render_mode!r}")
         if control not in CONTROLS:
             raise ValueError(f"control must be one of {CONTROLS}, got {control!r}")
-        self.world = MarineWorld(world_params(duration, species, food, obstacles))
+        self.world = MarineWorld(world_params(duration, species, food, obstacles, water))
         f = self.world.num_fish
         for name, row in (("agent", agent), ("vision", vision)):
             if row is not None and not (isinstance(row, int) and not isinstance(row, bool)

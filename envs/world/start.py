@@ -33,7 +33,9 @@ class WorldParams:
     ``obstacle_radius`` (low, high) m; the other parts' params; ``catch_radius``,
     ``court_distance`` m, ``court_time`` s, ``contact_distance`` m, ``apart_time`` s (see
     :mod:`animat.envs.world.world`);
-    ``duration`` s per episode."""
+    ``duration`` s per episode; ``water`` the water's fields (``Water.from_dict``, e.g.
+    ``{"model": "reactive"}``; default the default water), the fishes' motor controllers
+    calibrated for its model."""
 
     species: tuple = PAPER_SPECIES
     obstacles: int = 5
@@ -51,6 +53,7 @@ class WorldParams:
     contact_distance: float = 0.02
     apart_time: float = 1.0
     duration: float = 60.0
+    water: dict | None = None
 
     def __post_init__(self) -> None:
         if not self.species or any(count < 1 for _, count in self.species):

@@ -21,7 +21,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..core.batch import BodyBatch
-from ..motor.navigation import Navigator
+from ..motor.navigation import Navigator, navigation_for
 from ..render.camera import yaw_matrix
 from ..tasks.locomotion import SwimTask
 from . import food as food_mod
@@ -40,9 +40,10 @@ class MarineWorld:
         self.params = params
         self.habits = params.habits
         f = len(self.habits)
-        self.core = BodyBatch(f, SwimTask(), duration=params.duration, fins=True)
+        self.core = BodyBatch(f, SwimTask(), duration=params.duration, fins=True,
+                              water=params.water)
         self.dt, self.length = self.core.dt, self.core.body.length
-        self.navigator = Navigator(f)
+        self.navigator = Navigator(f, navigation_for(self.core.system.water))
         self.intentions = IntentionGenerator(f, params.intention)
         self.relations = relations(self.habits)
         self.arrays = {name: np.array([getattr(h, name) for h in self.habits])

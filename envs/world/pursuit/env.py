@@ -55,8 +55,10 @@ No termination; truncation after ``duration`` s (default 20).
 ``flee_distance_bl`` (2.5; in (0, 100]), ``prey_speed`` (0.5; the swim-MC's speed, in [0, 1]),
 ``sensors`` (a list of sensors that read the observer's view, their entries' names unique;
 default :func:`~animat.envs.world.pursuit.senses.default_sensors`: the retina, the gaze and
-proprioception), ``render_mode`` (``"rgb_array"``: third person, 480x360; ``"retina"``: the
-two eyes' composites side by side, 512x1024); each checked as it enters (a bad one is a
+proprioception), ``water`` (the water's fields, ``Water.from_dict``, e.g. ``{"model":
+"reactive"}``; the fishes' motor controllers calibrated for its model), ``render_mode``
+(``"rgb_array"``: third person, 480x360; ``"retina"``: the two eyes' composites side by side,
+512x1024); each checked as it enters (a bad one is a
 ``ValueError`` of one line naming it). Public attributes: ``dt``, ``body_length``,
 ``episode_steps``, ``view`` (what the sensors read), ``episode_summary()``, ``scene()``,
 ``retina_images()``.
@@ -69,7 +71,7 @@ import numpy as np
 
 from ...checks import check_number, check_range
 from ...core.batch import BodyBatch
-from ...motor.navigation import Navigator
+from ...motor.navigation import Navigator, navigation_for
 from ...render.camera import Camera, Scene, fish_skin, look_at, yaw_matrix
 from ...render.scenery import SceneryParams, furnish, scatter
 from ...tasks.locomotion import SwimTask
@@ -100,12 +102,12 @@ class FishPursuitEnv(gym.Env):
     def __init__(self, render_mode: str | None = None, duration: float = 20.0,
                  start_distance_bl: tuple[float, float] = (3.0, 5.0),
                  flee_distance_bl: float = 2.5, prey_speed: float = 0.5,
-                 sensors: list | None = None) -> None:
+                 sensors: list | None = None, water: dict | None = None) -> None:
         if render_mode not in (None, "rgb_array", "retina"):
             raise ValueError(f"render_mode must be None, 'rgb_array' or 'retina', got "
                              f"{render_mode!r}")
         self.render_mode = render_mode
-        self.core = BodyBatch(3, SwimTask(), duration=duration, fins=True)
+        self.core = BodyBatch(3, SwimTask(), duration=duration, fins=True, water=water)
         self.dt, self.body_length = self.core.dt, self.core.body.length
         self.start_distance_bl = check_range("start_distance_bl", start_distance_bl, 1.0,
                                              MAX_DISTANCE_BL, "BL")
@@ -113,7 +115,7 @@ class FishPursuitEnv(gym.Env):
                                              MAX_DISTANCE_BL, "BL", low_open=True)
         self.prey_speed = check_number("prey_speed", prey_speed, 0.0, 1.0)
         self.retina = RetinaParams()
-        self.navigator = Navigator(3)
+        self.navigator = Navigator(3, navigation_for(self.core.system.water))
         self._live_init()
         self.gaze = np.zeros(4)
         self.view = ObserverView(self.core, OBSERVER, self.scene, self.gaze, self.retina)

@@ -90,3 +90,21 @@ def test_controllers_reject_out_of_range_parameters():
         turn_mc(-0.1, 0.0)
     with pytest.raises(ValueError, match="fin pitch"):
         fin_mc(pitch=2.0)
+
+
+def test_the_navigator_takes_the_motor_controllers_calibrated_for_its_water():
+    from animat.envs.motor.fish import (
+        REACTIVE_SWIM,
+        REACTIVE_TURN,
+        SwimParams,
+        TurnParams,
+        calibrated,
+    )
+    from animat.envs.motor.navigation import navigation_for
+    from animat.envs.physics.system import Water
+    reactive = navigation_for(Water(model="reactive"))
+    assert reactive.swim == REACTIVE_SWIM and reactive.turn == REACTIVE_TURN
+    assert navigation_for(Water()).turn == TurnParams() == calibrated("resistive")[1]
+    assert calibrated("resistive")[0] == SwimParams()
+    with pytest.raises(ValueError, match="no motor controllers are calibrated"):
+        calibrated("viscous")
