@@ -23,10 +23,9 @@ import animat  # noqa: F401
 from animat.envs.core.env import BodyEnv
 from animat.envs.motor.fish import (
     REACTIVE_SWIM,
-    REACTIVE_TURN,
     CStartParams,
     SwimParams,
-    TurnParams,
+    calibrated,
     fin_mc,
     swim_mc,
     turn_duration,
@@ -36,12 +35,10 @@ from animat.envs.motor.fish import (
 from .biology import c_start, cruise_figures, dolphin_cruise, fish_cruise, gait_grid, play
 from .parser import demo_arguments
 
-# Each water's hand controllers: the paper's gains, and those recalibrated on reactive water.
-CONTROLLERS: dict[str, tuple[SwimParams, TurnParams]] = {
-    "resistive": (SwimParams(), TurnParams()), "reactive": (REACTIVE_SWIM, REACTIVE_TURN)}
+MODELS = ("resistive", "reactive")  # each printed with its own hand controllers (calibrated)
 GRID_HZ, GRID_LAGS = [2.0, 3.0, 4.0], [0.0, 0.5, 1.0, 1.5, 2.0]  # Hz; rad per segment
 
-
+REACTIVE_AMPLITUDE = {"max_amplitude": REACTIVE_SWIM.max_amplitude}  # its swim-MC's (0.6)
 SWEEP = [  # (label, Water fields, SwimParams fields)
     ("default", {}, {}),
     ("no skin friction", {"friction_coefficient": 0.0}, {}),
@@ -54,11 +51,10 @@ SWEEP = [  # (label, Water fields, SwimParams fields)
     ("phase lag 0", {}, {"phase_lag": 0.0}),
     ("5 Hz", {}, {"max_hz": 5.0}),
     ("reactive", {"model": "reactive"}, {}),
-    ("reactive, amplitude x0.6 (its swim-MC)", {"model": "reactive"}, {"max_amplitude": 0.6}),
-    ("reactive, added mass x0.5", {"model": "reactive", "added_mass": 0.5},
-     {"max_amplitude": 0.6}),
+    ("reactive, its swim-MC's amplitude", {"model": "reactive"}, REACTIVE_AMPLITUDE),
+    ("reactive, added mass x0.5", {"model": "reactive", "added_mass": 0.5}, REACTIVE_AMPLITUDE),
     ("reactive, no skin friction", {"model": "reactive", "friction_coefficient": 0.0},
-     {"max_amplitude": 0.6}),
+     REACTIVE_AMPLITUDE),
 ]
 
 
@@ -84,14 +80,14 @@ def run(args: argparse.Namespace) -> None:
             print(f"{label:<40} {fig['U']:>7.2f} {fig['A']:>6.2f} {fig['f']:>5.1f} "
                   f"{fig['St']:>5.2f} {fig['stride']:>7.2f}")
         return
-    for model in CONTROLLERS:
+    for model in MODELS:
         print(f"== {model} water (water={{'model': '{model}'}}) ==")
         water_figures(model, args)
 
 
 def water_figures(model: str, args: argparse.Namespace) -> None:
     """Print one water's figures (the module's docstring), its recalibrated controllers'."""
-    water, (swim, turn) = {"model": model}, CONTROLLERS[model]
+    water, (swim, turn) = {"model": model}, calibrated(model)
     video = bool(args.video) and model == "resistive"
     env = BodyEnv("swim", duration=args.seconds, water=water,
                   render_mode="rgb_array" if video else None)

@@ -85,8 +85,7 @@ from .forces import FAST, wet_fraction
 from .system import ADDED_MASS, CURRENT_X, CURRENT_Y, CURRENT_Z, DENSITY, SURFACE_Z
 
 SECTION_ROWS = 10  # rows of the sections' terms per section (add_reactive_forces's ``s``)
-MEAN_ROWS = 8
-  # rows of the sections' means and wet shares (its ``means``)
+MEAN_ROWS = 8  # rows of the sections' means and wet shares (its ``means``)
 
 
 @njit(cache=True, inline="always")

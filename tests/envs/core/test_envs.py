@@ -111,11 +111,14 @@ def test_vector_env_rejects_bad_batch():
     assert np.array_equal(vec.core.state.x, x)
 
 
+@pytest.mark.parametrize("water", [None, {"model": "reactive"}], ids=["default", "reactive"])
 @pytest.mark.parametrize("env_id", ENV_IDS)
-def test_1e5_random_steps_on_the_native_batch_stay_finite(env_id):
+def test_1e5_random_steps_on_the_native_batch_stay_finite(env_id, water):
     """256 envs x 400 steps = 102,400 env steps of uniformly random actions, across episode
-    ends: observations, rewards, every info entry and the body state stay finite."""
-    vec = gym.make_vec(env_id, num_envs=256)
+    ends, on both waters: observations, rewards, every info entry and the body state stay
+    finite. (On the reactive water, central half-way fluxes instead of the upwind ones blew up
+    a FishTurn body at step 178: the caudal fin's sway grew 5% a step.)"""
+    vec = gym.make_vec(env_id, num_envs=256, water=water)
     obs, _ = vec.reset(seed=0)
     rng = np.random.default_rng(0)
     for _ in range(400):

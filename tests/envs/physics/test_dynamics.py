@@ -192,8 +192,10 @@ def test_system_refuses_a_step_beyond_the_stability_bound():
         Water.from_dict({"gravty": 0})
 
 
-def test_random_fin_angles_keep_the_batch_finite():
-    system = System(fish_body())
+@pytest.mark.parametrize("water", [Water(), Water(model="reactive")],
+                         ids=["resistive", "reactive"])
+def test_random_fin_angles_keep_the_batch_finite(water):
+    system = System(fish_body(), water)
     x, v = _batch(system.body, 64)
     rng = np.random.default_rng(2)
     u_prev = np.zeros((64, 6))

@@ -12,9 +12,10 @@ from animat.envs.tasks.locomotion import SwimTask
 REPERTOIRE = Path(__file__).resolve().parents[3] / "repertoires" / "fish.json"
 
 
-def _passive_strain_range(actions: np.ndarray) -> tuple[float, float]:
-    """Min and max passive strain over an episode of actions (T, B, 6), seeded starts."""
-    core = BodyBatch(actions.shape[1], SwimTask(), duration=1e3)
+def _passive_strain_range(actions: np.ndarray, water: dict | None = None) -> tuple[float, float]:
+    """Min and max passive strain over an episode of actions (T, B, 6) in ``water`` (default
+    the default water), seeded starts."""
+    core = BodyBatch(actions.shape[1], SwimTask(), duration=1e3, water=water)
     core.reset_rows(np.arange(actions.shape[1]),
                     [np.random.default_rng(k) for k in range(actions.shape[1])])
     body, low, high = core.body, np.inf, 0.0
