@@ -7,7 +7,8 @@ The fish's locomotion ids and the dolphin's tasks run on the batched core
 single envs.
 
 :func:`timing` gives an id's clock (``dt`` and ``episode_steps``) from these kwargs and the
-user's, without building the env; :func:`body_of` and :func:`task_of` its body and task.
+user's, without building the env; :func:`body_of`, :func:`task_of` and :func:`water_of` its
+body, task and water.
 """
 
 from __future__ import annotations
@@ -20,6 +21,7 @@ from gymnasium.envs.registration import load_env_creator
 
 if TYPE_CHECKING:
     from .bodies.spec import BodySpec
+    from .physics.system import Water
     from .tasks.base import Task
 
 CORE: dict[str, str] = {"entry_point": "animat.envs.core.env:BodyEnv",
@@ -28,9 +30,12 @@ FISH_ENVS = {"Animat/FishSwim-v0": {"task": "swim"}, "Animat/FishTurn-v0": {"tas
              "Animat/FishReach-v0": {"task": "reach"}}
 # The dolphin's world: a water surface at z = 0, skin friction for its Reynolds number (C_f
 # 0.0028 at Re 1e7: 0.5 rho C_f = 1.4 kg/m^3), and a step within its stability bound. The pool
-# is the base water: a user's water={...} changes its fields, it does not replace the pool.
+# is the base water: a user's water={...} changes its fields, it does not replace the pool. Its
+# water is the paper's resistive one: the dolphin has no cross-sections for the reactive force
+# yet (README, Physics: its full fluke stroke tumbles on the reactive water).
 DOLPHIN_KWARGS: dict[str, Any] = {"body": "dolphin",
-                                  "base_water": {"surface_z": 0.0, "friction_coefficient": 1.4},
+                                  "base_water": {"surface_z": 0.0, "friction_coefficient": 1.4,
+                                                 "model": "resistive"},
                                   "physics_dt": 0.05 / 80, "frame_skip": 80}
 # The stunts weigh the controller's effort (mu1) a tenth of the fish's: a 5 Hz fluke stroke
 # costs ten times a 3 Hz fish's tail beat in E_u, which would otherwise outweigh the stunt.
@@ -193,6 +198,26 @@ def task_of(env_id: str, env_kwargs: dict | None = None) -> Task:
         return _built_attribute(env_id, env_kwargs, "task")
     named, task_kwargs = arguments
     return make_task(named["task"], **task_kwargs)
+
+
+def water_of(env_id: str, env_kwargs: dict | None = None) -> Water:
+    """The water of ``gym.make(env_id, **env_kwargs)``: for an id of the core its ``water``'s
+    fields over its ``base_water`` (the dolphin's pool), as the env merges them, building no
+    env; any other id's env is built and its core's water read."""
+    from .checks import shown
+    from .physics.system import Water
+
+    arguments = _core_arguments(env_id, env_kwargs)
+    if arguments is None:
+        core = _built_attribute(env_id, env_kwargs, "core")
+        return core.system.water
+    named = arguments[0]
+    fields: dict = {}
+    for name in ("base_water", "water"):
+        if named[name] is not None and not isinstance(named[name], dict):
+            raise ValueError(f"{name} must be a dict of Water fields, got {shown(named[name])}")
+        fields.update(named[name] or {})
+    return Water.from_dict(fields)
 
 
 def _core_arguments(env_id: str, env_kwargs: dict | None) -> tuple[dict, dict] | None:

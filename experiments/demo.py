@@ -1,8 +1,8 @@
 """Swim demo: the hand-designed motor controllers drive the fish; prints what they achieve.
 
 ``animat demo [--seconds 10] [--video DIR]`` (or ``python -m animat.experiments.demo``): for
-each water, the paper's resistive one (``Water(model="resistive")``, the default) and the
-reactive one of Lighthill's theory (``model="reactive"``), swims at full speed with the
+each water, the paper's resistive one (``Water(model="resistive")``) and the reactive one of
+Lighthill's theory (``model="reactive"``, the default), swims at full speed with the
 swim-MC and prints the biology figures of its cruise (tail-beat frequency f, peak-to-peak tail
 amplitude A, speed U along the start heading, Strouhal number fA/U, stride U/f), the fastest
 head-to-tail wave of a grid and the same wave reversed, a C-start, the turn-MCs, and the
@@ -22,7 +22,7 @@ import numpy as np
 import animat  # noqa: F401
 from animat.envs.core.env import BodyEnv
 from animat.envs.motor.fish import (
-    REACTIVE_SWIM,
+    PAPER_SWIM,
     CStartParams,
     SwimParams,
     calibrated,
@@ -31,6 +31,7 @@ from animat.envs.motor.fish import (
     turn_duration,
     turn_mc,
 )
+from animat.envs.physics.system import Water
 
 from .biology import c_start, cruise_figures, dolphin_cruise, fish_cruise, gait_grid, play
 from .parser import demo_arguments
@@ -38,23 +39,23 @@ from .parser import demo_arguments
 MODELS = ("resistive", "reactive")  # each printed with its own hand controllers (calibrated)
 GRID_HZ, GRID_LAGS = [2.0, 3.0, 4.0], [0.0, 0.5, 1.0, 1.5, 2.0]  # Hz; rad per segment
 
-REACTIVE_AMPLITUDE = {"max_amplitude": REACTIVE_SWIM.max_amplitude}  # its swim-MC's (0.6)
+PAPER = {"model": "resistive"}
+PAPER_GAINS = {"max_amplitude": PAPER_SWIM.max_amplitude}  # the paper's swim-MC's (1.0)
 SWEEP = [  # (label, Water fields, SwimParams fields)
-    ("default", {}, {}),
-    ("no skin friction", {"friction_coefficient": 0.0}, {}),
-    ("the paper's reaction (n.w)|w|", {"reaction": "paper"}, {}),
-    ("fluid coefficient x0.5", {"fluid_coefficient": 250.0}, {}),
-    ("fluid coefficient x2", {"fluid_coefficient": 1000.0}, {}),
-    ("fluid coefficient x4", {"fluid_coefficient": 2000.0}, {}),
-    ("amplitude x0.6", {}, {"max_amplitude": 0.6}),
-    ("phase lag 0.5 pi", {}, {"phase_lag": 0.5 * np.pi}),
-    ("phase lag 0", {}, {"phase_lag": 0.0}),
-    ("5 Hz", {}, {"max_hz": 5.0}),
-    ("reactive", {"model": "reactive"}, {}),
-    ("reactive, its swim-MC's amplitude", {"model": "reactive"}, REACTIVE_AMPLITUDE),
-    ("reactive, added mass x0.5", {"model": "reactive", "added_mass": 0.5}, REACTIVE_AMPLITUDE),
-    ("reactive, no skin friction", {"model": "reactive", "friction_coefficient": 0.0},
-     REACTIVE_AMPLITUDE),
+    ("resistive (cross-flow, skin friction)", PAPER, PAPER_GAINS),
+    ("no skin friction", {**PAPER, "friction_coefficient": 0.0}, PAPER_GAINS),
+    ("the paper's reaction (n.w)|w|", {**PAPER, "reaction": "paper"}, PAPER_GAINS),
+    ("fluid coefficient x0.5", {**PAPER, "fluid_coefficient": 250.0}, PAPER_GAINS),
+    ("fluid coefficient x2", {**PAPER, "fluid_coefficient": 1000.0}, PAPER_GAINS),
+    ("fluid coefficient x4", {**PAPER, "fluid_coefficient": 2000.0}, PAPER_GAINS),
+    ("amplitude x0.6", PAPER, {"max_amplitude": 0.6}),
+    ("phase lag 0.5 pi", PAPER, {**PAPER_GAINS, "phase_lag": 0.5 * np.pi}),
+    ("phase lag 0", PAPER, {**PAPER_GAINS, "phase_lag": 0.0}),
+    ("5 Hz", PAPER, {**PAPER_GAINS, "max_hz": 5.0}),
+    ("reactive, the paper's swim-MC", {"model": "reactive"}, PAPER_GAINS),
+    ("reactive (the default), its swim-MC", {"model": "reactive"}, {}),
+    ("reactive, added mass x0.5", {"model": "reactive", "added_mass": 0.5}, {}),
+    ("reactive, no skin friction", {"model": "reactive", "friction_coefficient": 0.0}, {}),
 ]
 
 
@@ -83,12 +84,14 @@ def run(args: argparse.Namespace) -> None:
     for model in MODELS:
         print(f"== {model} water (water={{'model': '{model}'}}) ==")
         water_figures(model, args)
+    print("== the dolphin ==")
+    dolphin_figures()
 
 
 def water_figures(model: str, args: argparse.Namespace) -> None:
     """Print one water's figures (the module's docstring), its recalibrated controllers'."""
     water, (swim, turn) = {"model": model}, calibrated(model)
-    video = bool(args.video) and model == "resistive"
+    video = bool(args.video) and model == Water().model  # the default water's swim
     env = BodyEnv("swim", duration=args.seconds, water=water,
                   render_mode="rgb_array" if video else None)
     if video:
@@ -137,10 +140,15 @@ def water_figures(model: str, args: argparse.Namespace) -> None:
         z = np.array([i["com"][2] for i in fin_infos]) / length
         print(f"fin-MC pitch {pitch:+.0f} while swimming: depth change {z[-1] - z[0]:+.2f} BL "
               f"in 6 s, {(z[-1] - z[59]) / 3.0:+.3f} BL/s over the last 3 s")
-    dolphin = dolphin_cruise(water)
+
+
+def dolphin_figures() -> None:
+    """Print the dolphin's fluke stroke in its pool (the resistive water: it has no
+    cross-sections for the reactive force yet)."""
+    dolphin = dolphin_cruise({})
     print(f"dolphin fluke stroke, 5 Hz, last 3 of 6 s: U {dolphin['U']:.2f} BL/s, A "
           f"{dolphin['A']:.2f} BL, St {dolphin['St']:.2f}, stride {dolphin['stride']:.2f} BL per "
-          "beat (the dolphin has no cross-sections yet: the resistive forces in both waters)")
+          "beat (resistive water only: the dolphin has no cross-sections yet)")
 
 
 if __name__ == "__main__":

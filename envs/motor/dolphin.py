@@ -28,6 +28,7 @@ from ..bodies.dolphin import (
 from .fish import (
     LEFT_BACK,
     LEFT_MIDDLE,
+    PAPER_TURN,
     RIGHT_BACK,
     RIGHT_MIDDLE,
     SwimParams,
@@ -36,7 +37,7 @@ from .fish import (
     turn_mc,
 )
 
-DOLPHIN_SWIM = SwimParams(min_hz=2.0, max_hz=5.0, ramp_cycles=1.0)
+DOLPHIN_SWIM = SwimParams(min_hz=2.0, max_hz=5.0, max_amplitude=1.0, ramp_cycles=1.0)
 _FROM_FISH = {LEFT_MIDDLE: DORSAL_MIDDLE, LEFT_BACK: DORSAL_BACK, RIGHT_MIDDLE: VENTRAL_MIDDLE,
               RIGHT_BACK: VENTRAL_BACK}
 
@@ -65,7 +66,7 @@ def dolphin_swim_mc(speed: float, t: np.ndarray | float,
 
 
 def dolphin_turn_mc(direction: str, angle: float, t: np.ndarray | float,
-                    params: TurnParams = TurnParams()) -> np.ndarray:
+                    params: TurnParams = PAPER_TURN) -> np.ndarray:
     """Turn ``direction`` (up, down, left, right) by ``angle`` rad. Up and down: the fish's
     stroke train (:func:`animat.envs.motor.fish.turn_mc`) on the dorsal or ventral actuators.
     Left and right: steer, the head bent to that side by its front muscles while the flukes

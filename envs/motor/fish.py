@@ -20,19 +20,23 @@ from dataclasses import dataclass
 import numpy as np
 
 LEFT_FRONT, LEFT_MIDDLE, LEFT_BACK, RIGHT_FRONT, RIGHT_MIDDLE, RIGHT_BACK = range(6)
+MIN_RELIEF = 0.25  # the least share of its amplitude a turn strokes at, however fast the fish
+MAX_SPEED = 100.0  # BL/s, the largest forward speed a turn is told (fish: up to ~20)
 
 
 @dataclass(frozen=True)
 class SwimParams:
     """Swim-MC gains: frequency ``min_hz + (max_hz - min_hz) * speed``, amplitude
     ``max_amplitude * speed``, back segment lagging the middle by ``phase_lag`` rad. The
+    defaults are calibrated for the default (reactive) water, :data:`PAPER_SWIM` for the
+    paper's (resistive) one (:func:`calibrated`). The
     amplitude eases in over ``ramp_cycles`` tail beats from t = 0: a fish not yet under way
     yaws at every one-sided stroke, and an ease-in ending on a three-quarter beat leaves the
     smallest heading offset (measured: within 5 deg at full speed)."""
 
     min_hz: float = 1.0
     max_hz: float = 3.0
-    max_amplitude: float = 1.0
+    max_amplitude: float = 0.6
     phase_lag: float = 0.25 * np.pi
     ramp_cycles: float = 3.75
     start_phase: float = 0.0
@@ -43,12 +47,21 @@ class TurnParams:
     """Turn-MC: a train of one-sided power strokes. Each stroke contracts the turn-side
     segments within ``rise`` s and relaxes them over the rest of ``period`` s (fast in, slow
     out: the water resists the fast half more, so each stroke yaws the body toward the turn
-    side). The number of strokes is ``ceil(angle / angle_per_stroke)``."""
+    side). The number of strokes is ``ceil(angle / angle_per_stroke)``. A turn begun at a
+    forward speed ``U`` (BL/s) strokes at ``amplitude * max(MIN_RELIEF, 1 - speed_relief *
+    U**2)``: in the reactive water a fish under way turns further for the same bend (the water's
+    reaction grows with the speed), and the full strokes of a 45-degree turn turned it 38
+    degrees from rest but 88 and 131 from swims of 2.2 and 2.7 BL/s (the swim-MC at 0.8 and 1);
+    the relief of 0.06 (BL/s)^-2 fits the strokes that turn 45 degrees there (measured at 0.8,
+    2.2 and 2.7 BL/s: 1.0, 0.7, 0.56 of the amplitude). The defaults are calibrated for the
+    default (reactive) water, :data:`PAPER_TURN` for the paper's (resistive) one, which has no
+    relief (:func:`calibrated`)."""
 
     period: float = 0.4
     rise: float = 0.08
-    angle_per_stroke: float = np.radians(13.0)
-    amplitude: float = 1.0
+    angle_per_stroke: float = np.radians(23.0)
+    amplitude: float = 0.8
+    speed_relief: float = 0.06
 
 
 @dataclass(frozen=True)
@@ -70,25 +83,29 @@ class FinParams:
     max_angle: float = np.radians(30.0)
 
 
-# The controllers recalibrated on the reactive water (Water(model="reactive")), where the same
-# muscles move the fish much further: the full-speed swim at 0.6 of the activation swims with a
-# fish's tail amplitude (0.20 BL peak to peak, St 0.22, 0.91 BL per beat at 3 Hz, 2.7 BL/s),
-# and a turn stroke of 0.8 turns about 23 degrees (the 90-degree turn-MC ends at 91 degrees,
-# peaks at 96, holds 91); the C-start's defaults (CStartParams) turn 72 degrees within 1 s
-# there (the resistive water turns 23 at most).
-# Measured by the demo (animat demo) and held by tests/envs/physics/test_reactive.py.
-REACTIVE_SWIM = SwimParams(max_amplitude=0.6)
-REACTIVE_TURN = TurnParams(angle_per_stroke=np.radians(23.0), amplitude=0.8)
+# The controllers calibrated for the reactive water (Water(model="reactive"), the default), where
+# the same muscles move the fish much further than in the paper's: the full-speed swim at 0.6 of
+# the activation swims with a fish's tail amplitude (0.20 BL peak to peak, St 0.22, 0.91 BL per
+# beat at 3 Hz, 2.7 BL/s), and a turn stroke of 0.8 turns about 23 degrees (the 90-degree
+# turn-MC ends at 91 degrees, peaks at 96, holds 91); the C-start's defaults (CStartParams)
+# turn 72 degrees within 1 s there (the resistive water turns 23 at most). These are the
+# dataclasses' defaults. The paper's water takes the full activation and 13 degrees a stroke.
+# Measured by the demo (animat demo) and held by tests/envs/physics/test_reactive.py and
+# tests/envs/motor/test_motor.py.
+REACTIVE_SWIM = SwimParams()
+REACTIVE_TURN = TurnParams()
+PAPER_SWIM = SwimParams(max_amplitude=1.0)
+PAPER_TURN = TurnParams(angle_per_stroke=np.radians(13.0), amplitude=1.0, speed_relief=0.0)
 
 
 def calibrated(model: str) -> tuple[SwimParams, TurnParams]:
     """The swim-MC's and turn-MC's parameters calibrated for a water model (``Water.model``):
-    the paper's for ``"resistive"``, :data:`REACTIVE_SWIM` and :data:`REACTIVE_TURN` for
-    ``"reactive"``."""
+    :data:`PAPER_SWIM` and :data:`PAPER_TURN` for ``"resistive"``, :data:`REACTIVE_SWIM` and
+    :data:`REACTIVE_TURN` (the defaults) for ``"reactive"``."""
     if model == "reactive":
         return REACTIVE_SWIM, REACTIVE_TURN
     if model == "resistive":
-        return SwimParams(), TurnParams()
+        return PAPER_SWIM, PAPER_TURN
     raise ValueError(f"no motor controllers are calibrated for water model {model!r}")
 
 
@@ -127,15 +144,18 @@ def turn_duration(angle: float, params: TurnParams = TurnParams()) -> float:
 
 
 def turn_mc(angle: float, t: np.ndarray | float, left: bool = True,
-            params: TurnParams = TurnParams()) -> np.ndarray:
-    """Turn left (``left=True``) or right by ``angle`` rad in [0, pi]. Returns u (..., 6)."""
+            params: TurnParams = TurnParams(), speed: float = 0.0) -> np.ndarray:
+    """Turn left (``left=True``) or right by ``angle`` rad in [0, pi], begun at the forward
+    speed ``speed`` (BL/s, in [-100, 100]; 0: from rest). Returns u (..., 6)."""
     angle = _check_unit("turn angle", angle, 0.0, np.pi)
+    speed = _check_unit("turn's forward speed (BL/s)", speed, -MAX_SPEED, MAX_SPEED)
     t = np.asarray(t, dtype=float)
     phase = np.mod(t, params.period) / params.period
     rise = params.rise / params.period
     envelope = np.where(phase < rise, phase / rise, 1.0 - (phase - rise) / (1.0 - rise))
     active = (t >= 0.0) & (t < turn_duration(angle, params))
-    envelope = params.amplitude * np.where(active, envelope, 0.0)
+    amplitude = params.amplitude * max(MIN_RELIEF, 1.0 - params.speed_relief * speed**2)
+    envelope = amplitude * np.where(active, envelope, 0.0)
     u = np.zeros(t.shape + (6,))
     for segment in (LEFT_FRONT, LEFT_MIDDLE, LEFT_BACK) if left else (
             RIGHT_FRONT, RIGHT_MIDDLE, RIGHT_BACK):

@@ -8,6 +8,13 @@ threshold, and otherwise swims with the swim-MC; up and down go to the fin-MC. A
 ``|turn| * max_turn`` that runs to its end before the next command is taken; otherwise the
 swim-MC runs at ``speed`` in [0, 1] (its ease-in restarts after a turn). The result is the
 fish env's action: the six actuations as ``2u - 1`` and the two fin entries.
+
+A swim whose speed changes keeps its phase: the swim-MC's frequency grows with its speed, so
+played at the time since the swim began, a small change of speed at 10 s would jump the tail
+beat's phase by about a radian (0.2 cycles per 0.01 of speed). The navigator counts the tail
+beats the swim has made and plays the MC at the time that many beats take at the new speed.
+A turn strokes by the fish's forward speed when it begins (``actions``' ``forward``, BL/s;
+``turn_mc``'s ``speed``): the reactive water turns a fish under way further.
 """
 
 from __future__ import annotations
@@ -17,6 +24,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .fish import (
+    MAX_SPEED,
     FinParams,
     SwimParams,
     TurnParams,
@@ -32,7 +40,8 @@ from .fish import (
 @dataclass(frozen=True)
 class NavigationParams:
     """turn_threshold: |turn| below which the fish swims; max_turn: rad, the turn of a
-    command of 1; swim, turn: the MCs' parameters (the water's calibration:
+    command of 1; swim, turn: the MCs' parameters (the water's calibration, by default the
+    default water's:
     :func:`animat.envs.motor.fish.calibrated`)."""
 
     turn_threshold: float = 0.15
@@ -57,35 +66,72 @@ class Navigator:
         self.kind = np.zeros(count, dtype=int)
         self.angle = np.zeros(count)
         self.start = np.zeros(count)
+        self.speed = np.full(count, np.nan)  # the swim's speed since ``since`` (nan: none yet)
+        self.since = np.zeros(count)  # s, when the swim took that speed
+        self.beats = np.zeros(count)  # tail-beat cycles the swim had made by then
+        self.turn_from = np.zeros(count)  # BL/s, the forward speed the running turn began at
 
     def reset(self, rows: np.ndarray) -> None:
         self.kind[rows], self.angle[rows], self.start[rows] = 0, 0.0, 0.0
+        self.speed[rows], self.turn_from[rows] = np.nan, 0.0
+
+    def _swim_time(self, k: int, speed: float, time: float) -> float:
+        """s: the time at which the swim-MC at ``speed`` has made the tail beats fish ``k``'s
+        swim has made by ``time`` (the time since the swim began while its speed holds)."""
+        if self.speed[k] != speed:
+            if np.isnan(self.speed[k]):
+                self.beats[k], self.since[k] = 0.0, self.start[k]
+            else:
+                self.beats[k] += self._hz(self.speed[k]) * (time - self.since[k])
+                self.since[k] = time
+            self.speed[k] = speed
+        return self.beats[k] / self._hz(speed) + (time - self.since[k])
+
+    def _hz(self, speed: float) -> float:
+        swim = self.params.swim
+        return swim.min_hz + (swim.max_hz - swim.min_hz) * speed
 
     def actions(self, commands: np.ndarray, time: float | np.ndarray,
-                reflex: np.ndarray | None = None) -> np.ndarray:
+                reflex: np.ndarray | None = None,
+                forward: np.ndarray | None = None) -> np.ndarray:
         """(count, 8) fish-env actions (6 actuations, 2 fins) at ``time`` (s, scalar or per
         fish) for commands (count, 3): speed in [0, 1], turn and pitch in [-1, 1]. Where
         ``reflex`` (count,) is True, a turn the other way than the command's is cut short for
-        it (a reflex, such as collision avoidance, pre-empts the running MC)."""
+        it (a reflex, such as collision avoidance, pre-empts the running MC). ``forward``
+        (count,) BL/s: each fish's speed along its heading now, which a turn begun now strokes
+        by (default 0: from rest; :func:`forward_speeds` reads it off the kinematics)."""
         commands = np.asarray(commands, dtype=float)
         time = np.broadcast_to(np.asarray(time, dtype=float), self.kind.shape)
+        forward = np.zeros(self.kind.shape) if forward is None else np.clip(
+            np.asarray(forward, dtype=float), -MAX_SPEED, MAX_SPEED)
         out = np.empty((len(self.kind), 8), np.float32)
         for k in range(len(self.kind)):
             speed, turn, pitch = np.clip(commands[k], [0.0, -1.0, -1.0], 1.0)
             elapsed = time[k] - self.start[k]
             if self.kind[k] != 0 and elapsed >= turn_duration(self.angle[k], self.params.turn):
                 self.kind[k], self.start[k] = 0, time[k]  # the turn is over: swim again
+                self.speed[k] = np.nan
             if (reflex is not None and reflex[k] and self.kind[k] * turn < 0
                     and abs(turn) > self.params.turn_threshold):
                 self.kind[k] = 0  # the reflex's turn starts now
             if self.kind[k] == 0 and abs(turn) > self.params.turn_threshold:
                 self.kind[k], self.start[k] = (1 if turn > 0 else -1), time[k]
                 self.angle[k] = abs(turn) * self.params.max_turn
+                self.speed[k], self.turn_from[k] = np.nan, forward[k]
             elapsed = time[k] - self.start[k]
             if self.kind[k] == 0:
-                u = swim_mc(float(speed), elapsed, self.params.swim)
+                u = swim_mc(float(speed), self._swim_time(k, float(speed), time[k]),
+                            self.params.swim)
             else:
-                u = turn_mc(float(self.angle[k]), elapsed, self.kind[k] > 0, self.params.turn)
+                u = turn_mc(float(self.angle[k]), elapsed, self.kind[k] > 0, self.params.turn,
+                            float(self.turn_from[k]))
             out[k, :6] = to_action(u)
             out[k, 6:] = fin_mc(pitch=float(pitch)) / FinParams().max_angle
         return out
+
+
+def forward_speeds(kinematics, length: float) -> np.ndarray:
+    """(F,) BL/s: each fish's centre-of-mass velocity along its heading (``kinematics`` of
+    :class:`~animat.envs.core.batch.BodyBatch`: ``com_vel`` (F, 3) m/s, ``frames`` (F, 3, 3)
+    rows forward, left, up), for :meth:`Navigator.actions`' ``forward``; ``length`` m."""
+    return np.einsum("fk,fk->f", kinematics.com_vel, kinematics.frames[:, 0]) / length

@@ -61,10 +61,12 @@ class Water:
         current: (3,) water velocity in the world frame, m/s.
         air_pressure: at the surface, Pa; sets how lungs compress with depth (Boyle's law,
             :func:`animat.envs.physics.forces.compressed`).
-        model: ``"reactive"`` adds to the resistive forces the water's reactive force of
-            Lighthill's elongated-body theory on the body's cross-sections (added mass and the
-            momentum shed at the trailing edge; :mod:`animat.envs.physics.reactive`);
-            ``"resistive"`` is the paper's water of 1995, the faces' drag and friction alone.
+        model: ``"reactive"`` (the default) adds to the resistive forces the water's reactive
+            force of Lighthill's elongated-body theory on the body's cross-sections (added mass
+            and the momentum shed at the trailing edge; :mod:`animat.envs.physics.reactive`); it
+            needs a body with cross-sections (``BodySpec.section_nodes``: the fish has them, the
+            dolphin not yet). ``"resistive"`` is the paper's water of 1995, the faces' drag and
+            friction alone.
         added_mass: the reactive model's added mass as a multiple of the sections'
             (``rho pi b^2`` per unit length), dimensionless, in [0, 4].
 
@@ -87,7 +89,7 @@ class Water:
     surface_z: float = float("inf")
     current: tuple[float, float, float] = (0.0, 0.0, 0.0)
     air_pressure: float = 101325.0
-    model: str = "resistive"
+    model: str = "reactive"
     added_mass: float = 1.0
 
     def __post_init__(self) -> None:
@@ -241,6 +243,9 @@ class System:
             raise ValueError(f"System.dt = {self.dt:g} s is above the stability bound of body "
                              f"{self.body.name!r} for this integrator ({limit:.3g} s); use a "
                              "smaller physics_dt")
+        if self.water.model == "reactive" and self.body.section_nodes.shape[0] == 0:
+            raise ValueError(f"the reactive water needs a body with cross-sections; body "
+                             f"{self.body.name!r} has none: use water={{'model': 'resistive'}}")
         fin_weights = np.full(self.body.fin_nodes.shape, 1.0 / self.body.fin_nodes.shape[1])
         object.__setattr__(self, "face_mass", frozen_array(effective_masses(
             self.body.masses, self.body.faces, self.body.face_weights)))

@@ -123,8 +123,11 @@ class Task:
         """Episode metrics (B,) each read off the info of the episode's last step."""
         return {}
 
-    def hand_controller(self, speed: float = 1.0) -> Callable[[np.ndarray], np.ndarray]:
-        """The hand-designed motor controller for this task: ``t (s) -> u (..., 6)``."""
+    def hand_controller(self, speed: float = 1.0, model: str = "reactive"
+                        ) -> Callable[[np.ndarray], np.ndarray]:
+        """The hand-designed motor controller for this task, calibrated for the water's
+        ``model`` (``Water.model``; :func:`animat.envs.registration.water_of` reads an env's):
+        ``t (s) -> u (..., 6)``."""
         raise ValueError(f"no hand-designed motor controller for task {self.name!r}")
 
 

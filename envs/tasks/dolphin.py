@@ -76,6 +76,14 @@ class Underwater:
         return np.broadcast_to(self.start_speed * heading, body.rest_positions.shape).copy()
 
 
+def check_dolphin_water(model: str) -> None:
+    """ValueError unless ``model`` is the resistive water, the one the dolphin's MCs (and its
+    body, which has no cross-sections yet) are made for."""
+    if model != "resistive":
+        raise ValueError(f"the dolphin's motor controllers are calibrated for the resistive "
+                         f"water only, got water model {model!r}")
+
+
 @dataclass
 class DolphinForwardTask(Underwater, SwimTask):
     """Move forward (the fish's swim task, started under water)."""
@@ -90,7 +98,8 @@ class DolphinForwardTask(Underwater, SwimTask):
         super().__post_init__()
         self.check_start()
 
-    def hand_controller(self, speed: float = 1.0):
+    def hand_controller(self, speed: float = 1.0, model: str = "resistive"):
+        check_dolphin_water(model)
         return lambda t: dolphin_swim_mc(speed, t)
 
 
@@ -139,7 +148,8 @@ class DolphinTurnTask(Underwater, TurnTask):
         """``final_turn_error_deg``: the absolute pitch or yaw error at the end."""
         return {"final_turn_error_deg": np.abs(last["turn_error_deg"])}
 
-    def hand_controller(self, speed: float = 1.0):
+    def hand_controller(self, speed: float = 1.0, model: str = "resistive"):
+        check_dolphin_water(model)
         angle = np.radians(float(self.angle_deg))
         return lambda t: dolphin_turn_mc(self.direction, angle, t)
 
@@ -182,7 +192,8 @@ class DolphinArcTask(Underwater, Task):
         return -u_arc / length, {"arc_speed_bl_per_s": u_arc / length,
                                  "pitch_deg": np.degrees(pitch_of(world.frames))}, world.memory
 
-    def hand_controller(self, speed: float = 1.0):
+    def hand_controller(self, speed: float = 1.0, model: str = "resistive"):
+        check_dolphin_water(model)
         return lambda t: dolphin_swim_mc(speed, t)
 
 
@@ -224,5 +235,6 @@ class DolphinSpinTask(Underwater, Task):
         return -spin, {"spin_deg_per_s": np.degrees(spin),
                        "pitch_deg": np.degrees(pitch_of(world.frames))}, world.memory
 
-    def hand_controller(self, speed: float = 1.0):
+    def hand_controller(self, speed: float = 1.0, model: str = "resistive"):
+        check_dolphin_water(model)
         return lambda t: dolphin_turn_mc(self.direction, np.pi / 2, t)

@@ -10,7 +10,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..checks import check_number, check_range
-from ..motor.fish import swim_mc, turn_mc
+from ..motor.fish import calibrated, swim_mc, turn_mc
 from .base import Task, Terms, World, heading_yaw, world_to_body, wrap_angle
 
 
@@ -52,9 +52,10 @@ class SwimTask(Task):
         return e_v, {"speed_bl_per_s": speed, "heading_deg": np.degrees(yaw),
                      "distance_bl": np.hypot(com[:, 0], com[:, 1]) / length}, world.memory
 
-    def hand_controller(self, speed: float = 1.0):
-        """The swim-MC at ``speed`` in [0, 1], ease-in included."""
-        return lambda t: swim_mc(speed, t)
+    def hand_controller(self, speed: float = 1.0, model: str = "reactive"):
+        """The swim-MC at ``speed`` in [0, 1], ease-in included, calibrated for ``model``."""
+        swim = calibrated(model)[0]
+        return lambda t: swim_mc(speed, t, swim)
 
 
 @dataclass
@@ -96,10 +97,12 @@ class TurnTask(Task):
         """``final_heading_error_deg``: the absolute heading error at the end."""
         return {"final_heading_error_deg": np.abs(last["heading_error_deg"])}
 
-    def hand_controller(self, speed: float = 1.0):
-        """The turn-MC for this angle and direction (``speed`` is not used)."""
+    def hand_controller(self, speed: float = 1.0, model: str = "reactive"):
+        """The turn-MC for this angle and direction, calibrated for ``model`` (``speed`` is not
+        used)."""
         angle, left = np.radians(float(self.angle_deg)), self.direction == "left"
-        return lambda t: turn_mc(angle, t, left)
+        turn = calibrated(model)[1]
+        return lambda t: turn_mc(angle, t, left, turn)
 
 
 @dataclass

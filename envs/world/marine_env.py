@@ -152,9 +152,12 @@ class MarineWorldEnv(gym.Env):
                                                 (self.world.core.obs_size + 12,), np.float32)
         self.policy = None
         if vision is not None:
-            from .pursuit.policy import ActiveVisionPolicy
+            from .pursuit.policy import ActiveVisionParams, ActiveVisionPolicy
 
-            self.policy = ActiveVisionPolicy(retina=self.view.retina)
+            # a hunter closes in to catch: no range keeping (the pursuit's policy keeps its
+            # distance, ActiveVisionParams.hold_range_bl)
+            self.policy = ActiveVisionPolicy(ActiveVisionParams(hold_range_bl=0.0),
+                                             retina=self.view.retina)
         self.gaze = np.zeros(4)
         self._started = False
 

@@ -21,7 +21,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..core.batch import BodyBatch
-from ..motor.navigation import Navigator, navigation_for
+from ..motor.navigation import Navigator, forward_speeds, navigation_for
 from ..render.camera import yaw_matrix
 from ..tasks.locomotion import SwimTask
 from . import food as food_mod
@@ -190,7 +190,9 @@ class MarineWorld:
                 wanted[row] = command
         for row, command in (commands or {}).items():
             wanted[row] = command
-        moves = self.navigator.actions(wanted, self.time, reflex=self.intention == AVOID)
+        forward = forward_speeds(self.core.kinematics(), self.length)
+        moves = self.navigator.actions(wanted, self.time, reflex=self.intention == AVOID,
+                                       forward=forward)
         for row, action in (actions or {}).items():
             moves[row] = action
         self.core.step(moves.astype(np.float64))

@@ -7,7 +7,7 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
-from animat.envs.registration import task_of, timing
+from animat.envs.registration import task_of, timing, water_of
 
 from ..agents import OpenLoopAgent
 from ..base import LearnResult, Scorer
@@ -32,8 +32,9 @@ class HandMCLearner(Scorer):
     """Plays the task's hand-designed MC (:meth:`animat.envs.tasks.base.Task.hand_controller`):
     swim ->
     swim-MC at ``speed`` (default 1), ease-in included (scored from t = 0 like every learned
-    controller); turn -> the turn-MC for the env's angle and direction. Uses one episode from
-    each start state."""
+    controller); turn -> the turn-MC for the env's angle and direction; each calibrated for the
+    env's water (:func:`animat.envs.motor.fish.calibrated`). Uses one episode from each start
+    state."""
 
     name = "handmc"
 
@@ -46,8 +47,10 @@ class HandMCLearner(Scorer):
         """The task's MC at the run's ``speed``, played open loop (no env built)."""
         dt, steps = timing(self.env_id, self.env_kwargs)
         task = task_of(self.env_id, self.env_kwargs)
-        return OpenLoopAgent(task.hand_controller(speed=float(artefacts.get("speed", self.speed))),
-                             dt, steps, self.env_id, self.env_kwargs)
+        model = water_of(self.env_id, self.env_kwargs).model
+        speed = float(artefacts.get("speed", self.speed))
+        return OpenLoopAgent(task.hand_controller(speed=speed, model=model), dt, steps,
+                             self.env_id, self.env_kwargs)
 
     def scored_episodes(self) -> int:
         return int(self.own.start_states)
@@ -59,7 +62,8 @@ class HandMCLearner(Scorer):
         evaluator = BatchEvaluator(self.env_id, self.env_kwargs, num_envs=1, seed=self.seed,
                                    num_starts=self.own.start_states)
         self.log_hparams()
-        actuation = evaluator.task.hand_controller(speed=self.speed)
+        model = water_of(self.env_id, self.env_kwargs).model
+        actuation = evaluator.task.hand_controller(speed=self.speed, model=model)
         actions = play(actuation, evaluator.dt, evaluator.steps)[None]
         returns, metrics = evaluator.evaluate(actions)
         result = {"eval/return": float(returns[0]),

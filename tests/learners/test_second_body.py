@@ -4,19 +4,21 @@ no change to library code."""
 
 import gymnasium as gym
 import numpy as np
+import pytest
 from gymnasium.utils.env_checker import check_env
 
 import animat  # noqa: F401
-from animat.envs.bodies.spec import CROSS, MUSCLE, ORDINARY, BodySpec
+from animat.envs.bodies.spec import CROSS, MUSCLE, ORDINARY, BodySpec, chain_sections
 from animat.envs.physics.system import DEFAULT_DT, STABILITY_MARGIN, stable_step
 from animat.learners.registry import make_learner
 
 SIGNS = [(1, 1), (-1, 1), (-1, -1), (1, -1)]  # ring corners (y, z): ul, ur, lr, ll
 
 
-def eel_body() -> BodySpec:
+def eel_body(sections: bool = True) -> BodySpec:
     """A 0.4 m, 3-ring eel: 14 nodes (nose, 3 rings of 4, tail tip), 50 elements, 8 muscles
-    in 4 actuators (left and right, front and back segment), 16 faces, 2 fins."""
+    in 4 actuators (left and right, front and back segment), 16 faces, 2 fins; with
+    ``sections``, 5 cross-sections for the reactive water (nose, rings, tail tip)."""
     stations = [(-0.1, 0.015), (-0.2, 0.012), (-0.3, 0.008)]
     nodes = [(0.0, 0.0, 0.0)] + [(x, sy * h, sz * h) for x, h in stations for sy, sz in SIGNS]
     nodes.append((-0.4, 0.0, 0.0))
@@ -65,7 +67,9 @@ def eel_body() -> BodySpec:
         fin_nodes=np.array([[1, 4], [2, 3]]), fin_areas=np.array([3e-4, 3e-4]),
         fin_names=("left", "right"), frame_front=np.array([0, 1, 2, 3, 4]),
         frame_back=np.array(rings[2]), frame_up=np.array([1, 2, 5, 6]),
-        frame_down=np.array([3, 4, 7, 8]))
+        frame_down=np.array([3, 4, 7, 8]),
+        **(chain_sections([0.0] + [x for x, _ in stations] + [-0.4], [[0]] + rings + [[13]],
+                          [0.0] + [h for _, h in stations] + [0.004], 1.0) if sections else {}))
 
 
 def test_an_eel_defined_here_swims_in_the_fish_env():
@@ -85,6 +89,21 @@ def test_an_eel_defined_here_swims_in_the_fish_env():
     assert np.isfinite(env.unwrapped.node_positions).all()
     vec = gym.make_vec("Animat/FishSwim-v0", num_envs=3, body=eel, duration=1.0)
     assert vec.single_action_space.shape == (4,)
+
+
+def test_an_eel_without_cross_sections_swims_in_the_resistive_water_only():
+    """The default (reactive) water acts on a body's cross-sections: a body that has none is
+    refused in one line naming the way out, and swims in the paper's resistive water."""
+    eel = eel_body(sections=False)
+    with pytest.raises(ValueError, match="needs a body with cross-sections; body 'eel' has "
+                       "none: use water=") as error:
+        gym.make("Animat/FishSwim-v0", body=eel)
+    assert "\n" not in str(error.value)
+    env = gym.make("Animat/FishSwim-v0", body=eel, duration=1.0, water={"model": "resistive"})
+    env.reset(seed=0)
+    for _ in range(20):
+        env.step(env.action_space.sample())
+    assert np.isfinite(env.unwrapped.node_positions).all()
 
 
 def test_an_eel_goes_through_an_annealing_round():

@@ -71,7 +71,7 @@ import numpy as np
 
 from ...checks import check_number, check_range
 from ...core.batch import BodyBatch
-from ...motor.navigation import Navigator, navigation_for
+from ...motor.navigation import Navigator, forward_speeds, navigation_for
 from ...render.camera import Camera, Scene, fish_skin, look_at, yaw_matrix
 from ...render.scenery import SceneryParams, furnish, scatter
 from ...tasks.locomotion import SwimTask
@@ -212,7 +212,8 @@ class FishPursuitEnv(gym.Env):
         kinematics = self.core.kinematics()
         observer = [[0.5 * (action[0] + 1.0), action[1], action[2]]]
         commands = np.concatenate([observer, self._behaviours(kinematics)])
-        moves = self.navigator.actions(commands, self._time)
+        moves = self.navigator.actions(commands, self._time,
+                                       forward=forward_speeds(kinematics, self.body_length))
         self.gaze[:] = action[3:]
         _, _, kinematics = self.core.step(moves.astype(np.float64))
         self._time += self.dt

@@ -77,7 +77,7 @@ def test_a_dolphin_in_ballistic_flight_follows_a_parabola_and_keeps_its_angular_
     """Thrown spinning, well above the water, with air drag off: the centre of mass follows
     the scheme's discrete parabola to round-off, and the angular momentum about it is kept."""
     system = System(BODY, Water(surface_z=-50.0, air_coefficient=0.0,
-                                air_friction_coefficient=0.0), dt=STEP)
+                                air_friction_coefficient=0.0, model="resistive"), dt=STEP)
     x = BODY.rest_positions[None].copy()
     com0 = BODY.masses @ x[0] / BODY.total_mass
     spin = np.array([0.0, -6.0, 0.0])  # rad/s: a somersault, nose up

@@ -146,10 +146,11 @@ def test_render_and_record_video(tmp_path):
 
 
 def test_water_is_a_public_argument_and_momentum_is_in_info():
-    """``water=`` a dict of Water fields; in a vacuum the env's own info shows both momenta
-    staying put while the muscles work."""
+    """``water=`` a dict of Water fields; in a vacuum (``density`` 0: no water carried by the
+    reactive force either) the env's own info shows both momenta staying put while the muscles
+    work."""
     vacuum = {"fluid_coefficient": 0, "air_coefficient": 0, "friction_coefficient": 0,
-              "gravity": 0}
+              "gravity": 0, "density": 0}
     env = gym.make("Animat/FishSwim-v0", water=vacuum)
     _, info = env.reset(seed=0)
     assert info["linear_momentum"].shape == (3,) and info["angular_momentum"].shape == (3,)

@@ -8,7 +8,8 @@ import pytest
 import animat  # noqa: F401
 from animat.envs.core.env import BodyEnv
 from animat.envs.core.sensors import Proprioception, TaskEntries
-from animat.envs.motor.navigation import Navigator
+from animat.envs.motor.navigation import Navigator, navigation_for
+from animat.envs.physics.system import WATER_MODELS
 from animat.envs.render.camera import Scene
 from animat.envs.vision.retina import (
     Retina,
@@ -42,14 +43,20 @@ def test_pursuit_observation_info_and_renders():
     assert steps == 20 and info["time"] == pytest.approx(1.0)
 
 
-def test_a_left_turn_command_turns_the_fish_left_then_it_swims_on():
-    env = BodyEnv("swim", duration=8.0, fins=True)
+@pytest.mark.parametrize("model", WATER_MODELS)
+def test_a_left_turn_command_turns_the_fish_left_then_it_swims_on(model):
+    """At the pursuit's speed (0.6), in either water with its MCs, one full turn command turns
+    the fish left by 60-120 deg, and it swims on. (The turn-MC is calibrated from rest: from a
+    full-speed swim it turns further, about 150 deg in the reactive water and 107 in the
+    resistive.)"""
+    env = BodyEnv("swim", duration=8.0, fins=True, water={"model": model})
     env.reset(seed=0)
-    navigator = Navigator(1)
+    navigator = Navigator(1, navigation_for(env.core.system.water))
     headings = []
     for k in range(160):
-        command = [[1.0, 1.0 if k == 20 else 0.0, 0.0]]  # one full turn command at 1 s
+        command = [[0.6, 1.0 if k == 20 else 0.0, 0.0]]  # one full turn command at 1 s
         headings.append(env.step(navigator.actions(command, k * env.dt)[0])[4]["heading_deg"])
+    headings = np.degrees(np.unwrap(np.radians(headings)))
     assert 60.0 < headings[100] - headings[19] < 120.0
     assert abs(headings[-1] - headings[100]) < 30.0  # swimming on, not turning
 
@@ -153,3 +160,25 @@ def test_the_observers_own_state_and_the_task_entries_read_apart_in_the_pursuit(
                                   apart.core.proprioception(kinematics)[OBSERVER])
     default = _stepped(gym.make("Animat/FishPursuit-v0", duration=1.0).unwrapped)
     np.testing.assert_array_equal(obs["proprioception"], default["proprioception"])
+
+
+def test_the_pursuer_keeps_its_distance_by_its_own_vergence_and_searches_where_it_lost_sight():
+    """With both eyes verged on a target d ahead, the policy swims at ``speed`` beyond
+    ``hold_range_bl + range_ramp_bl``, slower nearer, and stops at ``hold_range_bl``; with the
+    target out of view for ``search_after`` frames it turns toward where it saw it last."""
+    from animat.envs.world.pursuit.policy import ActiveVisionParams, ActiveVisionPolicy
+
+    policy = ActiveVisionPolicy(ActiveVisionParams(hold_range_bl=1.0, range_ramp_bl=2.0))
+    length, half = policy.body.length, 0.5 * policy.baseline
+
+    def verged(distance_bl):
+        angle = np.arctan(half / (distance_bl * length))
+        return np.array([[-angle, 0.0], [angle, 0.0]])
+
+    speeds = [policy._speed(verged(d), True) for d in (5.0, 3.0, 2.0, 1.0, 0.5)]
+    assert speeds == pytest.approx([0.6, 0.6, 0.3, 0.0, 0.0])
+    assert policy._speed(verged(0.5), False) == 0.6  # one eye alone gives no range
+    policy.reset()
+    assert policy._search([0, 1], np.radians(-30.0)) == 0.0  # seen, on the right
+    turns = [policy._search([], 0.0) for _ in range(policy.params.search_after)]
+    assert turns[:-1] == [0.0] * (policy.params.search_after - 1) and turns[-1] == -1.0

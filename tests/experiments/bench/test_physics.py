@@ -8,8 +8,8 @@ def test_the_benchmark_prints_every_configuration_and_the_ratios():
     out = animat("bench", "--seconds", "0.6", "--num-envs", "8").stdout
     assert "fish, 1 env" in out and "fish, native batch of 8" in out
     assert "ratio fish, 1 env / Swimmer-v5, 1 env" in out  # the bench extra is installed here
-    assert "fish, reactive water, native batch of 8" in out
-    assert "ratio fish, reactive water, 1 env / fish, 1 env" in out
+    assert "fish, resistive water, native batch of 8" in out
+    assert "ratio fish, 1 env / fish, resistive water, 1 env" in out  # the default: reactive
 
 
 def test_the_breakdown_times_every_part_and_the_fused_step():
