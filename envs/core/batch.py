@@ -50,7 +50,7 @@ class BodyBatch:
         task: the :class:`~envs.tasks.base.Task`.
         body: the body description (default: :func:`animat.envs.bodies.fish.fish_body`).
         water: the medium, a :class:`~envs.physics.system.Water` or a dict of its fields
-            (default: still fresh water, no surface).
+            (default: still fresh water, no surface, the reactive model).
         physics_dt: integration step, s.
         frame_skip: integration steps per env step (env ``dt = physics_dt * frame_skip``).
         duration: simulated seconds per episode (then truncated).

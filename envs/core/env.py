@@ -54,7 +54,7 @@ No termination; truncation after ``duration`` simulated seconds.
 | ``duration`` | float, s | the task's | truncation time (swim 10, turn 5, reach 20) |
 | ``physics_dt`` | float, s | 1/800 | step; refused above 75% of the body's bound |
 | ``frame_skip`` | int | 40 | steps per env step (``dt = physics_dt * frame_skip``) |
-| ``water`` | dict | fresh water | ``Water`` fields (:mod:`~envs.physics.system`) over the base |
+| ``water`` | dict | reactive | ``Water`` fields (:mod:`~envs.physics.system`) over the base |
 | ``base_water`` | dict | none | a registered world's water (the dolphin's pool), field by field |
 | ``fins`` | bool | False | the pectoral fin angles in the action space |
 | ``sensors`` | list | proprioception | :mod:`animat.envs.core.sensors`; several give a Dict space |

@@ -50,8 +50,8 @@ No termination; truncation after ``duration`` s (60).
 default 1, 6, 3; each count in [0, 100]), ``food`` (15; in [0, 1000]), ``obstacles`` (5; in
 [0, 100]), ``agent`` (a fish index or None), ``control``,
 ``vision`` (a fish index or None: that fish hunts by its eyes), ``water`` (the water's fields,
-``Water.from_dict``, e.g. ``{"model": "reactive"}``; the fishes' motor controllers calibrated
-for its model), ``render_mode``
+``Water.from_dict``, e.g. ``{"model": "resistive"}``, the paper's; default the reactive water;
+the fishes' motor controllers calibrated for its model), ``render_mode``
 (``"rgb_array"``: the tank from above a corner, 480x360). Public: ``world``, ``dt``,
 ``body_length``, ``episode_steps``, ``episode_summary()``.
 """

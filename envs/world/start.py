@@ -34,8 +34,8 @@ class WorldParams:
     ``court_distance`` m, ``court_time`` s, ``contact_distance`` m, ``apart_time`` s (see
     :mod:`animat.envs.world.world`);
     ``duration`` s per episode; ``water`` the water's fields (``Water.from_dict``, e.g.
-    ``{"model": "reactive"}``; default the default water), the fishes' motor controllers
-    calibrated for its model."""
+    ``{"model": "resistive"}``, the paper's; default the default, reactive, water), the fishes'
+    motor controllers calibrated for its model."""
 
     species: tuple = PAPER_SPECIES
     obstacles: int = 5

@@ -56,7 +56,8 @@ No termination; truncation after ``duration`` s (default 20).
 ``sensors`` (a list of sensors that read the observer's view, their entries' names unique;
 default :func:`~animat.envs.world.pursuit.senses.default_sensors`: the retina, the gaze and
 proprioception), ``water`` (the water's fields, ``Water.from_dict``, e.g. ``{"model":
-"reactive"}``; the fishes' motor controllers calibrated for its model), ``render_mode``
+"resistive"}``, the paper's; default the reactive water; the fishes' motor controllers
+calibrated for its model), ``render_mode``
 (``"rgb_array"``: third person, 480x360; ``"retina"``: the two eyes' composites side by side,
 512x1024); each checked as it enters (a bad one is a
 ``ValueError`` of one line naming it). Public attributes: ``dt``, ``body_length``,
