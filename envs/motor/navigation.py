@@ -59,7 +59,8 @@ def navigation_for(water) -> NavigationParams:
 
 class Navigator:
     """Motor state of ``count`` fish: the running MC's kind (0 swim, +1 left turn, -1 right
-    turn), its angle and its start time (s)."""
+    turn), its angle and its start time (s); a swim's speed, since when it holds and the tail
+    beats made by then (its phase); a turn's forward speed at its start (BL/s)."""
 
     def __init__(self, count: int, params: NavigationParams = NavigationParams()) -> None:
         self.params = params
