@@ -202,13 +202,16 @@ def task_of(env_id: str, env_kwargs: dict | None = None) -> Task:
 
 def water_of(env_id: str, env_kwargs: dict | None = None) -> Water:
     """The water of ``gym.make(env_id, **env_kwargs)``: for an id of the core its ``water``'s
-    fields over its ``base_water`` (the dolphin's pool), as the env merges them, building no
-    env; any other id's env is built and its core's water read."""
+    fields over its ``base_water`` (the dolphin's pool), as the env merges them; for the
+    pursuit and the living world their ``water``'s fields; building no env (any other id's env
+    is built and its core's water read)."""
     from .checks import shown
     from .physics.system import Water
 
     arguments = _core_arguments(env_id, env_kwargs)
     if arguments is None:
+        if ENVS.get(env_id, {}).get("entry_point") in (PURSUIT, MARINE):
+            return Water.from_dict((env_kwargs or {}).get("water"))
         core = _built_attribute(env_id, env_kwargs, "core")
         return core.system.water
     named = arguments[0]

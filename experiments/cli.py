@@ -33,7 +33,7 @@ import threading
 from contextlib import contextmanager
 from pathlib import Path
 
-from .launch.config import ConfigError, load_config
+from .launch.config import ConfigError, load_config, load_run_config
 from .launch.folders import create_run, one_line
 from .launch.lock import RunError
 from .launch.shipped import find_config, shipped_configs
@@ -88,7 +88,7 @@ def cmd_run(args) -> int:
                            f"{', '.join(ignored)} (they would be ignored)")
         if not (folder / "config.yaml").exists():
             raise RunError(f"{folder}: no config.yaml: not a run folder")
-        config = load_config(folder / "config.yaml", build=False)  # built by the run
+        config = load_run_config(folder)  # built by the run
         result = resume(folder, _progress(args, config), args.threads, args.trust_pickles)
     else:
         if not args.config:

@@ -35,7 +35,7 @@ from animat.learners.registry import make_learner
 from animat.learners.rollout import score_episode, spread
 from animat.learners.storage.files import read_json
 
-from .launch.config import learner_params, load_config
+from .launch.config import learner_params, load_run_config
 from .launch.folders import read_status, write_json
 from .launch.lock import RunError
 
@@ -48,7 +48,7 @@ def load(run_dir: str | Path, trust_pickles: bool = False):
     if status["status"] != "done":
         raise RunError(f"{folder}: the run is {status['status']}; only a finished run can be "
                        "loaded")
-    config = load_config(folder / "config.yaml", build=False)  # built below, from its copies
+    config = load_run_config(folder)  # built below, from its copies
     artefacts = read_json(folder / "artefacts.json")
     learner = _learner(folder, config)
     learner.trust_pickles = trust_pickles
@@ -110,7 +110,7 @@ def evaluate(run_dir: str | Path, seeds: list[int] | None = None, episodes: int 
     means with ``_std``) - per skill for a repertoire; with ``refine`` k > 1, at the physics
     step over k, into ``eval_step_over_<k>.json``."""
     folder = Path(run_dir)
-    config = load_config(folder / "config.yaml", build=False)
+    config = load_run_config(folder)
     if not seeds:
         count = episodes or _learner(folder, config).scored_episodes()
         seeds = [config.seed + k for k in range(count)]

@@ -31,13 +31,13 @@ from animat.learners.macro import MacroSequence
 from animat.learners.skills.repertoire import Repertoire
 from animat.learners.storage.files import read_json
 
-from ..launch.config import load_config
+from ..launch.config import load_run_config
 
 
 def macro_of(run_dir: str | Path) -> tuple[MacroSequence, Repertoire, dict]:
     """A finished macro run's learned sequence, its repertoire copy and its config."""
     folder = Path(run_dir)
-    config = load_config(folder / "config.yaml", build=False)
+    config = load_run_config(folder)
     repertoire = Repertoire.load(folder / "checkpoints" / "repertoire.json")
     artefacts = read_json(folder / "artefacts.json")
     steps = [(s["skill"], float(s["duration"])) for s in artefacts["sequence"]]
@@ -53,7 +53,7 @@ def play(run_dir: str | Path, render: bool = True) -> tuple[list[dict], list[np.
     from ..evaluate import load
 
     folder = Path(run_dir)
-    config = load_config(folder / "config.yaml", build=False)
+    config = load_run_config(folder)
     agent = load(folder)
     env = gym.make(config.env.id, render_mode="rgb_array" if render else None,
                    **dict(config.env.kwargs))

@@ -283,6 +283,40 @@ def load_config(path: str | Path, overrides: list[str] | None = None, build: boo
     return config
 
 
+# The water a run folder made before the reactive water became the default ran in: its
+# config.yaml names no water model (every folder made since names its own, record_water).
+WATER_BEFORE_RECORDS = "resistive"
+
+
+def record_water(config: ExperimentConfig, model: str | None = None) -> ExperimentConfig:
+    """``config`` with its env's water model written out in ``env.kwargs.water.model``: the
+    model it names, else ``model``, else the one its env would take
+    (:func:`animat.envs.registration.water_of`), so that a run folder's config says which
+    water it ran in whatever the default becomes. An env without a ``water`` argument (an id
+    not of this project) is left alone."""
+    from animat.envs.registration import ENVS, water_of
+
+    kwargs = config.env.kwargs
+    water = kwargs.get("water")
+    if config.env.id not in ENVS or (isinstance(water, dict) and "model" in water):
+        return config
+    model = model or water_of(config.env.id, kwargs).model
+    water = {**(water if isinstance(water, dict) else {}), "model": model}
+    return config.model_copy(update={"env": config.env.model_copy(
+        update={"kwargs": {**kwargs, "water": water}})})
+
+
+def load_run_config(folder: str | Path, build: bool = False) -> ExperimentConfig:
+    """A run folder's ``config.yaml`` with the water it ran in: a folder made before run
+    folders recorded it names none and ran in the resistive water (:data:`WATER_BEFORE_RECORDS`),
+    where its learner learned; with ``build``, checked as :func:`load_config` checks it."""
+    path = Path(folder) / "config.yaml"
+    config = record_water(load_config(path, build=False), WATER_BEFORE_RECORDS)
+    if build:
+        check_buildable(config, str(path), learner_params(Path(folder), config))
+    return config
+
+
 def to_yaml(config: ExperimentConfig) -> str:
     """The resolved config as YAML (what a run folder keeps): every value as it was read,
     ``.inf`` and ``.nan`` included (JSON mode would have written them as null)."""

@@ -16,7 +16,7 @@ from animat.learners.logger import CsvSink, Logger, TensorBoardSink
 from animat.learners.registry import make_learner
 from animat.learners.storage.files import atomic_write
 
-from .config import ExperimentConfig, learner_params, load_config
+from .config import ExperimentConfig, learner_params, load_run_config
 from .folders import clear_debris, make_status, one_line, read_status, write_json
 from .lock import RunError, folder_busy, run_lock
 from .machine import set_threads
@@ -114,7 +114,7 @@ def _execute_locked(folder: Path, progress, threads: int | None, trust_pickles: 
     (folder / ERROR_LOG).unlink(missing_ok=True)  # an earlier attempt's
     clear_debris(folder)  # a killed attempt's
     try:  # a config its folder can no longer build (a file it needs gone) fails the run too
-        config = load_config(folder / "config.yaml")
+        config = load_run_config(folder, build=True)
     except Exception as error:
         _failed(folder, error, threads)
         raise

@@ -41,7 +41,8 @@ def test_a_loaded_run_scores_what_the_run_reported(tmp_path, label):
     folder = _run(tmp_path, label)
     agent = load(folder)
     assert isinstance(agent, OpenLoopAgent if label != "ppo" else PolicyAgent)
-    assert agent.env_id == SWIM["id"] and agent.env_kwargs == SWIM["kwargs"]
+    assert agent.env_id == SWIM["id"]
+    assert agent.env_kwargs == {**SWIM["kwargs"], "water": {"model": "reactive"}}  # recorded
     reported = json.loads((folder / "result.json").read_text())["metrics"]
     result = evaluate(folder)  # the run's own 4 start states
     assert result["seeds"] == [0, 1, 2, 3]
@@ -51,6 +52,31 @@ def test_a_loaded_run_scores_what_the_run_reported(tmp_path, label):
     if label == "annealing-refined":
         artefacts = json.loads((folder / "artefacts.json").read_text())
         assert artefacts["budget"]["refine_env_steps"] == 1600
+
+
+def test_a_run_folder_records_its_water_and_one_from_before_the_records_plays_resistive(
+        tmp_path):
+    """A new run's config.yaml names the water model it ran in, so that it re-scores in it
+    whatever the default becomes; a folder made before folders recorded it (its config names
+    no model) ran in the resistive water, the default then, and loads, resumes and re-scores
+    there."""
+    import yaml
+
+    folder = _run(tmp_path, "handmc")
+    config = yaml.safe_load((folder / "config.yaml").read_text())
+    assert config["env"]["kwargs"]["water"] == {"model": "reactive"}
+    reported = json.loads((folder / "result.json").read_text())["metrics"]["eval/return"]
+    del config["env"]["kwargs"]["water"]  # as a folder of an earlier version has it
+    (folder / "config.yaml").write_text(yaml.safe_dump(config))
+    agent = load(folder)
+    assert agent.env_kwargs["water"] == {"model": "resistive"}
+    resistive = evaluate(folder)["metrics"]["eval/return"]
+    assert resistive != pytest.approx(reported, rel=1e-3)  # played in the other water
+    old = _run(tmp_path, "handmc-paper", env={**SWIM, "kwargs": {
+        **SWIM["kwargs"], "water": {"model": "resistive"}}}, learner="handmc", params={},
+        budget=40)
+    assert json.loads((old / "result.json").read_text())["metrics"]["eval/return"] == (
+        pytest.approx(resistive, rel=1e-9))
 
 
 def test_macro_and_active_vision_runs_load_and_act(tmp_path):
