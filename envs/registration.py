@@ -205,7 +205,7 @@ def water_of(env_id: str, env_kwargs: dict | None = None) -> Water:
     fields over its ``base_water`` (the dolphin's pool), as the env merges them; for the
     pursuit and the living world their ``water``'s fields; building no env (any other id's env
     is built and its core's water read)."""
-    from .checks import shown
+    from .core.shell import merged_water
     from .physics.system import Water
 
     arguments = _core_arguments(env_id, env_kwargs)
@@ -215,12 +215,7 @@ def water_of(env_id: str, env_kwargs: dict | None = None) -> Water:
         core = _built_attribute(env_id, env_kwargs, "core")
         return core.system.water
     named = arguments[0]
-    fields: dict = {}
-    for name in ("base_water", "water"):
-        if named[name] is not None and not isinstance(named[name], dict):
-            raise ValueError(f"{name} must be a dict of Water fields, got {shown(named[name])}")
-        fields.update(named[name] or {})
-    return Water.from_dict(fields)
+    return Water.from_dict(merged_water(named["water"], named["base_water"]))
 
 
 def _core_arguments(env_id: str, env_kwargs: dict | None) -> tuple[dict, dict] | None:

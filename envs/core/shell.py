@@ -22,16 +22,23 @@ from .batch import BodyBatch
 from .reward import RewardWeights
 
 
+def merged_water(water: dict | None, base_water: dict | None) -> dict | None:
+    """The Water fields an env of these arguments swims in: ``water``'s over ``base_water``'s
+    (a registered world's, the dolphin's pool), or None (the default water); a ValueError of
+    one line for either that is not a dict."""
+    for name, value in (("water", water), ("base_water", base_water)):
+        if value is not None and not isinstance(value, dict):
+            raise ValueError(f"{name} must be a dict of Water fields, got {shown(value)}")
+    return {**(base_water or {}), **(water or {})} or None
+
+
 def make_core(num_envs: int, task: str, task_kwargs: dict, body: str | BodySpec | None,
               duration: float | None, physics_dt: float, frame_skip: int,
               reset_noise_scale: float, reward_weights: RewardWeights | dict | None,
               water: dict | None, fins: bool, base_water: dict | None = None) -> BodyBatch:
     """The batch of an env's arguments: ``water`` changes fields of ``base_water``; the task
     by name with ``task_kwargs``; ``duration`` None is the task's."""
-    for name, value in (("water", water), ("base_water", base_water)):
-        if value is not None and not isinstance(value, dict):
-            raise ValueError(f"{name} must be a dict of Water fields, got {shown(value)}")
-    water = {**(base_water or {}), **(water or {})} or None  # water changes fields of the base
+    water = merged_water(water, base_water)
     task_object = make_task(task, **task_kwargs)
     weights = RewardWeights.from_value(reward_weights)
     return BodyBatch(num_envs, task_object, body=make_body(body), water=water,
