@@ -10,7 +10,12 @@ ranges of real fish. Every figure comes from the hand motor controllers
   0.2-0.4 with A about 0.2 BL and 0.5-1 BL per beat (Taylor, Nudds & Thomas 2003, Nature 425;
   Videler 1993, Fish Swimming); dolphins at St 0.2-0.3 (Rohr & Fish 2004, J. Exp. Biol. 207).
 * :func:`gait_grid`: the speeds of head-to-tail waves of muscle contraction over the three
-  segments (frequency, phase lag per segment) and of the same waves run tail to head.
+  segments (frequency, phase lag per segment) and of the same waves run tail to head, with the
+  speed of the wave that the body itself then makes (:func:`rear_wave_speed`).
+* :func:`rear_wave_speed`: the speed V of the body's own wave over its rear half (the
+  swimming's, not the muscles'), positive head to tail, and the slip ``U / V`` (real fish
+  about 0.6-0.8 at cruise: Videler 1993, table 4.3; a wave that runs tail to head, V < 0,
+  cannot propel a fish forward in resistive-force theory, Gray & Hancock 1955).
 * :func:`c_start`: the heading a C-start reaches (a one-sided bend, then a counter-stroke).
 """
 
@@ -35,27 +40,51 @@ TAIL_TIPS = [21, 22]  # the trailing edge's nodes, the fish's and the dolphin's
 def play(env: gym.Env, actuation: Callable, seconds: float, fins=None
          ) -> tuple[list[dict], np.ndarray]:
     """Run ``actuation(t) -> u (6,)`` for ``seconds`` (with fin commands ``fins`` (2,) in
-    [-1, 1] appended when given) from the seeded start; returns the per-step infos and the
-    trailing edge's track (T, 3), m."""
+    [-1, 1] appended when given) from the seeded start; returns the per-step infos and every
+    node's track (T, N, 3), m (the trailing edge's: ``nodes[:, TAIL_TIPS].mean(axis=1)``)."""
     env.reset(seed=0)
-    infos, tail = [], []
+    infos, nodes = [], []
     for k in range(int(round(seconds / env.unwrapped.dt))):
         action = to_action(actuation((k + 1) * env.unwrapped.dt))
         if fins is not None:
             action = np.append(action, fins).astype(np.float32)
         infos.append(env.step(action)[4])
-        tail.append(env.unwrapped.node_positions[TAIL_TIPS].mean(axis=0))
-    return infos, np.array(tail)
+        nodes.append(env.unwrapped.node_positions)
+    return infos, np.array(nodes)
 
 
-def cruise_figures(infos: list[dict], tail: np.ndarray, dt: float, length: float,
+def rear_wave_speed(nodes: np.ndarray, com: np.ndarray, hz: float, dt: float, length: float,
+                    vertical: bool = False) -> float:
+    """The speed (BL/s) of the body's wave over the rear half of the body: nodes (T, N, 3)
+    and com (T, 3) m over whole beats of ``hz``, every ``dt`` s. Each node's sway across the
+    travel (horizontal, or with ``vertical`` in the vertical plane) is reduced to the phase
+    of its component at ``hz``; the phase's slope along the body over the rear half of the
+    nodes (by their mean position along the travel) gives the wave speed ``2 pi hz /
+    slope``: positive when the wave runs head to tail, negative tail to head."""
+    travel = com[-1] - com[0]
+    heading = travel / np.linalg.norm(travel)
+    across = (np.array([0.0, 0.0, 1.0]) - heading[2] * heading if vertical
+              else np.array([-heading[1], heading[0], 0.0]))
+    across /= np.linalg.norm(across)
+    relative = nodes - com[:, None, :]
+    along, sway = (relative @ heading).mean(axis=0), relative @ across  # (N,), (T, N)
+    t = np.arange(len(com)) * dt
+    phase = np.angle((sway - sway.mean(axis=0)).T @ np.exp(-2j * np.pi * hz * t))
+    rear = np.argsort(along)[: len(along) // 2][::-1]  # the rear half, front to back
+    slope = np.polyfit(along[rear], np.unwrap(phase[rear]), 1)[0]  # rad/m, head leading > 0
+    return float(2.0 * np.pi * hz / slope / length) if slope != 0.0 else float("inf")
+
+
+def cruise_figures(infos: list[dict], nodes: np.ndarray, dt: float, length: float,
                    hz: float, start: float, vertical: bool = False) -> dict[str, float]:
-    """Biology figures over the part of a swim after ``start`` s: U (BL/s, net travel per
-    second), A (BL, the tail tip's peak-to-peak excursion across the travel direction: in the
-    horizontal plane, or with ``vertical`` in the vertical plane, the dolphin's), f (Hz),
-    St = fA/U and the stride U/f (BL per beat)."""
+    """Biology figures over the part of a swim after ``start`` s (``nodes`` (T, N, 3) the
+    nodes' tracks, m, of :func:`play`): U (BL/s, net travel per second), A (BL, the tail tip's
+    peak-to-peak excursion across the travel direction: in the horizontal plane, or with
+    ``vertical`` in the vertical plane, the dolphin's), f (Hz), St = fA/U, the stride U/f (BL
+    per beat), the body's rear wave speed V (BL/s, :func:`rear_wave_speed`) and the slip U/V."""
     first = int(round(start / dt))
     com = np.array([i["com"] for i in infos])[first:]
+    tail = nodes[:, TAIL_TIPS].mean(axis=1)
     travel = com[-1] - com[0]
     speed = np.linalg.norm(travel) / ((len(com) - 1) * dt)
     heading = travel / np.linalg.norm(travel)
@@ -66,16 +95,18 @@ def cruise_figures(infos: list[dict], tail: np.ndarray, dt: float, length: float
     across /= np.linalg.norm(across)
     sway = (tail[first:] - com) @ across
     amplitude = sway.max() - sway.min()
+    wave = rear_wave_speed(nodes[first:], com, hz, dt, length, vertical)
     return {"U": speed / length, "A": amplitude / length, "f": hz,
-            "St": hz * amplitude / speed, "stride": speed / length / hz}
+            "St": hz * amplitude / speed, "stride": speed / length / hz,
+            "V": wave, "slip": speed / length / wave}
 
 
 def fish_cruise(water: dict, params: SwimParams, seconds: float = 10.0) -> dict[str, float]:
     """:func:`cruise_figures` of the fish's swim-MC at full speed over the last half of
     ``seconds``."""
     env = BodyEnv("swim", duration=seconds, water=water)
-    infos, tail = play(env, lambda t: swim_mc(1.0, t, params), seconds)
-    return cruise_figures(infos, tail, env.dt, env.body_length, params.max_hz, seconds / 2)
+    infos, nodes = play(env, lambda t: swim_mc(1.0, t, params), seconds)
+    return cruise_figures(infos, nodes, env.dt, env.body_length, params.max_hz, seconds / 2)
 
 
 def dolphin_cruise(water: dict, params: SwimParams = DOLPHIN_SWIM, seconds: float = 6.0
@@ -83,33 +114,41 @@ def dolphin_cruise(water: dict, params: SwimParams = DOLPHIN_SWIM, seconds: floa
     """:func:`cruise_figures` of the dolphin's fluke stroke at full speed (its own pool, 3 m
     down), the flukes' sway measured in the vertical plane."""
     env = gym.make("Animat/DolphinForward-v0", water=water, duration=seconds)
-    infos, tail = play(env, lambda t: dolphin_swim_mc(1.0, t, params), seconds)
-    figures = cruise_figures(infos, tail, env.unwrapped.dt, env.unwrapped.body_length,
+    infos, nodes = play(env, lambda t: dolphin_swim_mc(1.0, t, params), seconds)
+    figures = cruise_figures(infos, nodes, env.unwrapped.dt, env.unwrapped.body_length,
                              params.max_hz, seconds / 2, vertical=True)
     env.close()
     return figures
 
 
 def gait_grid(water: dict, hz: list[float], lags: list[float], amplitude: float = 1.0,
-              seconds: float = 8.0) -> np.ndarray:
-    """(len(hz), len(lags), 2) the fish's speed (BL/s, net travel along the start heading over
-    the last half of ``seconds``) for the head-to-tail wave of each frequency and phase lag per
+              seconds: float = 8.0) -> tuple[np.ndarray, np.ndarray]:
+    """For the head-to-tail wave of muscle contraction of each frequency and phase lag per
     segment (rad; :func:`animat.envs.motor.fish.wave_mc`) in ``[..., 0]`` and the same wave
-    run tail to head (the lag negated) in ``[..., 1]``: one batch of fish, seeded starts."""
+    run tail to head (the lag negated) in ``[..., 1]``, over the last half of ``seconds``:
+    the fish's speed (BL/s, net travel along the start heading) and the speed of the body's
+    own rear wave (BL/s, :func:`rear_wave_speed`), each (len(hz), len(lags), 2). One batch of
+    fish, seeded starts."""
     combos = [(f, sign * lag) for f in hz for lag in lags for sign in (1.0, -1.0)]
     core = BodyBatch(len(combos), SwimTask(), water=water, duration=100.0)
     core.reset_rows(np.arange(len(combos)), [np.random.default_rng(0) for _ in combos])
     steps = int(round(seconds / core.dt))
-    heading, coms = core.kinematics().frames[:, 0, :2].copy(), []
+    heading, coms, nodes = core.kinematics().frames[:, 0, :2].copy(), [], []
     for k in range(steps):
         t = (k + 1) * core.dt
         u = np.stack([wave_mc(f, lag, amplitude, t) for f, lag in combos])
         info = core.step(2.0 * u - 1.0)[1]
-        coms.append(info["com"][:, :2].copy())
-    travel = coms[-1] - coms[steps // 2 - 1]
+        coms.append(info["com"].copy())
+        if k >= steps // 2:
+            nodes.append(core.state.x.copy())
+    coms, nodes = np.array(coms), np.array(nodes)  # (T, B, 3), (T/2, B, N, 3)
+    travel = coms[-1, :, :2] - coms[steps // 2 - 1, :, :2]
     along = np.einsum("bk,bk->b", travel, heading / np.linalg.norm(heading, axis=1)[:, None])
     speed = along / (seconds - (steps // 2) * core.dt) / core.body.length
-    return speed.reshape(len(hz), len(lags), 2)
+    waves = [rear_wave_speed(nodes[:, b], coms[steps // 2:, b], f, core.dt, core.body.length)
+             for b, (f, _) in enumerate(combos)]
+    shape = (len(hz), len(lags), 2)
+    return speed.reshape(shape), np.array(waves).reshape(shape)
 
 
 def c_start(water: dict, params: CStartParams, seconds: float = 1.0) -> np.ndarray:

@@ -98,18 +98,19 @@ def water_figures(model: str, args: argparse.Namespace) -> None:
         env = gym.wrappers.RecordVideo(env, args.video, episode_trigger=lambda e: e == 0,
                                        disable_logger=True)
     length, dt = env.unwrapped.body_length, env.unwrapped.dt
-    infos, tail = play(env, lambda t: swim_mc(1.0, t, swim), args.seconds)
-    fig = cruise_figures(infos, tail, dt, length, swim.max_hz, args.seconds / 2)
+    infos, nodes = play(env, lambda t: swim_mc(1.0, t, swim), args.seconds)
+    fig = cruise_figures(infos, nodes, dt, length, swim.max_hz, args.seconds / 2)
     along = infos[-1]["com"][0] - infos[len(infos) // 2 - 1]["com"][0]
     heading_speed = along / length / (args.seconds / 2)
     print(f"swim-MC (amplitude {swim.max_amplitude:g}), speed 1, over the last "
           f"{args.seconds / 2:g} s: U {fig['U']:.2f} BL/s ({heading_speed:.2f}"
           f" along the start heading), tail beat f {fig['f']:.1f} Hz, amplitude A "
           f"{fig['A']:.2f} BL (peak to peak), Strouhal fA/U {fig['St']:.2f}, stride "
-          f"{fig['stride']:.2f} BL per beat; heading {infos[-1]['heading_deg']:+.1f} deg at "
+          f"{fig['stride']:.2f} BL per beat, the body's rear wave {fig['V']:.2f} BL/s (slip "
+          f"U/V {fig['slip']:.2f}); heading {infos[-1]['heading_deg']:+.1f} deg at "
           f"{args.seconds:g} s")
     env.close()
-    grid = gait_grid(water, GRID_HZ, GRID_LAGS)
+    grid, waves = gait_grid(water, GRID_HZ, GRID_LAGS)
     f, k = np.unravel_index(np.argmax(grid[..., 0]), grid[..., 0].shape)
     kept = grid[..., 1] / grid[..., 0]
     print(f"waves of contraction, {GRID_HZ} Hz x lags {GRID_LAGS} rad per segment: the fastest "
@@ -117,6 +118,13 @@ def water_figures(model: str, args: argparse.Namespace) -> None:
           f"{grid[f, k, 1]:.2f} ({grid[f, k, 1] / grid[f, k, 0]:.0%}; speeds along the start "
           f"heading, negative: it turned back); each wave reversed "
           f"keeps {kept.min():.0%}-{kept.max():.0%}")
+    backward = waves[:, 1:] < 0  # the body's rear wave runs tail to head (not the flaps)
+    fastest = grid[:, 1:][backward].max() if backward.any() else float("nan")
+    print(f"  the body's own rear wave: {waves[f, k, 0]:+.2f} BL/s for the fastest, "
+          f"{waves[f, k, 1]:+.2f} reversed (+: head to tail); it runs tail to head in "
+          f"{int(backward[..., 1].sum())} of the {backward[..., 1].size} reversed muscle waves "
+          f"(and {int(backward[..., 0].sum())} of the forward ones), the fastest of those at "
+          f"{fastest:.2f} BL/s")
     headings = c_start(water, CStartParams())
     start = CStartParams()
     print(f"C-start (bend {start.bend:g} s, counter-stroke {start.counter:g} s): "
