@@ -1,7 +1,7 @@
 """One-line checks of the values that enter the envs: every keyword argument of an env, a task,
 the water and the reward weights is checked where it enters, for its type, finiteness and a
 physically sensible range, and a bad one is a ``ValueError`` of one line naming the argument
-and the value, e.g. ``reset_noise_scale must be a finite number in [0, 0.1] BL, got nan``.
+and the value, e.g. ``reset_noise_scale must be a finite number in [0, 0.01] BL, got nan``.
 
 The ranges themselves live with what they bound (:mod:`animat.envs.core.arguments` for the episode's
 cost, :class:`animat.envs.physics.system.Water` for the water, each task for its arguments);

@@ -50,7 +50,7 @@ from .fish import (
     _pairs,
     ring_faces,
 )
-from .spec import CROSS, MUSCLE, NOSE_PART, ORDINARY, TAIL_PART, BodySpec
+from .spec import CROSS, MUSCLE, NOSE_PART, ORDINARY, TAIL_PART, BodySpec, chain_sections
 
 FISH_LENGTH = 0.30  # m: the fish whose forces the dolphin scales
 PRESSURE_HEAD = 101325.0 / (WATER_DENSITY * 9.81)  # m of water per atmosphere
@@ -72,6 +72,27 @@ _MUSCLES = {  # actuator index -> corner edges (ring nodes ul, ur, lr, ll at 1+4
 LEFT_TIP, RIGHT_TIP = 21, 22
 NOSE_FACES = (0, 1, 2, 3)  # the head: rostrum and melon, in front of the first ring
 TAIL_FACES = (16, 17, 18, 19, 20, 21, 22, 23)  # the tail stock's quads and the flukes
+
+
+# The dolphin undulates up and down: its sections carry water for vertical motion, across their
+# half widths (the rings', the flukes' half span; a thin tall tail stock carries little).
+SECTION_HALF_EXTENTS = [0.0] + [w for _, w, _ in STATIONS] + [FLUKE_TIP[1]]
+
+
+def dolphin_sections(scale: float) -> dict[str, np.ndarray]:
+    """The dolphin's cross-section fields of :class:`BodySpec` (``section_*``), m and m^2,
+    with its plane of undulation the vertical one: each section's axis across it is its own
+    left (a ring's left corners less its right ones, the nose its first ring's, the flukes'
+    left tip less the right: so it stays defined when the tail bends sideways, where the
+    front's left lined up with the tail and the tail's normal flipped, measured)."""
+    groups = [[0]] + [list(range(1 + 4 * k, 5 + 4 * k)) for k in range(len(STATIONS))]
+    stations = [0.0] + [x for x, _, _ in STATIONS] + [FLUKE_TIP[0]]
+    sections = chain_sections(stations, groups + [[LEFT_TIP, RIGHT_TIP]], SECTION_HALF_EXTENTS,
+                              scale)
+    rings = [0] + list(range(len(STATIONS)))  # the nose takes its first ring's
+    left = [[1 + 4 * k, 4 + 4 * k] for k in rings] + [[LEFT_TIP, LEFT_TIP]]
+    right = [[2 + 4 * k, 3 + 4 * k] for k in rings] + [[RIGHT_TIP, RIGHT_TIP]]
+    return {**sections, "section_up": np.array(left), "section_down": np.array(right)}
 
 
 def _tail_pairs(text: str) -> list[tuple[int, int]]:
@@ -150,7 +171,8 @@ def _lift_upper(volumes: np.ndarray, share: float) -> np.ndarray:
 
 def dolphin_body(length: float = 2.5, muscle_gain: float = 3.0, max_contraction: float = 0.5,
                  lung_share: float = 0.05, neutral_depth: float = 3.0,
-                 buoyancy_lift: float = 0.05, fin_area: float = 1e-3) -> BodySpec:
+                 buoyancy_lift: float = 0.05, fin_area: float = 1e-3, sections: bool = True
+                 ) -> BodySpec:
     """The artificial dolphin.
 
     Args:
@@ -164,6 +186,8 @@ def dolphin_body(length: float = 2.5, muscle_gain: float = 3.0, max_contraction:
         buoyancy_lift: share of each lower node's tissue volume moved to the node above it
             (the centre of buoyancy above the centre of mass: the dolphin floats upright).
         fin_area: each flipper's area for the 0.30 m fish, m^2 (scaled by ``s^2``).
+        sections: give the body its cross-sections (:func:`dolphin_sections`) for the
+            reactive water.
     """
     if not (length > 0 and muscle_gain > 0 and lung_share >= 0 and neutral_depth >= 0):
         raise ValueError("dolphin_body needs length > 0, muscle_gain > 0, lung_share >= 0 and "
@@ -203,5 +227,5 @@ def dolphin_body(length: float = 2.5, muscle_gain: float = 3.0, max_contraction:
         fin_areas=np.full(2, fin_area * s**2), fin_names=("left", "right"),
         frame_front=np.array([0, 1, 2, 3, 4]), frame_back=np.array([9, 10, 11, 12]),
         frame_up=np.array([1, 2, 5, 6, 9, 10]), frame_down=np.array([3, 4, 7, 8, 11, 12]),
-        length=length, face_parts=parts,
+        length=length, face_parts=parts, **(dolphin_sections(scale) if sections else {}),
     )

@@ -71,8 +71,13 @@ class BodySpec:
         section_areas: (J,) the section's added mass per unit length per unit water density
             for motion across it in the body's plane of undulation, m^2: ``pi b^2`` for a
             half-extent b across the motion (an ellipse's, or a thin plate's of span 2b;
-            Lighthill 1960). The plane is sideways: the force pushes each section along its
-            left (:mod:`animat.envs.physics.reactive`).
+            Lighthill 1960). The force pushes each section across itself in that plane
+            (:mod:`animat.envs.physics.reactive`).
+        section_up, section_down: (J, K') for each section the nodes whose centroids give its
+            axis across the plane of undulation (down -> up): the fish's up for every section
+            (its lateral undulation; the default, ``frame_up`` and ``frame_down`` on every
+            row), the dolphin's left for each of its rings and flukes their own (its vertical
+            undulation: a section's normal stays defined however the tail bends).
     """
 
     name: str
@@ -103,12 +108,18 @@ class BodySpec:
     section_weights: np.ndarray = None  # type: ignore[assignment]
     section_lengths: np.ndarray = None  # type: ignore[assignment]
     section_areas: np.ndarray = None  # type: ignore[assignment]
+    section_up: np.ndarray = None  # type: ignore[assignment]
+    section_down: np.ndarray = None  # type: ignore[assignment]
 
     def __post_init__(self) -> None:
         if self.section_nodes is None:
             for name, shape in (("section_nodes", (0, 1)), ("section_weights", (0, 1)),
                                 ("section_lengths", (0,)), ("section_areas", (0,))):
                 object.__setattr__(self, name, np.zeros(shape))
+        if self.section_up is None or self.section_down is None:
+            rows = len(self.section_nodes)
+            object.__setattr__(self, "section_up", np.tile(self.frame_up, (rows, 1)))
+            object.__setattr__(self, "section_down", np.tile(self.frame_down, (rows, 1)))
         if self.lung_volumes is None:
             object.__setattr__(self, "lung_volumes", np.zeros(len(self.masses)))
         if self.face_parts is None:
@@ -120,7 +131,7 @@ class BodySpec:
             "frame_front": np.int64, "frame_back": np.int64, "frame_up": np.int64,
             "frame_down": np.int64, "lung_volumes": float, "face_parts": np.int64,
             "section_nodes": np.int64, "section_weights": float, "section_lengths": float,
-            "section_areas": float,
+            "section_areas": float, "section_up": np.int64, "section_down": np.int64,
         }
         for name, dtype in conversions.items():
             object.__setattr__(self, name, frozen_array(getattr(self, name), dtype))
@@ -210,6 +221,9 @@ def section_checks(body: BodySpec) -> list[tuple[bool, str]]:
         (body.section_areas.shape == (j,) and np.all(body.section_areas >= 0),
          "section_areas must be (J,) >= 0"),
         (j != 1, "a body needs no section or at least two (head and tail)"),
+        (all(g.ndim == 2 and g.shape[0] == j and (j == 0 or (g.shape[1] > 0 and g.min() >= 0
+             and g.max() < body.num_nodes)) for g in (body.section_up, body.section_down)),
+         "section_up and section_down must be (J, K') of the body's nodes, a row a section"),
     ]
 
 

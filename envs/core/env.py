@@ -70,7 +70,7 @@ Task arguments: swim ``target_speed`` (BL/s, None); turn ``angle_deg`` (90), ``d
 Every argument is checked as it enters, and a bad one is a ``ValueError`` of one line naming
 it and its value: ``duration`` in (0, 86400] s (and at most 1e9 integration steps of
 ``physics_dt``), ``physics_dt`` in [1e-6, 1] s, ``frame_skip`` an integer in [1, 10000],
-``num_envs`` in [1, 65536], ``reset_noise_scale`` in [0, 0.1] BL, each reward weight in
+``num_envs`` in [1, 65536], ``reset_noise_scale`` in [0, 0.01] BL, each reward weight in
 [0, 1e6] (:func:`animat.envs.core.arguments.check_arguments`), the water's fields
 (:class:`~envs.physics.system.Water`) and the task's arguments in their ranges (each task's
 docstring): so that no argument gives NaN, and a step and an episode have a bounded cost.

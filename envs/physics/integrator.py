@@ -101,7 +101,7 @@ def step_chunk(x, v, u_start, u_end, fin_angles, substeps, c, splash, ball, touc
         add_gravity_buoyancy(xl, c.masses, c.volumes, c.lungs, c.water[DENSITY],
                              c.water[GRAVITY], c.water[SURFACE_Z], c.water[AIR_PRESSURE], fl)
         if reactive:
-            add_reactive_forces(xl, vl, c.frame_up, c.frame_down, c.section_nodes,
+            add_reactive_forces(xl, vl, c.section_up, c.section_down, c.section_nodes,
                                 c.section_weights, c.section_lengths, c.section_areas, c.water,
                                 c.dt, fl, sections, section_means, up_scratch, c.masses)
             solve_added_mass(fl, c.masses, c.section_nodes, c.section_weights, sections)

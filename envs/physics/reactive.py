@@ -14,13 +14,14 @@ Discretisation. The body's cross-sections (``BodySpec.section_*``: the nose, the
 trailing edge, head to tail) each stand for a length ``l_j`` of the body. Section j's velocity
 ``v_j`` and centre are its nodes' weighted means; ``r_j`` is the line from the section behind to
 the one in front (one-sided at the ends), ``t_j = r_j/|r_j|`` its tangent. The force acts in the
-body's plane of undulation only, sideways (Lighthill's theory is that of one plane): across the
-section's normal ``e_j``, its left ``U x r_j`` normalised, with ``U`` the body's up (the nodes of
-:func:`animat.envs.physics.fins.body_frame_into`). With ``w = e.v`` (v relative to the
-water), ``u = t.v`` and the added mass per unit length ``m_j = rho C_m a_j s`` (``a_j`` the
-section's area, ``C_m`` ``Water.added_mass``, ``s`` the share of the section under the
-surface), the water's momentum per unit length is ``p_j = m_j w e_j`` (N s/m) and the force
-on the section
+body's plane of undulation only (Lighthill's theory is that of one plane): across the section's
+normal ``e_j``, ``U x r_j`` normalised, with ``U`` the section's axis across the plane
+(``BodySpec.section_up`` less ``section_down``: for the fish its up at every section, the nodes
+of :func:`animat.envs.physics.fins.body_frame_into`, so that ``e_j`` is its left). With
+``w = e.v`` (v relative to the water), ``u = t.v`` and the added mass per unit length ``m_j = rho
+C_m a_j s`` (``a_j`` the section's area, ``C_m`` ``Water.added_mass``, ``s`` the share of the
+section under the surface), the water's momentum per unit length is ``p_j = m_j w e_j`` (N s/m) and
+the force on the section
 
     F_j = -e_j d/dt (l_j m_j w_j) - (Phi_{j+1/2} - Phi_{j-1/2}),  Phi_j = u+ p_j - 1/2 m_j w^2 t_j,
 
@@ -61,16 +62,22 @@ The rest, ``-l_j m_j (de/dt . v_j) e`` (the section's normal turning under the w
 the section goes under the surface), is explicit. A section that leaves the water does not get
 back the momentum of the water it leaves (the water keeps it).
 
-Only the fish has sections so far. The dolphin (vertical undulation, flukes carrying about 15
-times their nodes' mass of water) was tried with sections in its vertical plane: the flukes'
-twist about the body's axis grew passively (its vertical share 0.01 -> 0.15 in 1.8 s) and the
-swimming dolphin blew up within 0.35 s, also at a step 4x smaller; with the present form
-(no ``-l m w de/dt``; sections about the body's left, the rings' half heights, the flukes'
-span) random full-range actions hold the tissue (0.81-1.29 of rest, resistive 0.81-1.29) and a
-light stroke swims like a dolphin (5 Hz at a tenth of the activation: 1.45 BL/s, St 0.29), but
-the full stroke tumbles the body in pitch loops with the flukes at 14-36 m/s (with central
-fluxes and the thrust on the fluke tips it blew up within 5.5 s; with the present ones it
-tumbles on), so it stays resistive.
+The dolphin undulates in its vertical plane: its sections carry water for vertical motion
+(half widths across it: the rings', the flukes' half span; the flukes carry about 15 times
+their nodes' mass), each about its own left (``BodySpec.section_up``, ``section_down``: a
+ring's left corners less its right ones, the flukes' left tip less the right). About the front
+rings' left, as the fish's sections are about its front's up, a tail bent sideways lined up
+with that axis and the tail's normal flipped under random actions (16 bodies, 15 s: a NaN in
+one run; in another the flukes at 123 m/s and a tail element at 1.68 of rest); about their own
+axes, five such runs kept every element within 0.70-1.30 of rest (the paper's water
+0.81-1.30, measured). A light stroke swims like a dolphin (3 Hz at half activation: 2.9 BL/s, St
+0.28, 0.96 BL per beat); at full activation and 3-5 Hz the stroke pitches the body over into loops
+(the hand MCs are calibrated below it: :mod:`animat.envs.motor.dolphin`).
+
+The water's density and added mass are bounded in the reactive water (``Water``: density and
+density x added mass at most 1100 kg/m^3): at the default step the caudal fin whips above it
+under random actions (2 of 128 fish blew up in 20 s at 1.5 times water's added mass, 21 of
+128 in a water of 1500 kg/m^3; a step 4x smaller held twice water's added mass, measured).
 
 In a vacuum (``density`` 0) every term is zero and the step is the resistive one, bit for bit;
 a body without sections feels no reactive force.
@@ -110,7 +117,8 @@ def _section_means(x, v, nodes, weights, j, means) -> None:
 
 @njit(**FAST)
 def _body_up(x, up, down, out) -> None:
-    """out (3, L): the body's up vector (up nodes' centroid minus down nodes', m)."""
+    """out (3, L): a section's axis across the plane of undulation (the ``up`` nodes'
+    centroid minus the ``down`` nodes', m)."""
     out[:] = 0.0
     for group, sign in ((up, 1.0), (down, -1.0)):
         share = sign / group.shape[0]
@@ -126,8 +134,9 @@ def add_reactive_forces(x, v, up, down, nodes, weights, lengths, areas, water, d
     """Add each section's reactive force (the module's ``F_j``) to its nodes by their shares.
 
     ``nodes``, ``weights`` (J, K), ``lengths`` (J,) m and ``areas`` (J,) m^2: the body's
-    sections (``BodySpec.section_*``); ``up``, ``down`` the node lists of the body's up
-    direction; ``water`` :meth:`Water.as_args`; ``dt`` the step, s; ``f`` (N, 3, L) the force
+    sections (``BodySpec.section_*``); ``up``, ``down`` (J, K') each section's node lists of
+    its axis across the plane of undulation (``BodySpec.section_up``, ``section_down``);
+    ``water`` :meth:`Water.as_args`; ``dt`` the step, s; ``f`` (N, 3, L) the force
     accumulator, N; ``masses`` (N,) the nodes' masses, kg. Work space: ``s`` (J, SECTION_ROWS,
     L), ``means`` (J, MEAN_ROWS, L) and ``frame`` (3, L). On return ``s[j, 0:3]`` holds each
     section's normal e and ``s[j, 3]`` its added mass ``l m`` (kg), for
@@ -144,8 +153,8 @@ def add_reactive_forces(x, v, up, down, nodes, weights, lengths, areas, water, d
         else:
             means[j, 6, :] = 1.0
             means[j, 7, :] = 0.0
-    _body_up(x, up, down, frame)
     for j in range(count):
+        _body_up(x, up[j], down[j], frame)
         _section_terms(means[max(j - 1, 0)], means[min(j + 1, count - 1)], means[j], frame,
                        rho * areas[j], lengths[j], c0, c1, c2, s[j])
     _add_section_forces(nodes, weights, f, s, means, masses)
@@ -182,8 +191,9 @@ def _section_terms(front, back, own, frame, density_area, length, c0, c1, c2, ou
     """A section's normal e (out[0:3]), added mass l m (out[3]), momentum flux Phi (out[4:7])
     and the explicit part of -e d/dt(l m w) (out[7:10]), (SECTION_ROWS, L), from its means and wet
     shares ``own`` and those of the sections in ``front`` of it and ``back`` of it
-    (MEAN_ROWS, L); ``frame`` (3, L) the body's up. Two lane loops, each calling no function
-    that takes an array and writing few rows, so that both run in SIMD."""
+    (MEAN_ROWS, L); ``frame`` (3, L) the section's axis across the plane of undulation. Two
+    lane loops, each calling no function that takes an array and writing few rows, so that
+    both run in SIMD."""
     for lane in range(out.shape[1]):
         r0 = front[0, lane] - back[0, lane]
         r1 = front[1, lane] - back[1, lane]
@@ -304,7 +314,7 @@ def _carried(x, v, body, water):
         return np.zeros((x.shape[0], 3)), np.zeros(x.shape[0])
     xl, vl = np.ascontiguousarray(x.transpose(1, 2, 0)), np.ascontiguousarray(v.transpose(1, 2, 0))
     s, means = np.zeros((count, SECTION_ROWS, x.shape[0])), np.zeros((count, MEAN_ROWS, x.shape[0]))
-    add_reactive_forces(xl, vl, body.frame_up, body.frame_down, body.section_nodes,
+    add_reactive_forces(xl, vl, body.section_up, body.section_down, body.section_nodes,
                         body.section_weights, body.section_lengths, body.section_areas,
                         water.as_args(), 1.0, np.zeros_like(xl), s, means,
                         np.empty((3, x.shape[0])), body.masses)

@@ -141,7 +141,7 @@ def breakdown(lanes: int, reps: int = 2000) -> dict[str, float]:
                                                                  c.lungs, 1000.0, 0.0, 0.0,
                                                                  101325.0, f),
         "reactive force (sections)": lambda: reactive.add_reactive_forces(
-            x, v, c.frame_up, c.frame_down, c.section_nodes, c.section_weights,
+            x, v, c.section_up, c.section_down, c.section_nodes, c.section_weights,
             c.section_lengths, c.section_areas, c.water, c.dt, f, sections, means, up, c.masses),
         "added mass (solve)": lambda: reactive.solve_added_mass(f, c.masses, c.section_nodes,
                                                                 c.section_weights, sections),

@@ -12,7 +12,13 @@ import pytest
 import yaml
 
 from animat.envs.bodies import make_body
-from animat.envs.physics.system import STABILITY_MARGIN, stable_step
+from animat.envs.core.arguments import MAX_RESET_NOISE
+from animat.envs.physics.system import (
+    MAX_ADDED_MASS,
+    MAX_REACTIVE_DENSITY,
+    STABILITY_MARGIN,
+    stable_step,
+)
 from animat.envs.registration import DOLPHIN_ENVS, FISH_ENVS
 
 NAN, INF = float("nan"), float("inf")
@@ -40,6 +46,8 @@ CORE_CASES = [
     ({"water": {"current": (1e6, 0.0, 0.0)}}, "Water.current", (1e6, 0.0, 0.0)),
     ({"water": {"current": 5.0}}, "Water.current", 5.0),
     ({"water": {"density": 1e9}}, "Water.density", 1e9),
+    ({"water": {"density": 1200.0}}, "Water.density", 1200.0),  # the reactive water's bound
+    ({"water": {"added_mass": 2.0}}, "Water.density x added_mass", 2000.0),
     ({"water": {"gravity": 1e4}}, "Water.gravity", 1e4),
     ({"water": {"fluid_coefficient": 1e9}}, "Water.fluid_coefficient", 1e9),
     ({"water": {"air_pressure": 1e12}}, "Water.air_pressure", 1e12),
@@ -115,23 +123,33 @@ def test_every_shipped_configs_env_arguments_still_make_its_env(path):
     gym.make(env["id"], **env.get("kwargs", {})).close()
 
 
+EXTREMES = {"fluid_coefficient": 2e4, "air_coefficient": 2e4, "friction_coefficient": 50.0,
+            "air_friction_coefficient": 50.0, "gravity": 100.0, "current": (-20.0, 20.0, 20.0),
+            "air_pressure": 1e7, "surface_z": -0.2}
+WATERS_AT_BOUNDS = {  # the reactive water's own bound on density and added mass (Water)
+    "resistive": {**EXTREMES, "model": "resistive", "density": 2e4},
+    "reactive, dense": {**EXTREMES, "density": MAX_REACTIVE_DENSITY},
+    "reactive, added mass": {**EXTREMES, "density": MAX_REACTIVE_DENSITY / MAX_ADDED_MASS,
+                             "added_mass": MAX_ADDED_MASS}}
+
+
+@pytest.mark.parametrize("water", WATERS_AT_BOUNDS.values(), ids=WATERS_AT_BOUNDS.keys())
 @pytest.mark.parametrize("env_id, body", [("Animat/FishSwim-v0", "fish"),
                                           ("Animat/DolphinLeap-v0", "dolphin")])
-def test_the_largest_values_accepted_still_give_finite_numbers(env_id, body):
+def test_the_largest_values_accepted_still_give_finite_numbers(env_id, body, water):
     """Every water field, the reset noise and the reward weights at their bounds at once, the
-    current against the fish, at the largest step the body takes, half in air: the bounds
-    lie inside what the integrator keeps finite."""
-    water = {"fluid_coefficient": 2e4, "air_coefficient": 2e4, "friction_coefficient": 50.0,
-             "air_friction_coefficient": 50.0, "density": 2e4, "gravity": 100.0,
-             "current": (-20.0, 20.0, 20.0), "air_pressure": 1e7, "surface_z": -0.2}
+    current against the fish, at the largest step the body takes, half in air, from three
+    seeded starts: the bounds lie inside what the integrator keeps finite."""
     largest = 0.999 * STABILITY_MARGIN * stable_step(make_body(body))
-    env = gym.make(env_id, water=water, reset_noise_scale=0.1, physics_dt=largest,
-                   reward_weights={"mu1": 1e6, "mu2": 1e6, "nu1": 1e6, "nu2": 1e6}).unwrapped
-    env.reset(seed=0)
-    rng = np.random.default_rng(0)
-    for _ in range(100):
-        obs, reward, *_ = env.step(rng.uniform(-1, 1, env.action_space.shape))
-        assert np.all(np.isfinite(obs)) and np.abs(obs).max() < 1e4 and np.isfinite(reward)
+    for seed in range(3):
+        env = gym.make(env_id, water=water, reset_noise_scale=MAX_RESET_NOISE,
+                       physics_dt=largest,
+                       reward_weights={"mu1": 1e6, "mu2": 1e6, "nu1": 1e6, "nu2": 1e6}).unwrapped
+        env.reset(seed=seed)
+        rng = np.random.default_rng(seed)
+        for _ in range(100):
+            obs, reward, *_ = env.step(rng.uniform(-1, 1, env.action_space.shape))
+            assert np.all(np.isfinite(obs)) and np.abs(obs).max() < 1e4 and np.isfinite(reward)
     for kwargs in ({"frame_skip": 10_000, "physics_dt": 1e-5}, {"water": {"surface_z": INF}},
                    {"reset_noise_scale": 0.0, "duration": 86_400.0}):
         assert gym.make(env_id, **kwargs).unwrapped.core.frame_skip >= 1

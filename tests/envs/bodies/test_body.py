@@ -86,3 +86,14 @@ def test_bad_body_is_rejected_with_its_field_named():
     fields["masses"] = -fields["masses"]
     with pytest.raises(ValueError, match="masses"):
         BodySpec(**fields)
+
+
+def test_bad_section_axes_are_rejected_with_their_field_named():
+    body = fish_body()
+    fields = {name: getattr(body, name) for name in body.__dataclass_fields__}
+    fields["section_up"] = fields["section_up"][:2]  # a row short
+    with pytest.raises(ValueError, match="section_up and section_down"):
+        BodySpec(**fields)
+    fields["section_up"] = np.full_like(body.section_down, 99)  # no such node
+    with pytest.raises(ValueError, match="section_up and section_down"):
+        BodySpec(**fields)

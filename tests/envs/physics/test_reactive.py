@@ -1,20 +1,21 @@
 """The reactive water (``Water(model="reactive")``, :mod:`animat.envs.physics.reactive`): the
 solver's invariants, and a fish that swims like a fish in it.
 
-Invariants: in a vacuum it is the resistive step bit for bit; in an ideal fluid (no drag, no
-gravity) it creates no energy (the body's and the carried water's kinetic energy plus the
-elastic energy); a rotated start gives the rotated trajectory; the tissue holds (passive
-elements within 0.7-1.3 of rest). Biology (the hand controllers recalibrated for it,
-:data:`animat.envs.motor.fish.REACTIVE_SWIM` and ``REACTIVE_TURN``): the cruise's Strouhal
-number, stride and amplitude in the ranges of real fish, a C-start of at least 60 degrees
-within 1 s. The default step's convergence (within 5% of a step 4x smaller) and the 90-degree
-turn (within 10 degrees, no glide back) are held for both waters by
-``tests/envs/physics/test_convergence.py`` and ``tests/envs/motor/test_motor.py``.
+Invariants, for the fish and the dolphin: in a vacuum it is the resistive step bit for bit; in an
+ideal fluid (no drag, no gravity) it creates no energy (the body's and the carried water's kinetic
+energy plus the elastic energy); a rotated start gives the rotated trajectory; the tissue holds
+(passive elements within 0.7-1.3 of rest). Biology (the hand controllers recalibrated for it,
+:data:`animat.envs.motor.fish.REACTIVE_SWIM` and ``REACTIVE_TURN``): the cruise's Strouhal number,
+stride and amplitude in the ranges of real fish, a C-start of at least 60 degrees within 1 s. The
+default step's convergence (within 5% of a step 4x smaller) and the 90-degree turn (within 10
+degrees, no glide back) are held for both waters by ``tests/envs/physics/test_convergence.py`` and
+``tests/envs/motor/test_motor.py``.
 """
 
 import numpy as np
 import pytest
 
+from animat.envs.bodies.dolphin import dolphin_body
 from animat.envs.bodies.fish import fish_body
 from animat.envs.motor.fish import (
     REACTIVE_SWIM,
@@ -44,10 +45,14 @@ def _start(body, count, seed):
     return x, rng.normal(0.0, 0.05, x.shape)
 
 
-def test_in_a_vacuum_the_reactive_step_is_the_resistive_one_bit_for_bit():
-    body = fish_body()
-    resistive = System(body, vacuum())
-    reactive = System(body, Water(**{**vars(vacuum()), "model": "reactive"}))
+BODIES = {"fish": (fish_body(), 0.05 / 40), "dolphin": (dolphin_body(), 0.05 / 80)}  # body, dt
+
+
+@pytest.mark.parametrize("name", BODIES)
+def test_in_a_vacuum_the_reactive_step_is_the_resistive_one_bit_for_bit(name):
+    body, dt = BODIES[name]
+    resistive = System(body, vacuum(), dt=dt)
+    reactive = System(body, Water(**{**vars(vacuum()), "model": "reactive"}), dt=dt)
     rng = np.random.default_rng(1)
     actions = rng.uniform(0, 1, (40, 3, 6))
     runs = []
@@ -55,7 +60,8 @@ def test_in_a_vacuum_the_reactive_step_is_the_resistive_one_bit_for_bit():
         x, v = _start(body, 3, 0)
         u_prev = np.zeros((3, 6))
         for u in actions:
-            step_batch(x, v, u_prev, u, np.zeros((3, 2)), 40, system.kernel_args)
+            step_batch(x, v, u_prev, u, np.zeros((3, 2)), int(round(0.05 / dt)),
+                       system.kernel_args)
             u_prev = u
         runs.append((x, v))
     assert np.array_equal(runs[0][0], runs[1][0]) and np.array_equal(runs[0][1], runs[1][1])
@@ -69,26 +75,31 @@ def _total_energy(body, x, v):
 
 
 @pytest.mark.parametrize("seed", [0, 1, 2])
-def test_an_ideal_fluid_creates_no_energy(seed):
-    """A passive fish set moving and vibrating (random node velocities, 0.05 m/s) in water
-    with no drag and no gravity: its energy with the water's it carries never rises more
-    than 1% above the start over 10 s, read every 0.05 s (the dampers and the wake take it)."""
-    body = fish_body()
-    system = System(body, IDEAL)
+@pytest.mark.parametrize("name", BODIES)
+def test_an_ideal_fluid_creates_no_energy(name, seed):
+    """A passive body set moving and vibrating (random node velocities, 0.05 m/s for the fish,
+    scaled by length for the dolphin) in water with no drag and no gravity: its energy with
+    the water's it carries never rises more than 1% above the start over 10 s, read every
+    0.05 s (the dampers and the wake take it)."""
+    body, dt = BODIES[name]
+    system = System(body, IDEAL, dt=dt)
     x, v = _start(body, 1, seed)
+    v *= body.length / 0.30
     zeros = np.zeros((1, 6))
     energies = [_total_energy(body, x, v)[0]]
     for _ in range(200):
-        step_batch(x, v, zeros, zeros, np.zeros((1, 2)), 40, system.kernel_args)
+        step_batch(x, v, zeros, zeros, np.zeros((1, 2)), int(round(0.05 / dt)),
+                   system.kernel_args)
         energies.append(_total_energy(body, x, v)[0])
     energies = np.array(energies)
     assert energies.max() <= 1.01 * energies[0], energies.max() / energies[0]
     assert energies[-1] < energies[0]
 
 
-def test_a_rigidly_rotated_state_follows_the_rotated_trajectory_in_reactive_water():
-    body = fish_body()
-    system = System(body, Water(model="reactive", gravity=0.0))
+@pytest.mark.parametrize("name", BODIES)
+def test_a_rigidly_rotated_state_follows_the_rotated_trajectory_in_reactive_water(name):
+    body, dt = BODIES[name]
+    system = System(body, Water(model="reactive", gravity=0.0), dt=dt)
     a, b = 0.7, -0.4
     rz = np.array([[np.cos(a), -np.sin(a), 0], [np.sin(a), np.cos(a), 0], [0, 0, 1]])
     ry = np.array([[np.cos(b), 0, np.sin(b)], [0, 1, 0], [-np.sin(b), 0, np.cos(b)]])
@@ -99,11 +110,12 @@ def test_a_rigidly_rotated_state_follows_the_rotated_trajectory_in_reactive_wate
     for states in ((x, v), (xr, vr)):
         u_prev = np.zeros((1, 6))
         for u in actions:
-            step_batch(*states, u_prev, u, np.zeros((1, 2)), 40, system.kernel_args)
+            step_batch(*states, u_prev, u, np.zeros((1, 2)), int(round(0.05 / dt)),
+                       system.kernel_args)
             u_prev = u
     scale = np.abs(x).max()
     assert np.abs(x @ rotation.T - xr).max() < 1e-9 * scale
-    assert np.abs(x[0, :, 0] - _start(body, 1, 3)[0][0, :, 0]).max() > 0.05  # it moved
+    assert np.abs(x[0, :, 0] - _start(body, 1, 3)[0][0, :, 0]).max() > 0.05 * body.length / 0.3
 
 
 def _strain_range(actions: np.ndarray) -> tuple[float, float]:
