@@ -31,11 +31,10 @@ FISH_ENVS = {"Animat/FishSwim-v0": {"task": "swim"}, "Animat/FishTurn-v0": {"tas
 # The dolphin's world: a water surface at z = 0, skin friction for its Reynolds number (C_f
 # 0.0028 at Re 1e7: 0.5 rho C_f = 1.4 kg/m^3), and a step within its stability bound. The pool
 # is the base water: a user's water={...} changes its fields, it does not replace the pool. Its
-# water is the paper's resistive one: the dolphin has no cross-sections for the reactive force
-# yet (README, Physics: its full fluke stroke tumbles on the reactive water).
+# water model is the default (reactive) one, as the fish's; water={"model": "resistive"} the
+# paper's.
 DOLPHIN_KWARGS: dict[str, Any] = {"body": "dolphin",
-                                  "base_water": {"surface_z": 0.0, "friction_coefficient": 1.4,
-                                                 "model": "resistive"},
+                                  "base_water": {"surface_z": 0.0, "friction_coefficient": 1.4},
                                   "physics_dt": 0.05 / 80, "frame_skip": 80}
 # The stunts weigh the controller's effort (mu1) a tenth of the fish's: a 5 Hz fluke stroke
 # costs ten times a 3 Hz fish's tail beat in E_u, which would otherwise outweigh the stunt.

@@ -30,11 +30,20 @@ import animat  # noqa: F401  (registers the envs)
 
 from ..envs.core.batch import BodyBatch
 from ..envs.core.env import BodyEnv
-from ..envs.motor.dolphin import DOLPHIN_SWIM, dolphin_swim_mc
-from ..envs.motor.fish import CStartParams, SwimParams, cstart_mc, swim_mc, to_action, wave_mc
+from ..envs.motor.dolphin import DOLPHIN_SWIM, dolphin_calibrated, dolphin_swim_mc, dolphin_turn_mc
+from ..envs.motor.fish import (
+    CStartParams,
+    SwimParams,
+    cstart_mc,
+    swim_mc,
+    to_action,
+    turn_duration,
+    wave_mc,
+)
 from ..envs.tasks.locomotion import SwimTask
 
 TAIL_TIPS = [21, 22]  # the trailing edge's nodes, the fish's and the dolphin's
+FRONT, BACK = [0, 1, 2, 3, 4], [9, 10, 11, 12]  # their heading's nodes (BodySpec.frame_*)
 
 
 def play(env: gym.Env, actuation: Callable, seconds: float, fins=None
@@ -112,13 +121,37 @@ def fish_cruise(water: dict, params: SwimParams, seconds: float = 10.0) -> dict[
 def dolphin_cruise(water: dict, params: SwimParams = DOLPHIN_SWIM, seconds: float = 6.0
                    ) -> dict[str, float]:
     """:func:`cruise_figures` of the dolphin's fluke stroke at full speed (its own pool, 3 m
-    down), the flukes' sway measured in the vertical plane."""
+    down), the flukes' sway measured in the vertical plane, and its pitch at the end
+    (``pitch``, deg)."""
     env = gym.make("Animat/DolphinForward-v0", water=water, duration=seconds)
     infos, nodes = play(env, lambda t: dolphin_swim_mc(1.0, t, params), seconds)
     figures = cruise_figures(infos, nodes, env.unwrapped.dt, env.unwrapped.body_length,
                              params.max_hz, seconds / 2, vertical=True)
+    heading = nodes[-1, FRONT].mean(axis=0) - nodes[-1, BACK].mean(axis=0)
+    figures["pitch"] = float(np.degrees(np.arctan2(heading[2], np.hypot(*heading[:2]))))
     env.close()
     return figures
+
+
+def dolphin_turn(model: str, direction: str, angle_deg: float, after: float = 2.0
+                 ) -> tuple[float, float]:
+    """The dolphin's hand turn-MC (:func:`animat.envs.motor.dolphin.dolphin_turn_mc`,
+    calibrated for the water ``model``) from the seeded start: the pitch (up, down) or heading
+    (left, right) turned toward ``direction``, deg, when the MC ends and ``after`` s later."""
+    calibration = dolphin_calibrated(model)
+    angle = np.radians(angle_deg)
+    if direction in ("up", "down"):
+        end, key = turn_duration(angle, calibration.turn), "pitch_deg"
+    else:
+        end, key = calibration.steer_delay + angle / calibration.steer_rate, "heading_deg"
+    env = gym.make("Animat/DolphinTurn-v0", direction=direction, angle_deg=angle_deg,
+                   water={"model": model}, duration=end + after)
+    infos, _ = play(env, lambda t: dolphin_turn_mc(direction, angle, t, calibration),
+                    end + after)
+    env.close()
+    sign = 1.0 if direction in ("up", "left") else -1.0
+    turned = sign * np.degrees(np.unwrap(np.radians([i[key] for i in infos])))
+    return float(turned[int(round(end / env.unwrapped.dt)) - 1]), float(turned[-1])
 
 
 def gait_grid(water: dict, hz: list[float], lags: list[float], amplitude: float = 1.0,

@@ -1,15 +1,14 @@
 """Swim demo: the hand-designed motor controllers drive the fish; prints what they achieve.
 
-``animat demo [--seconds 10] [--video DIR]`` (or ``python -m animat.experiments.demo``): for
-each water, the paper's resistive one (``Water(model="resistive")``) and the reactive one of
-Lighthill's theory (``model="reactive"``, the default), swims at full speed with the
-swim-MC and prints the biology figures of its cruise (tail-beat frequency f, peak-to-peak tail
-amplitude A, speed U along the start heading, Strouhal number fA/U, stride U/f), the fastest
-head-to-tail wave of a grid and the same wave reversed, a C-start, the turn-MCs, and the
-fin-MC (fin angles through the action space); the dolphin's fluke stroke; with ``--video`` it
-records the swim to DIR. ``--model-sweep`` prints how the Strouhal number and stride respond
-to the force model and the swim-MC's gains. The figures' functions are in
-:mod:`animat.experiments.biology`.
+``animat demo [--seconds 10] [--video DIR]`` (or ``python -m animat.experiments.demo``): for each
+water, the paper's resistive one (``Water(model="resistive")``) and the reactive one of Lighthill's
+theory (``model="reactive"``, the default), swims at full speed with the swim-MC and prints the
+biology figures of its cruise (tail-beat frequency f, peak-to-peak tail amplitude A, speed U along
+the start heading, Strouhal number fA/U, stride U/f), the fastest head-to-tail wave of a grid and
+the same wave reversed, a C-start, the turn-MCs, and the fin-MC (fin angles through the action
+space); the dolphin's fluke stroke and turn-MCs; with ``--video`` it records the swim to DIR.
+``--model-sweep`` prints how the Strouhal number and stride respond to the force model and the
+swim-MC's gains. The figures' functions are in :mod:`animat.experiments.biology`.
 """
 
 from __future__ import annotations
@@ -21,6 +20,7 @@ import numpy as np
 
 import animat  # noqa: F401
 from animat.envs.core.env import BodyEnv
+from animat.envs.motor.dolphin import dolphin_calibrated
 from animat.envs.motor.fish import (
     PAPER_SWIM,
     CStartParams,
@@ -33,7 +33,15 @@ from animat.envs.motor.fish import (
 )
 from animat.envs.physics.system import Water
 
-from .biology import c_start, cruise_figures, dolphin_cruise, fish_cruise, gait_grid, play
+from .biology import (
+    c_start,
+    cruise_figures,
+    dolphin_cruise,
+    dolphin_turn,
+    fish_cruise,
+    gait_grid,
+    play,
+)
 from .parser import demo_arguments
 
 MODELS = ("resistive", "reactive")  # each printed with its own hand controllers (calibrated)
@@ -84,8 +92,7 @@ def run(args: argparse.Namespace) -> None:
     for model in MODELS:
         print(f"== {model} water (water={{'model': '{model}'}}) ==")
         water_figures(model, args)
-    print("== the dolphin ==")
-    dolphin_figures()
+        dolphin_figures(model)
 
 
 def water_figures(model: str, args: argparse.Namespace) -> None:
@@ -150,13 +157,18 @@ def water_figures(model: str, args: argparse.Namespace) -> None:
               f"in 6 s, {(z[-1] - z[59]) / 3.0:+.3f} BL/s over the last 3 s")
 
 
-def dolphin_figures() -> None:
-    """Print the dolphin's fluke stroke in its pool (the resistive water: it has no
-    cross-sections for the reactive force yet)."""
-    dolphin = dolphin_cruise({})
-    print(f"dolphin fluke stroke, 5 Hz, last 3 of 6 s: U {dolphin['U']:.2f} BL/s, A "
-          f"{dolphin['A']:.2f} BL, St {dolphin['St']:.2f}, stride {dolphin['stride']:.2f} BL per "
-          "beat (resistive water only: the dolphin has no cross-sections yet)")
+def dolphin_figures(model: str) -> None:
+    """Print one water's figures of the dolphin's hand MCs (calibrated for it)."""
+    calibration = dolphin_calibrated(model)
+    swim = dolphin_cruise({"model": model}, calibration.swim)
+    print(f"dolphin fluke stroke (amplitude {calibration.swim.max_amplitude:g}, "
+          f"{calibration.swim.max_hz:g} Hz), last 3 of 6 s: U {swim['U']:.2f} BL/s, A "
+          f"{swim['A']:.2f} BL, St {swim['St']:.2f}, stride {swim['stride']:.2f} BL per beat; "
+          f"pitch {swim['pitch']:+.0f} deg at 6 s (the stroke pitches it nose down)")
+    for direction, angle in (("up", 90.0), ("down", 90.0), ("left", 90.0), ("right", 90.0)):
+        at_end, later = dolphin_turn(model, direction, angle)
+        print(f"  dolphin turn-MC {direction} {angle:g} deg: {at_end:.0f} when it ends, "
+              f"{later:.0f} 2 s later")
 
 
 if __name__ == "__main__":

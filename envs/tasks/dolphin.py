@@ -23,7 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..checks import check_number
-from ..motor.dolphin import dolphin_swim_mc, dolphin_turn_mc
+from ..motor.dolphin import dolphin_calibrated, dolphin_swim_mc, dolphin_turn_mc
 from ..physics.observe import momenta
 from .base import Task, Terms, World, heading_yaw, wrap_angle
 from .locomotion import SwimTask, TurnTask
@@ -76,14 +76,6 @@ class Underwater:
         return np.broadcast_to(self.start_speed * heading, body.rest_positions.shape).copy()
 
 
-def check_dolphin_water(model: str) -> None:
-    """ValueError unless ``model`` is the resistive water, the one the dolphin's MCs (and its
-    body, which has no cross-sections yet) are made for."""
-    if model != "resistive":
-        raise ValueError(f"the dolphin's motor controllers are calibrated for the resistive "
-                         f"water only, got water model {model!r}")
-
-
 @dataclass
 class DolphinForwardTask(Underwater, SwimTask):
     """Move forward (the fish's swim task, started under water)."""
@@ -98,9 +90,9 @@ class DolphinForwardTask(Underwater, SwimTask):
         super().__post_init__()
         self.check_start()
 
-    def hand_controller(self, speed: float = 1.0, model: str = "resistive"):
-        check_dolphin_water(model)
-        return lambda t: dolphin_swim_mc(speed, t)
+    def hand_controller(self, speed: float = 1.0, model: str = "reactive"):
+        swim = dolphin_calibrated(model).swim
+        return lambda t: dolphin_swim_mc(speed, t, swim)
 
 
 @dataclass
@@ -148,10 +140,9 @@ class DolphinTurnTask(Underwater, TurnTask):
         """``final_turn_error_deg``: the absolute pitch or yaw error at the end."""
         return {"final_turn_error_deg": np.abs(last["turn_error_deg"])}
 
-    def hand_controller(self, speed: float = 1.0, model: str = "resistive"):
-        check_dolphin_water(model)
-        angle = np.radians(float(self.angle_deg))
-        return lambda t: dolphin_turn_mc(self.direction, angle, t)
+    def hand_controller(self, speed: float = 1.0, model: str = "reactive"):
+        angle, calibration = np.radians(float(self.angle_deg)), dolphin_calibrated(model)
+        return lambda t: dolphin_turn_mc(self.direction, angle, t, calibration)
 
 
 @dataclass
@@ -192,9 +183,9 @@ class DolphinArcTask(Underwater, Task):
         return -u_arc / length, {"arc_speed_bl_per_s": u_arc / length,
                                  "pitch_deg": np.degrees(pitch_of(world.frames))}, world.memory
 
-    def hand_controller(self, speed: float = 1.0, model: str = "resistive"):
-        check_dolphin_water(model)
-        return lambda t: dolphin_swim_mc(speed, t)
+    def hand_controller(self, speed: float = 1.0, model: str = "reactive"):
+        swim = dolphin_calibrated(model).swim
+        return lambda t: dolphin_swim_mc(speed, t, swim)
 
 
 def pitch_rate(world: World) -> np.ndarray:
@@ -235,6 +226,6 @@ class DolphinSpinTask(Underwater, Task):
         return -spin, {"spin_deg_per_s": np.degrees(spin),
                        "pitch_deg": np.degrees(pitch_of(world.frames))}, world.memory
 
-    def hand_controller(self, speed: float = 1.0, model: str = "resistive"):
-        check_dolphin_water(model)
-        return lambda t: dolphin_turn_mc(self.direction, np.pi / 2, t)
+    def hand_controller(self, speed: float = 1.0, model: str = "reactive"):
+        calibration = dolphin_calibrated(model)
+        return lambda t: dolphin_turn_mc(self.direction, np.pi / 2, t, calibration)

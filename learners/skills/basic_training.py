@@ -23,9 +23,9 @@ from ..logger import Logger
 from ..validation import typed_params
 from .repertoire import Repertoire, Skill
 
-# The fish's regimen, in the paper's (resistive) water that the shipped repertoire
-# (repertoires/fish.json) was learned in; the motor-learning issue re-learns it in the default
-# (reactive) water.
+# The fish's and the dolphin's regimens, in the paper's (resistive) water that the shipped
+# repertoires (repertoires/fish.json, dolphin.json) were learned in; the motor-learning issue
+# re-learns them in the default (reactive) water.
 _PAPER_WATER = {"model": "resistive"}
 FISH_REGIMEN = [
     {"name": "swim_slow", "env_id": "Animat/FishSwim-v0",
@@ -56,13 +56,16 @@ FISH_REGIMEN = [
 _DOLPHIN_TURN = {"period": None, "nodes": 11}
 DOLPHIN_REGIMEN = [
     {"name": "move_forward", "env_id": "Animat/DolphinForward-v0",
-     "env_kwargs": {"duration": 4.0}, "params": {"period": 0.2, "nodes": 6}},
+     "env_kwargs": {"duration": 4.0, "water": _PAPER_WATER},
+     "params": {"period": 0.2, "nodes": 6}},
     *({"name": f"turn_{direction}", "env_id": "Animat/DolphinTurn-v0",
-       "env_kwargs": {"duration": 4.0, "direction": direction, "angle_deg": angle},
+       "env_kwargs": {"duration": 4.0, "direction": direction, "angle_deg": angle,
+                      "water": _PAPER_WATER},
        "params": _DOLPHIN_TURN}
       for direction, angle in (("down", 45.0), ("up", 45.0), ("left", 90.0), ("right", 90.0))),
     *({"name": f"arc_{direction}", "env_id": "Animat/DolphinArc-v0",
-       "env_kwargs": {"duration": 4.0, "direction": direction, "radius_bl": 2.0},
+       "env_kwargs": {"duration": 4.0, "direction": direction, "radius_bl": 2.0,
+                      "water": _PAPER_WATER},
        "params": {"period": 0.2, "nodes": 6}} for direction in ("down", "up")),
 ]
 REGIMENS = {"fish": FISH_REGIMEN, "dolphin": DOLPHIN_REGIMEN}

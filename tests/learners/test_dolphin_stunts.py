@@ -13,6 +13,7 @@ from animat.learners.skills.repertoire import Repertoire
 ROOT = Path(__file__).resolve().parents[2]
 REPERTOIRE = ROOT / "repertoires" / "dolphin.json"
 DOLPHIN_STEP = {"physics_dt": 0.05 / 160, "frame_skip": 160}  # half the dolphin's step
+PAPER_WATER = {"model": "resistive"}  # the water the shipped repertoire was learned in
 
 
 def _skill_score(skill, finer: bool) -> float:
@@ -37,10 +38,10 @@ def test_shipped_dolphin_skills_turn_and_swim_and_keep_their_score_at_half_the_s
 
 
 def test_the_macro_learner_discovers_a_leap_from_the_repertoire():
-    """configs/dolphin_leap_macro.yaml at a quarter of its budget (1 M env steps): the
+    """configs/dolphin_leap_macro.yaml at a quarter of its budget (1 M env steps, its water): the
     learned sequence turns up and drives forward, and its centre of mass clears the surface
     by over half a body length at the apex, at the default step and at half of it."""
-    learner = MacroLearner("Animat/DolphinLeap-v0", {"duration": 8.0},
+    learner = MacroLearner("Animat/DolphinLeap-v0", {"duration": 8.0, "water": PAPER_WATER},
                            {"repertoire": str(REPERTOIRE), "slots": 4, "min_duration": 0.25,
                             "max_duration": 4.0, "chains": 64}, 0)
     result = learner.learn(1_000_000)
@@ -48,7 +49,8 @@ def test_the_macro_learner_discovers_a_leap_from_the_repertoire():
     assert result.metrics["eval/apex_height_bl"] >= 0.5, (result.metrics, sequence)
     ups = [k for k, name in enumerate(sequence) if name == "turn_up"]
     assert ups and "move_forward" in sequence[ups[0] + 1:], sequence
-    evaluator = BatchEvaluator("Animat/DolphinLeap-v0", {"duration": 8.0, **DOLPHIN_STEP},
+    evaluator = BatchEvaluator("Animat/DolphinLeap-v0",
+                               {"duration": 8.0, "water": PAPER_WATER, **DOLPHIN_STEP},
                                num_envs=1, seed=0)
     agent = learner.agent(result.artefacts, None)  # the learned sequence, open loop
     _, metrics = evaluator.evaluate(agent.actions[None])

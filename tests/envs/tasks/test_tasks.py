@@ -16,10 +16,10 @@ B = 3
 
 
 def _core(name: str) -> BodyBatch:
-    """B dolphins 3 m under a surface (the resistive water: the dolphin has no cross-sections)
-    doing task ``name``, a few env steps into an episode."""
+    """B dolphins 3 m under a surface (the default, reactive, water) doing task ``name``, a few
+    env steps into an episode."""
     core = BodyBatch(B, TASKS[name](), body=make_body("dolphin"), physics_dt=5e-4,
-                     water={"surface_z": 0.0, "model": "resistive"}, duration=1.0)
+                     water={"surface_z": 0.0}, duration=1.0)
     core.reset_rows(np.arange(B), [np.random.default_rng(k) for k in range(B)])
     rng = np.random.default_rng(0)
     for _ in range(3):
