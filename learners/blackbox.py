@@ -45,7 +45,7 @@ from .validation import BudgetError, check_memory, typed_params, unknown_params
 
 class BlackBoxLearner(Learner):
     """Optimises a parameter vector with an ask/tell ``optimizer`` module (``init``, ``ask``,
-    ``tell``, ``finished``, ``population``, ``metrics``, ``fit_encoding``,
+    ``tell``, ``finished``, ``population``, ``with_budget``, ``metrics``, ``fit_encoding``,
     ``refine_options``; see :mod:`animat.learners.optimizers.annealing`) configured by
     ``params_class``. What the vector means is the subclass's: ``own_params`` (its
     parameters), :meth:`_configure`, :meth:`_x0`, :meth:`controller` (vector -> something
@@ -243,10 +243,14 @@ class BlackBoxLearner(Learner):
 
     def _run_phase(self, run: Run, index: int, evaluator: BatchEvaluator, limit: int,
                    path: Path | None, start: float) -> None:
-        """ask -> simulate -> tell until ``limit`` env steps or the optimiser's stopping rule."""
+        """ask -> simulate -> tell until ``limit`` env steps or the optimiser's stopping rule,
+        the optimiser's schedule planned over the rounds that ``limit`` affords
+        (``with_budget``)."""
         phase = run.phases[index]
+        cost = int(self.optimizer.population(phase.params)) * evaluator.episode_cost
+        phase.params = self.optimizer.with_budget(phase.params, phase.state,
+                                                  max(limit - run.env_steps, 0) // cost)
         params = phase.params
-        cost = int(self.optimizer.population(params)) * evaluator.episode_cost
         while (run.env_steps + cost <= limit
                and not self.optimizer.finished(params, phase.state)):
             candidates, state = self.optimizer.ask(params, phase.state)

@@ -1,19 +1,26 @@
 """Simulated annealing (the paper's optimiser) as an ask/tell optimiser with explicit params
 and state (after evosax): ``init`` -> (``ask`` -> evaluate -> ``tell``)* .
 
-C chains run in parallel (one proposal each per round, evaluated together on the native
-batch). A proposal perturbs a random subset of a chain's parameters with Gaussian steps whose
-size shrinks with the temperature, and is accepted with the Metropolis rule
-``min(1, exp(-(E_new - E) / T))``. The temperature falls geometrically after every
-``moves_per_temperature`` rounds; annealing stops when it reaches ``min_temperature`` (or the
-caller's budget runs out). The state holds the generator's state, so a run is reproducible bit
-for bit and can be checkpointed and resumed anywhere.
+C chains run in parallel (one proposal each per round, evaluated together on the native batch). A
+proposal perturbs a random subset of a chain's parameters with Gaussian steps whose size shrinks
+with the temperature, and is accepted with the Metropolis rule ``min(1, exp(-(E_new - E) / T))``.
+The temperature falls geometrically. With ``schedule`` "budget" (the default) it falls every round,
+``T_k = T0 (T_min / T0)^(k / R)`` after move round k, from ``initial_temperature`` to
+``min_temperature`` at the last round R the run's budget affords (:func:`with_budget`, which the
+shared loop calls each time it runs a phase: a second phase, the refinement, anneals again from
+``initial_temperature`` over its own share; a run resumed with a larger budget re-plans R, the
+temperature rising to the longer schedule's and cooling to ``min_temperature`` again at its end),
+so that the search ends cold whatever the budget; with "stages" it falls by ``cooling`` after every
+``moves_per_temperature`` rounds and stops at ``min_temperature`` or when the caller's budget runs
+out. The state holds the generator's state, so a run is reproducible bit for bit and can be
+checkpointed and resumed anywhere.
 
 Besides ``init``/``ask``/``tell``/``finished``, the module answers what the shared loop
 (:mod:`animat.learners.blackbox`) asks of every optimiser: ``population`` (candidates per round),
-``metrics`` (its ``train/*`` scalars), ``fit_encoding`` (options for an encoding of blocks of
-``block`` parameters) and ``refine_options`` (options for searching frequency parameters).
-The caller keeps the best candidate (with its metrics); the optimiser does not.
+``with_budget`` (the schedule for the rounds a phase can afford), ``metrics`` (its ``train/*``
+scalars), ``fit_encoding`` (options for an encoding of blocks of ``block`` parameters) and
+``refine_options`` (options for searching frequency parameters). The caller keeps the best
+candidate (with its metrics); the optimiser does not.
 """
 
 from __future__ import annotations
@@ -22,12 +29,19 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+SCHEDULES = ("budget", "stages")
+
 
 @dataclass(frozen=True)
 class AnnealingParams:
     """Schedule and moves.
 
     Attributes:
+        schedule: "budget" (the default): the temperature follows the rounds the budget
+            affords (``rounds``, :func:`with_budget`), cooling and moves_per_temperature unused;
+            "stages": the fixed schedule they give.
+        rounds: the move rounds of a budget's schedule (the learner plans it from the run's
+            budget: :func:`with_budget`; 0, not yet planned, holds the temperature).
         chains: parallel chains (proposals per round).
         initial_temperature: T0, in units of E.
         cooling: T <- cooling * T after each temperature stage (0 < cooling < 1).
@@ -44,6 +58,8 @@ class AnnealingParams:
         block: the run length for ``smoothing`` (0: the whole vector).
     """
 
+    schedule: str = "budget"
+    rounds: int = 0
     chains: int = 64
     initial_temperature: float = 0.1
     cooling: float = 0.95
@@ -58,7 +74,13 @@ class AnnealingParams:
     block: int = 0
 
     def __post_init__(self) -> None:
-        checks = [(self.chains >= 1, "chains must be >= 1"),
+        checks = [(self.schedule in SCHEDULES, f"schedule must be one of {SCHEDULES}, got "
+                   f"{self.schedule!r}"),
+                  (self.schedule != "budget" or self.min_temperature < self.initial_temperature,
+                   "the budget's schedule cools to min_temperature: it must be below "
+                   "initial_temperature"),
+                  (self.rounds >= 0, "rounds must be >= 0"),
+                  (self.chains >= 1, "chains must be >= 1"),
                   (self.initial_temperature > 0, "initial_temperature must be > 0"),
                   (0 < self.cooling < 1, "cooling must be in (0, 1)"),
                   (self.moves_per_temperature >= 1, "moves_per_temperature must be >= 1"),
@@ -70,6 +92,12 @@ class AnnealingParams:
         for ok, message in checks:
             if not ok:
                 raise ValueError(f"AnnealingParams: {message}")
+
+    def __setstate__(self, state: dict) -> None:
+        """Unpickled from an older version's checkpoint, params written before schedules
+        existed keep the schedule their run had: stages."""
+        for name, value in {"schedule": "stages", **state}.items():
+            object.__setattr__(self, name, value)
 
 
 @dataclass(frozen=True)
@@ -90,6 +118,29 @@ MIN_POPULATION = 1
 def with_population(params: AnnealingParams, size: int) -> AnnealingParams:
     """The same settings with ``size`` candidates per round (a smaller budget's)."""
     return replace(params, chains=int(size))
+
+
+def with_budget(params: AnnealingParams, state: AnnealingState, rounds: int
+                ) -> AnnealingParams:
+    """The schedule for a phase that can afford ``rounds`` more rounds from ``state``: with
+    ``schedule`` "budget", its last move round (``params.rounds``) is the last of them (the
+    round that scores the starting points, if still to come, moves nothing); "stages" is kept
+    as given. The same budget gives the same plan at any point of the run, so a killed run
+    resumed goes on bit for bit."""
+    if params.schedule != "budget":
+        return params
+    scoring = 0 if np.all(np.isfinite(state.energy)) else 1
+    return replace(params, rounds=max(int(state.round + rounds - scoring), 1))
+
+
+def budget_temperature(params: AnnealingParams, round_: int) -> float:
+    """``T0 (T_min / T0)^(k / R)`` after move round k of a budget's schedule of R rounds (T0
+    before it is planned)."""
+    if params.rounds <= 0:
+        return params.initial_temperature
+    share = min(round_, params.rounds) / params.rounds
+    return params.initial_temperature * (params.min_temperature
+                                         / params.initial_temperature) ** share
 
 
 def population(params: AnnealingParams) -> int:
@@ -131,7 +182,10 @@ def init(params: AnnealingParams, x0: np.ndarray, seed: int) -> AnnealingState:
 
 
 def finished(params: AnnealingParams, state: AnnealingState) -> bool:
-    """The stopping rule: the temperature has fallen below ``min_temperature``."""
+    """The stopping rule: the temperature has fallen below ``min_temperature`` (stages), or
+    the budget's schedule has run its rounds."""
+    if params.schedule == "budget":
+        return 0 < params.rounds <= state.round
     return state.temperature < params.min_temperature
 
 
@@ -184,7 +238,9 @@ def tell(params: AnnealingParams, state: AnnealingState, proposals: np.ndarray,
         energy = np.where(accept, energies, state.energy)
         rng_state, told = rng.bit_generator.state, state.round + 1
     temperature = state.temperature
-    if told > state.round and told % params.moves_per_temperature == 0:
+    if params.schedule == "budget":
+        temperature = budget_temperature(params, told)
+    elif told > state.round and told % params.moves_per_temperature == 0:
         temperature *= params.cooling
     return AnnealingState(x=x, energy=energy, temperature=temperature, round=told,
                           rng=rng_state)

@@ -55,6 +55,11 @@ def with_population(params: CMAESParams, size: int) -> CMAESParams:
     return replace(params, popsize=int(size))
 
 
+def with_budget(params: CMAESParams, state, rounds: int) -> CMAESParams:
+    """CMA-ES adapts its own step size: the budget's rounds change nothing."""
+    return params
+
+
 def population(params: CMAESParams) -> int:
     return params.popsize
 

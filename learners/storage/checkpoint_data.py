@@ -22,6 +22,9 @@ import numpy as np
 from .files import CorruptFile, atomic_write
 
 FORMAT = "artificial-animals black-box checkpoint 1"
+# Fields a checkpoint written before they existed takes: what its run did then (the annealing
+# cooled by stages before it learned to cool over the budget).
+BEFORE_FIELDS = {"AnnealingParams": {"schedule": "stages"}}
 
 
 def _types() -> dict[str, type]:
@@ -83,8 +86,9 @@ def from_data(data: Any, types: dict[str, type] | None = None) -> Any:
             return AbstractController.from_dict(data["data"])
         if name not in types:
             raise ValueError(f"a checkpoint names the type {name!r}, which it may not hold")
-        return types[name](**{k: from_data(v, types) for k, v in data.items()
-                              if k != "__type__"})
+        fields = {**BEFORE_FIELDS.get(name, {}),
+                  **{k: from_data(v, types) for k, v in data.items() if k != "__type__"}}
+        return types[name](**fields)
     return {k: from_data(v, types) for k, v in data.items()}
 
 

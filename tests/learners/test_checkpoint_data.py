@@ -32,6 +32,20 @@ def test_a_run_round_trips_as_data_bit_for_bit(tmp_path, name, params):
     assert not (tmp_path / "checkpoint.pkl").exists()
 
 
+def test_annealing_params_from_before_schedules_keep_the_stages_they_ran_with(tmp_path):
+    from animat.learners.optimizers.annealing import AnnealingParams
+
+    data = checkpoint_data.to_data(AnnealingParams(chains=8))
+    del data["schedule"], data["rounds"]  # as a checkpoint written before them
+    assert checkpoint_data.from_data(data).schedule == "stages"
+    old = AnnealingParams(chains=8)
+    state = dict(vars(old))
+    del state["schedule"], state["rounds"]
+    unpickled = AnnealingParams.__new__(AnnealingParams)
+    unpickled.__setstate__(state)  # what pickle does with an older version's params
+    assert unpickled.schedule == "stages" and unpickled.chains == 8
+
+
 def test_a_checkpoint_naming_another_type_or_an_object_array_is_refused(tmp_path):
     path = tmp_path / "checkpoint.json"
     for run in ({"__type__": "Popen", "args": ["touch", str(tmp_path / "pwned")]},

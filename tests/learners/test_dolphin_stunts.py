@@ -43,7 +43,7 @@ def test_the_macro_learner_discovers_a_leap_from_the_repertoire():
     by over half a body length at the apex, at the default step and at half of it."""
     learner = MacroLearner("Animat/DolphinLeap-v0", {"duration": 8.0, "water": PAPER_WATER},
                            {"repertoire": str(REPERTOIRE), "slots": 4, "min_duration": 0.25,
-                            "max_duration": 4.0, "chains": 64}, 0)
+                            "max_duration": 4.0, "chains": 64, "schedule": "stages"}, 0)
     result = learner.learn(1_000_000)
     sequence = [step["skill"] for step in result.artefacts["sequence"]]
     assert result.metrics["eval/apex_height_bl"] >= 0.5, (result.metrics, sequence)

@@ -217,7 +217,8 @@ def test_bad_refinement_settings_are_named():
 
 
 def test_annealing_accepts_downhill_and_cools():
-    params = annealing.AnnealingParams(chains=4, moves_per_temperature=1, cooling=0.5)
+    params = annealing.AnnealingParams(chains=4, moves_per_temperature=1, cooling=0.5,
+                                       schedule="stages")
     state = annealing.init(params, np.full(3, 0.5), seed=0)
     x, state = annealing.ask(params, state)
     state = annealing.tell(params, state, x, np.ones(4))
@@ -227,6 +228,34 @@ def test_annealing_accepts_downhill_and_cools():
     np.testing.assert_array_equal(told.x, proposals)
     assert np.all(told.energy == 0.0) and told.temperature == pytest.approx(
         0.5 * params.initial_temperature)
+
+
+@pytest.mark.parametrize("budget", [960, 4800])
+def test_annealing_cools_to_its_stop_temperature_as_the_budget_ends(budget):
+    """The budget's schedule: every round cooler than the one before, the last one the budget
+    affords at ``min_temperature`` (a run's refinement anneals again over its own share);
+    the fixed stages' schedule of the same settings is still warm when the budget ends."""
+    _, sink = _anneal(budget)
+    temperatures = [value for _, value in sink.series("train/temperature")]
+    assert len(temperatures) == budget // (8 * 40)  # every round the budget affords
+    assert np.all(np.diff(temperatures) < 0)
+    assert temperatures[-1] == pytest.approx(annealing.AnnealingParams().min_temperature)
+    _, sink = _anneal(budget, schedule="stages")
+    assert sink.series("train/temperature")[-1][1] > 100 * temperatures[-1]
+    _, sink = _learn("annealing", 3 * budget, chains=8, period=0.5,
+                     refine={"share": 1 / 3, "threshold": 0.3})
+    series = sink.series("train/temperature")
+    restart = next(k for k in range(1, len(series)) if series[k][1] > series[k - 1][1])
+    for phase in (series[:restart], series[restart:]):
+        assert phase[-1][1] == pytest.approx(annealing.AnnealingParams().min_temperature)
+
+
+def test_a_budget_schedule_needs_a_stop_temperature_below_its_start():
+    with pytest.raises(ValueError, match="must be below initial_temperature"):
+        annealing.AnnealingParams(initial_temperature=1e-5)
+    with pytest.raises(ValueError, match="schedule must be one of"):
+        annealing.AnnealingParams(schedule="fast")
+    annealing.AnnealingParams(initial_temperature=1e-5, schedule="stages")  # stops at once
 
 
 def test_ppo_resumes_from_its_checkpoint(tmp_path):
