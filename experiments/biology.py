@@ -65,13 +65,18 @@ def play(env: gym.Env, actuation: Callable, seconds: float, fins=None
 def rear_wave_speed(nodes: np.ndarray, com: np.ndarray, hz: float, dt: float, length: float,
                     vertical: bool = False) -> float:
     """The speed (BL/s) of the body's wave over the rear half of the body: nodes (T, N, 3)
-    and com (T, 3) m over whole beats of ``hz``, every ``dt`` s. Each node's sway across the
-    travel (horizontal, or with ``vertical`` in the vertical plane) is reduced to the phase
-    of its component at ``hz``; the phase's slope along the body over the rear half of the
-    nodes (by their mean position along the travel) gives the wave speed ``2 pi hz /
-    slope``: positive when the wave runs head to tail, negative tail to head."""
-    travel = com[-1] - com[0]
-    heading = travel / np.linalg.norm(travel)
+    and com (T, 3) m over whole beats of ``hz``, every ``dt`` s. The body's own axis (its
+    front nodes' centroid less its back nodes', :data:`FRONT`, :data:`BACK`, averaged over
+    the time: not the way it travels, which may be tail first) sets along and across (in the
+    horizontal plane, or with ``vertical`` in the vertical one); each node's sway across it
+    is reduced to the phase of its component at ``hz``; the phase's slope along the body over
+    the rear half of the nodes gives the wave speed ``2 pi hz / slope``: positive when the
+    wave runs head to tail, negative tail to head."""
+    axes = nodes[:, FRONT].mean(axis=1) - nodes[:, BACK].mean(axis=1)
+    if not vertical:
+        axes[:, 2] = 0.0
+    heading = (axes / np.linalg.norm(axes, axis=1, keepdims=True)).mean(axis=0)
+    heading /= np.linalg.norm(heading)
     across = (np.array([0.0, 0.0, 1.0]) - heading[2] * heading if vertical
               else np.array([-heading[1], heading[0], 0.0]))
     across /= np.linalg.norm(across)

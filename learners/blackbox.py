@@ -45,13 +45,13 @@ from .validation import BudgetError, check_memory, typed_params, unknown_params
 
 class BlackBoxLearner(Learner):
     """Optimises a parameter vector with an ask/tell ``optimizer`` module (``init``, ``ask``,
-    ``tell``, ``finished``, ``population``, ``with_budget``, ``metrics``, ``fit_encoding``,
-    ``refine_options``; see :mod:`animat.learners.optimizers.annealing`) configured by
-    ``params_class``. What the vector means is the subclass's: ``own_params`` (its
-    parameters), :meth:`_configure`, :meth:`_x0`, :meth:`controller` (vector -> something
-    with ``actions(dt, steps)``), :meth:`_artefacts`, :meth:`_player`. This base reads the
-    tent-controller encoding (:mod:`animat.learners.controllers.periodic`); nothing here is
-    specific to one optimiser."""
+    ``tell``, ``finished``, ``population``, ``with_budget``, ``same_schedule``,
+    ``before_schedules``, ``metrics``, ``fit_encoding``, ``refine_options``; see
+    :mod:`animat.learners.optimizers.annealing`) configured by ``params_class``. What the vector
+    means is the subclass's: ``own_params`` (its parameters), :meth:`_configure`, :meth:`_x0`,
+    :meth:`controller` (vector -> something with ``actions(dt, steps)``), :meth:`_artefacts`,
+    :meth:`_player`. This base reads the tent-controller encoding
+    (:mod:`animat.learners.controllers.periodic`); nothing here is specific to one optimiser."""
 
     optimizer: ModuleType
     params_class: type
@@ -193,7 +193,7 @@ class BlackBoxLearner(Learner):
         path, saved = self._saved(checkpoint_dir)
         if saved is not None:
             if isinstance(saved, dict) and "phases" not in saved:  # before phases existed
-                saved["params"] = self.opt_params
+                saved["params"] = self.optimizer.before_schedules(self.opt_params)
             run = Run.from_checkpoint(saved)
         else:
             self.log_hparams()
@@ -225,7 +225,8 @@ class BlackBoxLearner(Learner):
         support = abstraction_of(x, self.nodes, self.period, evaluator.duration,
                                  self.refine["threshold"])
         x0 = support.frequency_parameters()
-        phase = self._phase(self.refine["params"], x0, self.seed + 1, support)
+        params = self.optimizer.same_schedule(self.refine["params"], run.phases[0].params)
+        phase = self._phase(params, x0, self.seed + 1, support)
         player = self._decode(phase, x0, evaluator.duration)
         returns, metrics = evaluator.evaluate_players([player])
         run.env_steps += evaluator.episode_cost

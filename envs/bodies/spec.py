@@ -116,7 +116,10 @@ class BodySpec:
             for name, shape in (("section_nodes", (0, 1)), ("section_weights", (0, 1)),
                                 ("section_lengths", (0,)), ("section_areas", (0,))):
                 object.__setattr__(self, name, np.zeros(shape))
-        if self.section_up is None or self.section_down is None:
+        if (self.section_up is None) != (self.section_down is None):
+            raise ValueError(f"BodySpec {self.name!r}: give both section_up and section_down, "
+                             "or neither (the front's up on every section)")
+        if self.section_up is None:
             rows = len(self.section_nodes)
             object.__setattr__(self, "section_up", np.tile(self.frame_up, (rows, 1)))
             object.__setattr__(self, "section_down", np.tile(self.frame_down, (rows, 1)))
@@ -223,7 +226,8 @@ def section_checks(body: BodySpec) -> list[tuple[bool, str]]:
         (j != 1, "a body needs no section or at least two (head and tail)"),
         (all(g.ndim == 2 and g.shape[0] == j and (j == 0 or (g.shape[1] > 0 and g.min() >= 0
              and g.max() < body.num_nodes)) for g in (body.section_up, body.section_down)),
-         "section_up and section_down must be (J, K') of the body's nodes, a row a section"),
+         f"section_up and section_down must be (J, K') of the body's nodes, a row a section "
+         f"(J = {j}), got shapes {body.section_up.shape} and {body.section_down.shape}"),
     ]
 
 

@@ -69,8 +69,8 @@ class Water:
         model: ``"reactive"`` (the default) adds to the resistive forces the water's reactive
             force of Lighthill's elongated-body theory on the body's cross-sections (added mass
             and the momentum shed at the trailing edge; :mod:`animat.envs.physics.reactive`); it
-            needs a body with cross-sections (``BodySpec.section_nodes``: the fish has them, the
-            dolphin not yet). ``"resistive"`` is the paper's water of 1995, the faces' drag and
+            needs a body with cross-sections (``BodySpec.section_nodes``: the fish and the
+            dolphin have them). ``"resistive"`` is the paper's water of 1995, the faces' drag and
             friction alone.
         added_mass: the reactive model's added mass as a multiple of the sections'
             (``rho pi b^2`` per unit length), dimensionless, in [0, 4].

@@ -5,15 +5,15 @@ C chains run in parallel (one proposal each per round, evaluated together on the
 proposal perturbs a random subset of a chain's parameters with Gaussian steps whose size shrinks
 with the temperature, and is accepted with the Metropolis rule ``min(1, exp(-(E_new - E) / T))``.
 The temperature falls geometrically. With ``schedule`` "budget" (the default) it falls every round,
-``T_k = T0 (T_min / T0)^(k / R)`` after move round k, from ``initial_temperature`` to
-``min_temperature`` at the last round R the run's budget affords (:func:`with_budget`, which the
-shared loop calls each time it runs a phase: a second phase, the refinement, anneals again from
-``initial_temperature`` over its own share; a run resumed with a larger budget re-plans R, the
-temperature rising to the longer schedule's and cooling to ``min_temperature`` again at its end),
-so that the search ends cold whatever the budget; with "stages" it falls by ``cooling`` after every
-``moves_per_temperature`` rounds and stops at ``min_temperature`` or when the caller's budget runs
-out. The state holds the generator's state, so a run is reproducible bit for bit and can be
-checkpointed and resumed anywhere.
+``T_k = T0 (T_min / T0)^(k / (R - 1))`` after move round k, from ``initial_temperature`` for the
+first move round to ``min_temperature`` for the last, R, that the run's budget affords
+(:func:`with_budget`, which the shared loop calls each time it runs a phase: a second phase, the
+refinement, anneals again from ``initial_temperature`` over its own share; a run resumed with a
+larger budget re-plans R, the temperature rising to the longer schedule's and cooling to
+``min_temperature`` again at its end), so that the search ends cold whatever the budget; with
+"stages" it falls by ``cooling`` after every ``moves_per_temperature`` rounds and stops at
+``min_temperature`` or when the caller's budget runs out. The state holds the generator's state, so
+a run is reproducible bit for bit and can be checkpointed and resumed anywhere.
 
 Besides ``init``/``ask``/``tell``/``finished``, the module answers what the shared loop
 (:mod:`animat.learners.blackbox`) asks of every optimiser: ``population`` (candidates per round),
@@ -77,8 +77,8 @@ class AnnealingParams:
         checks = [(self.schedule in SCHEDULES, f"schedule must be one of {SCHEDULES}, got "
                    f"{self.schedule!r}"),
                   (self.schedule != "budget" or self.min_temperature < self.initial_temperature,
-                   "the budget's schedule cools to min_temperature: it must be below "
-                   "initial_temperature"),
+                   f"the budget's schedule cools to min_temperature ({self.min_temperature:g}): "
+                   f"it must be below initial_temperature ({self.initial_temperature:g})"),
                   (self.rounds >= 0, "rounds must be >= 0"),
                   (self.chains >= 1, "chains must be >= 1"),
                   (self.initial_temperature > 0, "initial_temperature must be > 0"),
@@ -133,14 +133,35 @@ def with_budget(params: AnnealingParams, state: AnnealingState, rounds: int
     return replace(params, rounds=max(int(state.round + rounds - scoring), 1))
 
 
+def same_schedule(params: AnnealingParams, learned: AnnealingParams) -> AnnealingParams:
+    """``params`` (a refinement's) with the schedule of the phase it follows (``learned``:
+    a run resumed from a checkpoint written before schedules keeps stages in both)."""
+    return replace(params, schedule=learned.schedule)
+
+
+def before_schedules(params: AnnealingParams) -> AnnealingParams:
+    """The schedule a run checkpointed before schedules existed had: stages."""
+    return replace(params, schedule="stages")
+
+
 def budget_temperature(params: AnnealingParams, round_: int) -> float:
-    """``T0 (T_min / T0)^(k / R)`` after move round k of a budget's schedule of R rounds (T0
-    before it is planned)."""
-    if params.rounds <= 0:
+    """The temperature move round ``round_ + 1`` runs at in a budget's schedule of R rounds:
+    ``T0 (T_min / T0)^(k / (R - 1))`` after k move rounds, so that the first runs at T0 and
+    the last at ``min_temperature`` (T0 throughout a schedule of one round, or before it is
+    planned)."""
+    if params.rounds <= 1:
         return params.initial_temperature
-    share = min(round_, params.rounds) / params.rounds
+    share = min(round_, params.rounds - 1) / (params.rounds - 1)
     return params.initial_temperature * (params.min_temperature
                                          / params.initial_temperature) ** share
+
+
+def current_temperature(params: AnnealingParams, state: AnnealingState) -> float:
+    """The temperature the next round runs at: the budget's schedule's for the round it is at
+    (so that a re-planned schedule takes hold at once), or the stages' held in ``state``."""
+    if params.schedule == "budget":
+        return budget_temperature(params, state.round)
+    return state.temperature
 
 
 def population(params: AnnealingParams) -> int:
@@ -155,8 +176,8 @@ def state_bytes(params: AnnealingParams, dims: int) -> int:
 
 
 def metrics(params: AnnealingParams, state: AnnealingState) -> dict[str, float]:
-    """``train/*`` scalars: the temperature."""
-    return {"temperature": float(state.temperature)}
+    """``train/*`` scalars: the temperature the next round runs at."""
+    return {"temperature": float(current_temperature(params, state))}
 
 
 def fit_encoding(options: dict, block: int) -> dict:
@@ -195,8 +216,8 @@ def ask(params: AnnealingParams, state: AnnealingState) -> tuple[np.ndarray, Ann
         return state.x.copy(), state
     rng = np.random.Generator(np.random.PCG64())
     rng.bit_generator.state = state.rng
-    scale = max(params.min_step_size,
-                params.step_size * np.sqrt(state.temperature / params.initial_temperature))
+    scale = max(params.min_step_size, params.step_size * np.sqrt(
+        current_temperature(params, state) / params.initial_temperature))
     chains, dims = state.x.shape
     mask = rng.random((chains, dims)) < params.mutation_rate
     mask[np.arange(chains), rng.integers(0, dims, chains)] = True
@@ -233,7 +254,7 @@ def tell(params: AnnealingParams, state: AnnealingState, proposals: np.ndarray,
         rng.bit_generator.state = state.rng
         delta = energies - state.energy
         accept = (delta <= 0) | (rng.random(len(delta)) < np.exp(
-            -np.maximum(delta, 0) / state.temperature))
+            -np.maximum(delta, 0) / current_temperature(params, state)))
         x = np.where(accept[:, None], proposals, state.x)
         energy = np.where(accept, energies, state.energy)
         rng_state, told = rng.bit_generator.state, state.round + 1

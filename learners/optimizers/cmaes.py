@@ -60,6 +60,15 @@ def with_budget(params: CMAESParams, state, rounds: int) -> CMAESParams:
     return params
 
 
+def same_schedule(params: CMAESParams, learned: CMAESParams) -> CMAESParams:
+    """CMA-ES has no schedule to keep."""
+    return params
+
+
+def before_schedules(params: CMAESParams) -> CMAESParams:
+    return params
+
+
 def population(params: CMAESParams) -> int:
     return params.popsize
 

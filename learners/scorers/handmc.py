@@ -33,7 +33,8 @@ class HandMCLearner(Scorer):
     swim ->
     swim-MC at ``speed`` (default 1), ease-in included (scored from t = 0 like every learned
     controller); turn -> the turn-MC for the env's angle and direction; each calibrated for the
-    env's water (:func:`animat.envs.motor.fish.calibrated`). Uses one episode from each start
+    env's water (:func:`animat.envs.motor.fish.calibrated`, the dolphin's
+    :func:`animat.envs.motor.dolphin.dolphin_calibrated`). Uses one episode from each start
     state."""
 
     name = "handmc"

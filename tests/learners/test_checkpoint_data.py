@@ -46,6 +46,24 @@ def test_annealing_params_from_before_schedules_keep_the_stages_they_ran_with(tm
     assert unpickled.schedule == "stages" and unpickled.chains == 8
 
 
+def test_a_run_from_before_schedules_refines_with_the_stages_it_learned_with(tmp_path):
+    """Killed before its refinement, a run checkpointed before schedules existed resumes with
+    stages in both phases, whatever its config's default."""
+    params = {**REFINE, "chains": 8, "schedule": "stages", "period": 0.5}
+    make_learner("annealing", ENV, KWARGS, params, seed=2).learn(960, tmp_path)
+    path = tmp_path / "checkpoint.json"
+    data = json.loads(path.read_text())
+    run = data["run"]
+    run["phases"], run["env_steps"], run["rounds"] = run["phases"][:1], 320, 1  # killed there
+    del run["phases"][0]["params"]["schedule"], run["phases"][0]["params"]["rounds"]
+    path.write_text(json.dumps(data))
+    unpinned = {k: v for k, v in params.items() if k != "schedule"}
+    make_learner("annealing", ENV, KWARGS, unpinned, seed=2).learn(4800, tmp_path)
+    run = checkpoint_data.load(path)
+    assert len(run.phases) == 2
+    assert [phase.params.schedule for phase in run.phases] == ["stages", "stages"]
+
+
 def test_a_checkpoint_naming_another_type_or_an_object_array_is_refused(tmp_path):
     path = tmp_path / "checkpoint.json"
     for run in ({"__type__": "Popen", "args": ["touch", str(tmp_path / "pwned")]},

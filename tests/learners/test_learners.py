@@ -232,22 +232,35 @@ def test_annealing_accepts_downhill_and_cools():
 
 @pytest.mark.parametrize("budget", [960, 4800])
 def test_annealing_cools_to_its_stop_temperature_as_the_budget_ends(budget):
-    """The budget's schedule: every round cooler than the one before, the last one the budget
-    affords at ``min_temperature`` (a run's refinement anneals again over its own share);
-    the fixed stages' schedule of the same settings is still warm when the budget ends."""
+    """The budget's schedule (``train/temperature``: what the next round runs at): every
+    round cooler than the one before, the last one the budget affords at ``min_temperature``
+    (a run's refinement anneals again over its own share); the fixed stages' schedule of the
+    same settings is still warm when the budget ends."""
+    cold = annealing.AnnealingParams().min_temperature
     _, sink = _anneal(budget)
     temperatures = [value for _, value in sink.series("train/temperature")]
     assert len(temperatures) == budget // (8 * 40)  # every round the budget affords
-    assert np.all(np.diff(temperatures) < 0)
-    assert temperatures[-1] == pytest.approx(annealing.AnnealingParams().min_temperature)
+    assert temperatures[0] == annealing.AnnealingParams().initial_temperature
+    assert np.all(np.diff(temperatures[:-1]) < 0)  # the first move round at T0, cooler on
+    assert temperatures[-2] == pytest.approx(cold)  # the last move round runs at T_min
     _, sink = _anneal(budget, schedule="stages")
-    assert sink.series("train/temperature")[-1][1] > 100 * temperatures[-1]
-    _, sink = _learn("annealing", 3 * budget, chains=8, period=0.5,
+    assert sink.series("train/temperature")[-1][1] > 100 * cold
+    _, sink = _learn("annealing", 3 * 1920, chains=8, period=0.5,
                      refine={"share": 1 / 3, "threshold": 0.3})
-    series = sink.series("train/temperature")
-    restart = next(k for k in range(1, len(series)) if series[k][1] > series[k - 1][1])
+    series = [value for _, value in sink.series("train/temperature")]
+    restart = next(k for k in range(1, len(series)) if series[k] > series[k - 1])
     for phase in (series[:restart], series[restart:]):
-        assert phase[-1][1] == pytest.approx(annealing.AnnealingParams().min_temperature)
+        assert phase[-2] == pytest.approx(cold)
+
+
+def test_a_resumed_budget_schedule_takes_a_larger_budget_at_once(tmp_path):
+    """Stopped at a budget's end and resumed with twice the budget, the schedule re-plans:
+    the next round runs warmer than the stop temperature and the last at it again."""
+    cold = annealing.AnnealingParams().min_temperature
+    _anneal(1920, tmp_path)
+    _, sink = _anneal(3840, tmp_path)
+    temperatures = [value for _, value in sink.series("train/temperature")]
+    assert temperatures[0] > 10 * cold and temperatures[-2] == pytest.approx(cold)
 
 
 def test_a_budget_schedule_needs_a_stop_temperature_below_its_start():

@@ -97,3 +97,6 @@ def test_bad_section_axes_are_rejected_with_their_field_named():
     fields["section_up"] = np.full_like(body.section_down, 99)  # no such node
     with pytest.raises(ValueError, match="section_up and section_down"):
         BodySpec(**fields)
+    fields["section_up"], fields["section_down"] = body.section_up, None  # one of the two
+    with pytest.raises(ValueError, match="give both section_up and section_down"):
+        BodySpec(**fields)

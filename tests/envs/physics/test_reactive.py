@@ -170,10 +170,11 @@ GRID = ([2.0, 3.0, 4.0], [0.0, 0.5, 1.0, 1.5, 2.0])  # the demo's: Hz, rad per s
 
 def test_a_body_wave_that_runs_tail_to_head_swims_at_most_a_third_as_fast():
     """Of the grid's muscle waves (both ways, the flaps left out), those that make the body's
-    rear wave run tail to head swim at most a third of the fastest wave's speed."""
+    rear wave run tail to head swim forward (along the start heading) at most a third of the
+    fastest wave's speed (measured: 0.14 BL/s, 5%)."""
     speeds, waves = gait_grid(REACTIVE, *GRID)
     backward = waves[:, 1:] < 0.0
-    assert backward.any()  # measured: 6 of 24 (their bodies barely sway)
+    assert backward.any()  # measured: 5 of 24 (their bodies barely sway)
     assert speeds[:, 1:][backward].max() <= speeds.max() / 3.0, (speeds, waves)
 
 
