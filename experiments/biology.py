@@ -28,6 +28,7 @@ import numpy as np
 
 import animat  # noqa: F401  (registers the envs)
 
+from ..envs.bodies.spec import BodySpec
 from ..envs.core.batch import BodyBatch
 from ..envs.core.env import BodyEnv
 from ..envs.motor.dolphin import DOLPHIN_SWIM, dolphin_calibrated, dolphin_swim_mc, dolphin_turn_mc
@@ -43,7 +44,6 @@ from ..envs.motor.fish import (
 from ..envs.tasks.locomotion import SwimTask
 
 TAIL_TIPS = [21, 22]  # the trailing edge's nodes, the fish's and the dolphin's
-FRONT, BACK = [0, 1, 2, 3, 4], [9, 10, 11, 12]  # their heading's nodes (BodySpec.frame_*)
 
 
 def play(env: gym.Env, actuation: Callable, seconds: float, fins=None
@@ -62,17 +62,17 @@ def play(env: gym.Env, actuation: Callable, seconds: float, fins=None
     return infos, np.array(nodes)
 
 
-def rear_wave_speed(nodes: np.ndarray, com: np.ndarray, hz: float, dt: float, length: float,
+def rear_wave_speed(nodes: np.ndarray, com: np.ndarray, hz: float, dt: float, body: BodySpec,
                     vertical: bool = False) -> float:
-    """The speed (BL/s) of the body's wave over the rear half of the body: nodes (T, N, 3)
-    and com (T, 3) m over whole beats of ``hz``, every ``dt`` s. The body's own axis (its
-    front nodes' centroid less its back nodes', :data:`FRONT`, :data:`BACK`, averaged over
-    the time: not the way it travels, which may be tail first) sets along and across (in the
-    horizontal plane, or with ``vertical`` in the vertical one); each node's sway across it
-    is reduced to the phase of its component at ``hz``; the phase's slope along the body over
-    the rear half of the nodes gives the wave speed ``2 pi hz / slope``: positive when the
-    wave runs head to tail, negative tail to head."""
-    axes = nodes[:, FRONT].mean(axis=1) - nodes[:, BACK].mean(axis=1)
+    """The speed (BL/s) of the body's wave over the rear half of the body: nodes (T, N, 3) and com
+    (T, 3) m over whole beats of ``hz``, every ``dt`` s. The body's own axis (its front nodes'
+    centroid less its back nodes, ``body.frame_front`` and ``frame_back``, averaged over the time:
+    not the way it travels, which may be tail first) sets along and across (in the horizontal
+    plane, or with ``vertical`` in the vertical one); each node's sway across it is reduced to the
+    phase of its component at ``hz``; the phase's slope along the body over the rear half of the
+    nodes gives the wave speed ``2 pi hz / slope``: positive when the wave runs head to tail,
+    negative tail to head."""
+    axes = body_axes(nodes, body)
     if not vertical:
         axes[:, 2] = 0.0
     heading = (axes / np.linalg.norm(axes, axis=1, keepdims=True)).mean(axis=0)
@@ -86,17 +86,23 @@ def rear_wave_speed(nodes: np.ndarray, com: np.ndarray, hz: float, dt: float, le
     phase = np.angle((sway - sway.mean(axis=0)).T @ np.exp(-2j * np.pi * hz * t))
     rear = np.argsort(along)[: len(along) // 2][::-1]  # the rear half, front to back
     slope = np.polyfit(along[rear], np.unwrap(phase[rear]), 1)[0]  # rad/m, head leading > 0
-    return float(2.0 * np.pi * hz / slope / length) if slope != 0.0 else float("inf")
+    return float(2.0 * np.pi * hz / slope / body.length) if slope != 0.0 else float("inf")
 
 
-def cruise_figures(infos: list[dict], nodes: np.ndarray, dt: float, length: float,
+def body_axes(nodes: np.ndarray, body: BodySpec) -> np.ndarray:
+    """(T, 3) the body's own axis at every step of ``nodes`` (T, N, 3): its front nodes'
+    centroid less its back nodes' (``body.frame_front``, ``frame_back``), m."""
+    return nodes[:, body.frame_front].mean(axis=1) - nodes[:, body.frame_back].mean(axis=1)
+
+
+def cruise_figures(infos: list[dict], nodes: np.ndarray, dt: float, body: BodySpec,
                    hz: float, start: float, vertical: bool = False) -> dict[str, float]:
-    """Biology figures over the part of a swim after ``start`` s (``nodes`` (T, N, 3) the
-    nodes' tracks, m, of :func:`play`): U (BL/s, net travel per second), A (BL, the tail tip's
-    peak-to-peak excursion across the travel direction: in the horizontal plane, or with
-    ``vertical`` in the vertical plane, the dolphin's), f (Hz), St = fA/U, the stride U/f (BL
-    per beat), the body's rear wave speed V (BL/s, :func:`rear_wave_speed`) and the slip U/V."""
-    first = int(round(start / dt))
+    """Biology figures over the part of a swim after ``start`` s (``nodes`` (T, N, 3) the nodes'
+    tracks, m, of :func:`play`, of ``body``): U (BL/s, net travel per second), A (BL, the tail
+    tip's peak-to-peak excursion across the travel direction: in the horizontal plane, or with
+    ``vertical`` in the vertical plane, the dolphin's), f (Hz), St = fA/U, the stride U/f (BL per
+    beat), the body's rear wave speed V (BL/s, :func:`rear_wave_speed`) and the slip U/V."""
+    first, length = int(round(start / dt)), body.length
     com = np.array([i["com"] for i in infos])[first:]
     tail = nodes[:, TAIL_TIPS].mean(axis=1)
     travel = com[-1] - com[0]
@@ -109,7 +115,7 @@ def cruise_figures(infos: list[dict], nodes: np.ndarray, dt: float, length: floa
     across /= np.linalg.norm(across)
     sway = (tail[first:] - com) @ across
     amplitude = sway.max() - sway.min()
-    wave = rear_wave_speed(nodes[first:], com, hz, dt, length, vertical)
+    wave = rear_wave_speed(nodes[first:], com, hz, dt, body, vertical)
     return {"U": speed / length, "A": amplitude / length, "f": hz,
             "St": hz * amplitude / speed, "stride": speed / length / hz,
             "V": wave, "slip": speed / length / wave}
@@ -120,7 +126,7 @@ def fish_cruise(water: dict, params: SwimParams, seconds: float = 10.0) -> dict[
     ``seconds``."""
     env = BodyEnv("swim", duration=seconds, water=water)
     infos, nodes = play(env, lambda t: swim_mc(1.0, t, params), seconds)
-    return cruise_figures(infos, nodes, env.dt, env.body_length, params.max_hz, seconds / 2)
+    return cruise_figures(infos, nodes, env.dt, env.core.body, params.max_hz, seconds / 2)
 
 
 def dolphin_cruise(water: dict, params: SwimParams = DOLPHIN_SWIM, seconds: float = 6.0
@@ -130,9 +136,10 @@ def dolphin_cruise(water: dict, params: SwimParams = DOLPHIN_SWIM, seconds: floa
     (``pitch``, deg)."""
     env = gym.make("Animat/DolphinForward-v0", water=water, duration=seconds)
     infos, nodes = play(env, lambda t: dolphin_swim_mc(1.0, t, params), seconds)
-    figures = cruise_figures(infos, nodes, env.unwrapped.dt, env.unwrapped.body_length,
-                             params.max_hz, seconds / 2, vertical=True)
-    heading = nodes[-1, FRONT].mean(axis=0) - nodes[-1, BACK].mean(axis=0)
+    body = env.unwrapped.core.body
+    figures = cruise_figures(infos, nodes, env.unwrapped.dt, body, params.max_hz, seconds / 2,
+                             vertical=True)
+    heading = body_axes(nodes[-1:], body)[0]
     figures["pitch"] = float(np.degrees(np.arctan2(heading[2], np.hypot(*heading[:2]))))
     env.close()
     return figures
@@ -183,7 +190,7 @@ def gait_grid(water: dict, hz: list[float], lags: list[float], amplitude: float 
     travel = coms[-1, :, :2] - coms[steps // 2 - 1, :, :2]
     along = np.einsum("bk,bk->b", travel, heading / np.linalg.norm(heading, axis=1)[:, None])
     speed = along / (seconds - (steps // 2) * core.dt) / core.body.length
-    waves = [rear_wave_speed(nodes[:, b], coms[steps // 2:, b], f, core.dt, core.body.length)
+    waves = [rear_wave_speed(nodes[:, b], coms[steps // 2:, b], f, core.dt, core.body)
              for b, (f, _) in enumerate(combos)]
     shape = (len(hz), len(lags), 2)
     return speed.reshape(shape), np.array(waves).reshape(shape)

@@ -81,7 +81,7 @@ PAPER_DOLPHIN_SWIM = PAPER_DOLPHIN.swim
 def dolphin_calibrated(model: str) -> DolphinCalibration:
     """The dolphin's calibration for the water ``model`` (``"reactive"`` or ``"resistive"``)."""
     if model not in ("reactive", "resistive"):
-        raise ValueError(f"water model must be 'reactive' or 'resistive', got {model!r}")
+        raise ValueError(f"no motor controllers are calibrated for water model {model!r}")
     return REACTIVE_DOLPHIN if model == "reactive" else PAPER_DOLPHIN
 
 _FROM_FISH = {LEFT_MIDDLE: DORSAL_MIDDLE, LEFT_BACK: DORSAL_BACK, RIGHT_MIDDLE: VENTRAL_MIDDLE,
