@@ -7,8 +7,8 @@ The fish's locomotion ids and the dolphin's tasks run on the batched core
 single envs.
 
 :func:`timing` gives an id's clock (``dt`` and ``episode_steps``) from these kwargs and the
-user's, without building the env; :func:`body_of`, :func:`task_of` and :func:`water_of` its
-body, task and water.
+user's, without building the env; :func:`body_of`, :func:`task_of`, :func:`water_of` and
+:func:`start_spread_of` its body, task, water and start spread.
 """
 
 from __future__ import annotations
@@ -23,6 +23,7 @@ if TYPE_CHECKING:
     from .bodies.spec import BodySpec
     from .physics.system import Water
     from .tasks.base import Task
+    from .tasks.start import StartSpread
 
 CORE: dict[str, str] = {"entry_point": "animat.envs.core.env:BodyEnv",
         "vector_entry_point": "animat.envs.core.env:BodyVectorEnv"}
@@ -144,6 +145,7 @@ def _core_clock(named: dict[str, Any], kwargs: dict) -> Timing | None:
     args = {**named, **{k: v for k, v in kwargs.items() if k in named}}
     task = make_task(args["task"], **{k: v for k, v in kwargs.items() if k not in named})
     RewardWeights.from_value(args["reward_weights"])
+    task.check_start_spread(task.start_spread.over(args["start_spread"]))
     duration = task.default_duration if args["duration"] is None else args["duration"]
     check_arguments(1, args["physics_dt"], args["frame_skip"], duration,
                     args["reset_noise_scale"], args["fins"], 0.0)
@@ -215,6 +217,20 @@ def water_of(env_id: str, env_kwargs: dict | None = None) -> Water:
         return core.system.water
     named = arguments[0]
     return Water.from_dict(merged_water(named["water"], named["base_water"]))
+
+
+def start_spread_of(env_id: str, env_kwargs: dict | None = None) -> StartSpread | None:
+    """The start spread of ``gym.make(env_id, **env_kwargs)`` for an id of the core: its
+    ``start_spread`` over its task's own (:mod:`animat.envs.tasks.start`), building no env;
+    None for any other id (the pursuit and the world place their own fish)."""
+    from .tasks import make_task
+
+    arguments = _core_arguments(env_id, env_kwargs)
+    if arguments is None:
+        return None
+    named, task_kwargs = arguments
+    task = make_task(named["task"], **task_kwargs)
+    return task.start_spread.over(named["start_spread"])
 
 
 def _core_arguments(env_id: str, env_kwargs: dict | None) -> tuple[dict, dict] | None:

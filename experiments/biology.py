@@ -2,7 +2,9 @@
 
 The demo (:mod:`animat.experiments.demo`) prints these and the physics tests hold them to the
 ranges of real fish. Every figure comes from the hand motor controllers
-(:mod:`animat.envs.motor.fish`, :mod:`animat.envs.motor.dolphin`) from the seeded start:
+(:mod:`animat.envs.motor.fish`, :mod:`animat.envs.motor.dolphin`) from the point start
+(the body at rest where its task places it, the seeded node noise only: a calibration, not a
+score over the tasks' start spreads, :mod:`animat.envs.tasks.start`):
 
 * :func:`cruise_figures` of a swim: speed U (BL/s, net travel over the last half), the tail's
   peak-to-peak amplitude A across the travel (BL), the beat frequency f (Hz), the Strouhal
@@ -124,7 +126,7 @@ def cruise_figures(infos: list[dict], nodes: np.ndarray, dt: float, body: BodySp
 def fish_cruise(water: dict, params: SwimParams, seconds: float = 10.0) -> dict[str, float]:
     """:func:`cruise_figures` of the fish's swim-MC at full speed over the last half of
     ``seconds``."""
-    env = BodyEnv("swim", duration=seconds, water=water)
+    env = BodyEnv("swim", duration=seconds, water=water, start_spread="point")
     infos, nodes = play(env, lambda t: swim_mc(1.0, t, params), seconds)
     return cruise_figures(infos, nodes, env.dt, env.core.body, params.max_hz, seconds / 2)
 
@@ -134,7 +136,8 @@ def dolphin_cruise(water: dict, params: SwimParams = DOLPHIN_SWIM, seconds: floa
     """:func:`cruise_figures` of the dolphin's fluke stroke at full speed (its own pool, 3 m
     down), the flukes' sway measured in the vertical plane, and its pitch at the end
     (``pitch``, deg)."""
-    env = gym.make("Animat/DolphinForward-v0", water=water, duration=seconds)
+    env = gym.make("Animat/DolphinForward-v0", water=water, duration=seconds,
+                   start_spread="point")
     infos, nodes = play(env, lambda t: dolphin_swim_mc(1.0, t, params), seconds)
     body = env.unwrapped.core.body
     figures = cruise_figures(infos, nodes, env.unwrapped.dt, body, params.max_hz, seconds / 2,
@@ -157,7 +160,7 @@ def dolphin_turn(model: str, direction: str, angle_deg: float, after: float = 2.
     else:
         end, key = calibration.steer_delay + angle / calibration.steer_rate, "heading_deg"
     env = gym.make("Animat/DolphinTurn-v0", direction=direction, angle_deg=angle_deg,
-                   water={"model": model}, duration=end + after)
+                   water={"model": model}, duration=end + after, start_spread="point")
     infos, _ = play(env, lambda t: dolphin_turn_mc(direction, angle, t, calibration),
                     end + after)
     env.close()
@@ -175,7 +178,7 @@ def gait_grid(water: dict, hz: list[float], lags: list[float], amplitude: float 
     own rear wave (BL/s, :func:`rear_wave_speed`), each (len(hz), len(lags), 2). One batch of
     fish, seeded starts."""
     combos = [(f, sign * lag) for f in hz for lag in lags for sign in (1.0, -1.0)]
-    core = BodyBatch(len(combos), SwimTask(), water=water, duration=100.0)
+    core = BodyBatch(len(combos), SwimTask(), water=water, duration=100.0, start_spread="point")
     core.reset_rows(np.arange(len(combos)), [np.random.default_rng(0) for _ in combos])
     steps = int(round(seconds / core.dt))
     heading, coms, nodes = core.kinematics().frames[:, 0, :2].copy(), [], []
@@ -199,7 +202,7 @@ def gait_grid(water: dict, hz: list[float], lags: list[float], amplitude: float 
 def c_start(water: dict, params: CStartParams, seconds: float = 1.0) -> np.ndarray:
     """(T,) the fish's heading (deg, unwrapped, positive to the turn's side) every env step
     of a left C-start from rest (:func:`animat.envs.motor.fish.cstart_mc`)."""
-    env = BodyEnv("swim", duration=seconds, water=water)
+    env = BodyEnv("swim", duration=seconds, water=water, start_spread="point")
     infos, _ = play(env, lambda t: cstart_mc(t, True, params), seconds)
     env.close()
     return np.degrees(np.unwrap(np.radians([i["heading_deg"] for i in infos])))

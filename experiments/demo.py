@@ -99,7 +99,7 @@ def water_figures(model: str, args: argparse.Namespace) -> None:
     """Print one water's figures (the module's docstring), its recalibrated controllers'."""
     water, (swim, turn) = {"model": model}, calibrated(model)
     video = bool(args.video) and model == Water().model  # the default water's swim
-    env = BodyEnv("swim", duration=args.seconds, water=water,
+    env = BodyEnv("swim", duration=args.seconds, water=water, start_spread="point",
                   render_mode="rgb_array" if video else None)
     if video:
         env = gym.wrappers.RecordVideo(env, args.video, episode_trigger=lambda e: e == 0,
@@ -139,7 +139,7 @@ def water_figures(model: str, args: argparse.Namespace) -> None:
     end = turn_duration(np.pi / 2, turn)
     for left in (True, False):
         sign = 1.0 if left else -1.0
-        env = BodyEnv("turn", duration=end + 3.0, water=water)
+        env = BodyEnv("turn", duration=end + 3.0, water=water, start_spread="point")
         turn_infos, _ = play(env, lambda t, left=left: turn_mc(np.pi / 2, t, left, turn),
                              end + 3.0)
         headings = sign * np.degrees(np.unwrap(np.radians([i["heading_deg"]
@@ -149,7 +149,7 @@ def water_figures(model: str, args: argparse.Namespace) -> None:
               f" deg when it ends at {end:.1f} s, {headings.max():.1f} at most, "
               f"{headings[-1]:.1f} 3 s later")
     for pitch in (1.0, -1.0):
-        dive = BodyEnv("swim", duration=6.0, fins=True, water=water)
+        dive = BodyEnv("swim", duration=6.0, fins=True, water=water, start_spread="point")
         fin_infos, _ = play(dive, lambda t: swim_mc(1.0, t, swim), 6.0,
                             fins=fin_mc(pitch=pitch) / fin_mc(pitch=1.0)[0])
         z = np.array([i["com"][2] for i in fin_infos]) / length

@@ -13,12 +13,13 @@ SB3's ``predict(obs)``, ``reset()``, ``env_id`` and ``env_kwargs``::
     agent = load("runs/try")
     env = gym.make(agent.env_id, **agent.env_kwargs)
 
-:func:`evaluate` plays it over seeded start states (by default the run's own: seeds ``seed``
-.. ``seed + episodes - 1``), optionally filming each episode with Gymnasium's ``RecordVideo``,
-and writes ``eval.json`` into the run folder. With ``refine`` k > 1 it plays the agent with
-the physics step divided by k (``frame_skip`` times k: the env step, and so what the agent
-sees and does, unchanged) and writes ``eval_step_over_<k>.json``: a learned figure that moves
-when the solver is refined is the solver's, not the animal's.
+:func:`evaluate` plays it over seeded start states (by default ones the run never learned from:
+:func:`animat.learners.rollout.unseen_seeds`, 1,000,000 + its seed on), optionally filming each
+episode with Gymnasium's ``RecordVideo``, and writes ``eval.json`` into the run folder. With
+``refine`` k > 1 it plays the agent with the physics step divided by k (``frame_skip`` times k:
+the env step, and so what the agent sees and does, unchanged) and writes
+``eval_step_over_<k>.json``: a learned figure that moves when the solver is refined is the
+solver's, not the animal's.
 """
 
 from __future__ import annotations
@@ -32,7 +33,7 @@ import numpy as np
 import animat  # noqa: F401
 from animat.learners.agents import SkillSet
 from animat.learners.registry import make_learner
-from animat.learners.rollout import score_episode, spread
+from animat.learners.rollout import score_episode, spread, unseen_seeds
 from animat.learners.storage.files import read_json
 
 from .launch.config import learner_params, load_run_config
@@ -104,8 +105,9 @@ def refined(agent, refine: int):
 def evaluate(run_dir: str | Path, seeds: list[int] | None = None, episodes: int | None = None,
              video: str | Path | None = None, refine: int = 1, trust_pickles: bool = False
              ) -> dict:
-    """Play the run's agent on ``seeds`` (default: ``episodes`` start states from the run's
-    seed on, by default as many as the run's own scores are over); returns and writes
+    """Play the run's agent on ``seeds`` (default: ``episodes`` start states the run never
+    learned from, :func:`~animat.learners.rollout.unseen_seeds`, by default as many as the
+    run's own scores are over); returns and writes
     ``eval.json``: the seeds, every episode's figures, and ``metrics`` (``eval/<figure>``
     means with ``_std``) - per skill for a repertoire; with ``refine`` k > 1, at the physics
     step over k, into ``eval_step_over_<k>.json``."""
@@ -113,7 +115,7 @@ def evaluate(run_dir: str | Path, seeds: list[int] | None = None, episodes: int 
     config = load_run_config(folder)
     if not seeds:
         count = episodes or _learner(folder, config).scored_episodes()
-        seeds = [config.seed + k for k in range(count)]
+        seeds = unseen_seeds(config.seed, count)
     if refine < 1:
         raise RunError(f"--refine must be at least 1, got {refine}")
     agent = load(folder, trust_pickles)

@@ -111,9 +111,11 @@ def make_parser() -> argparse.ArgumentParser:
                                 "start states, print its metric and write eval.json.")
     evaluation.add_argument("run_dir", type=Path, help="a finished run folder")
     evaluation.add_argument("--episodes", type=int,
-                            help="start states, seeds from the run's seed on (default: as "
-                                 "many as the run's own scores are over)")
-    evaluation.add_argument("--seeds", help="these seeds instead, e.g. 0-4 or 1,3,5")
+                            help="start states it never learned from, seeds from 1,000,000 + "
+                                 "the run's seed on (default: as many as the run's own scores "
+                                 "are over)")
+    evaluation.add_argument("--seeds", help="these seeds instead, e.g. 0-4 or 1,3,5 (the run's own "
+                                 "start states: its seed on)")
     evaluation.add_argument("--video", type=Path, metavar="DIR",
                             help="film every episode into DIR (mp4, Gymnasium's RecordVideo)")
     evaluation.add_argument("--trust-pickles", action="store_true",

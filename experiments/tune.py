@@ -27,11 +27,10 @@ from pathlib import Path
 from animat.learners.storage.files import atomic_write
 
 from .launch.config import (
-    WATER_BEFORE_RECORDS,
     ConfigError,
     ExperimentConfig,
     load_config,
-    record_water,
+    record_env,
     to_yaml,
 )
 from .launch.execute import execute
@@ -94,8 +93,8 @@ def run_trial(optuna, trial, path: Path, overrides: list[str], out: Path,
     except ConfigError as error:
         trial.set_user_attr("error", str(error))
         return "FAIL", None
-    # best.yaml's, wherever it ran: the trial folder's config.yaml, its water written out
-    trial.set_user_attr("config", to_yaml(record_water(trial_config)))
+    # best.yaml's, wherever it ran: the trial folder's config.yaml, its water and start written out
+    trial.set_user_attr("config", to_yaml(record_env(trial_config)))
     folder = out / f"trial{trial.number:03d}"
     create_run(trial_config, folder, ["animat", "tune", str(path), f"(trial {trial.number})"])
     sink = PruningSink(trial, config.eval.metric, optuna.TrialPruned)
@@ -205,8 +204,8 @@ def best_config(best, path: Path, overrides: list[str]) -> str:
     if isinstance(kept, str):
         return kept
     sampled = [f"{key}={json.dumps(value)}" for key, value in best.params.items()]
-    return to_yaml(record_water(load_config(path, overrides + sampled, build=False),
-                                WATER_BEFORE_RECORDS))  # an older version's ran in it
+    return to_yaml(record_env(load_config(path, overrides + sampled, build=False),
+                              before_records=True))  # an older version's ran in them
 
 
 def summarise(study, out: Path, config: ExperimentConfig, path: Path,

@@ -1,12 +1,14 @@
 """Evaluating open-loop controllers by simulation, many at once on the native vector env.
 
 Every candidate is played from the same ``num_starts`` seeded start states (seeds ``seed``,
-``seed + 1``, ...; default :data:`START_STATES`), and its return and metrics are the means over
-them, with the spread (``<metric>_std``) beside each: the objective E = -return is a
-deterministic function of the controller (simulated annealing and CMA-ES need that), and no
-controller is scored on one lucky start. The native batch gives every row the numbers a
-single env would, so batching never changes E. Every learner, PPO and the hand MC included,
-is scored by this protocol.
+``seed + 1``, ...; default :data:`START_STATES`), each drawn from the task's start distribution
+(:mod:`animat.envs.tasks.start`: headings, bends and velocities that differ), and its return and
+metrics are the means over them, with the spread (``<metric>_std``) beside each: the objective
+E = -return is a deterministic function of the controller (simulated annealing and CMA-ES need
+that), and no controller is scored on one lucky start. The native batch gives every row the
+numbers a single env would, so batching never changes E. Every learner, PPO and the hand MC
+included, is scored by this protocol. A finished run is scored afresh on start states it never
+saw (:func:`unseen_seeds`, what ``animat eval`` plays by default).
 """
 
 from __future__ import annotations
@@ -22,6 +24,15 @@ from animat.envs.tasks.base import EpisodeSummary
 from .base import LearnResult
 
 START_STATES = 4  # start states every candidate and every final result is scored over
+# The first seed of the start states a run never saw: a run of seed s learns from seeds s, s + 1,
+# ... (fewer than a million of them), and is scored afresh from seeds UNSEEN_SEEDS_FROM + s, ...
+UNSEEN_SEEDS_FROM = 1_000_000
+
+
+def unseen_seeds(seed: int, count: int) -> list[int]:
+    """``count`` start-state seeds that the run of ``seed`` never learned from (its own are
+    ``seed .. seed + start_states - 1``): ``UNSEEN_SEEDS_FROM + seed`` on."""
+    return [UNSEEN_SEEDS_FROM + int(seed) + k for k in range(int(count))]
 
 
 class BatchEvaluator:

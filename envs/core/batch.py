@@ -23,6 +23,7 @@ from ..physics.observe import body_state, momenta
 from ..physics.observe import proprioception as write_proprioception
 from ..physics.system import DEFAULT_DT, System, Water
 from ..tasks.base import Task, World
+from ..tasks.start import StartSpread, spread_start
 from .arguments import check_arguments
 from .reward import RewardWeights, control_energy
 from .state import BodyState
@@ -55,6 +56,9 @@ class BodyBatch:
         frame_skip: integration steps per env step (env ``dt = physics_dt * frame_skip``).
         duration: simulated seconds per episode (then truncated).
         reset_noise_scale: uniform noise on each start node coordinate, body lengths.
+        start_spread: the spread of the episodes' starts (:mod:`animat.envs.tasks.start`): None
+            the task's own (``task.start_spread``), ``"point"`` none, a dict its fields over
+            the task's.
         weights: reward weights.
         fins: if True the actions carry the pectoral fin angles too: (B, A + P), the last P
             entries in [-1, 1] setting fin p to ``fin_max_angle`` (rad) times the entry.
@@ -69,9 +73,12 @@ class BodyBatch:
                  frame_skip: int = DEFAULT_FRAME_SKIP,
                  duration: float = 10.0, reset_noise_scale: float = 0.005,
                  weights: RewardWeights = RewardWeights(), fins: bool = False,
-                 fin_max_angle: float = FinParams().max_angle) -> None:
+                 fin_max_angle: float = FinParams().max_angle,
+                 start_spread: StartSpread | dict | str | None = None) -> None:
         check_arguments(num_envs, physics_dt, frame_skip, duration, reset_noise_scale, fins,
                         fin_max_angle)
+        self.start_spread = task.start_spread.over(start_spread)
+        task.check_start_spread(self.start_spread)
         self.task, self.weights = task, weights
         self.system = System(body or fish_body(), Water.from_dict(water), dt=physics_dt)
         self.body = self.system.body
@@ -94,15 +101,18 @@ class BodyBatch:
         return self.state.x.shape[0]
 
     def reset_rows(self, rows: np.ndarray, rngs: list[np.random.Generator]) -> None:
-        """Start new episodes in ``rows``, drawing row k's noise and task from ``rngs[k]``."""
+        """Start new episodes in ``rows``, drawing row k's noise, task and start
+        (:func:`~animat.envs.tasks.start.spread_start`) from ``rngs[k]``, in that order."""
         state, length = self.state, self.body.length
         start = self.task.place(self.body)
         start_v = self.task.start_velocity(self.body)
         for row, rng in zip(rows, rngs):
             noise = rng.uniform(-1.0, 1.0, self.body.rest_positions.shape)
-            state.x[row] = start + self.reset_noise_scale * length * noise
-            state.v[row] = start_v
             state.targets[row] = self.task.sample(rng)
+            x, v, yaw = spread_start(start, start_v, self.body, self.start_spread, rng)
+            state.x[row] = x + self.reset_noise_scale * length * noise
+            state.v[row] = v
+            state.start_yaw[row] = yaw
         state.u_prev[rows] = 0.0
         state.u_prev2[rows] = 0.0
         state.steps[rows] = 0
@@ -165,7 +175,8 @@ class BodyBatch:
                      targets=state.targets, length=self.body.length, position=com,
                      x=state.x, v=state.v, splash=state.splash, memory=state.memory,
                      ball=state.ball, touch=state.touch,
-                     surface_z=self.system.water.surface_z, body=self.body, dt=self.dt)
+                     surface_z=self.system.water.surface_z, body=self.body, dt=self.dt,
+                     start_yaw=state.start_yaw)
 
     def measure(self, last: np.ndarray | None = None, commit: bool = False
                 ) -> tuple[dict[str, np.ndarray], Kinematics]:

@@ -40,8 +40,13 @@ and the task's metrics (swim:
 ``heading_error_deg``; reach: ``distance_bl``).
 
 ## Starting State
-The rest shape at the origin heading +x, each node coordinate moved by uniform noise of
-``reset_noise_scale`` body lengths; at rest; muscles relaxed. Reach goals are drawn per episode.
+The rest shape at the origin heading +x, spread by the task's start distribution
+(:mod:`animat.envs.tasks.start`; the fish's tasks: any heading, bent sideways by up to 20 deg,
+gliding forward at up to 0.5 BL/s, drifting up to 0.2 BL/s sideways and yawing up to 30 deg/s,
+moved up to 1 BL), then each node coordinate moved by uniform noise of ``reset_noise_scale``
+body lengths; muscles relaxed. The tasks measure from the start heading. Reach goals are drawn
+per episode. ``start_spread="point"`` starts every episode from the rest shape at rest (as
+before the spread existed).
 
 ## Episode End
 No termination; truncation after ``duration`` simulated seconds.
@@ -59,6 +64,7 @@ No termination; truncation after ``duration`` simulated seconds.
 | ``fins`` | bool | False | the pectoral fin angles in the action space |
 | ``sensors`` | list | proprioception | :mod:`animat.envs.core.sensors`; several give a Dict space |
 | ``reset_noise_scale`` | float, BL | 0.005 | uniform noise on each start node coordinate |
+| ``start_spread`` | dict, str | the task's | the start distribution's fields, or ``"point"`` |
 | ``reward_weights`` | dict | see text | ``mu1`` 1e-4, ``mu2`` 1, ``nu1`` 1, ``nu2`` 0.01 |
 | ``render_mode`` | str, None | None | ``"rgb_array"`` |
 | task arguments | | | see below |
@@ -130,10 +136,12 @@ class BodyEnv(PublicSurface, gym.Env):
                  fins: bool = False, sensors: list | None = None,
                  reset_noise_scale: float = 0.005,
                  reward_weights: RewardWeights | dict | None = None,
-                 base_water: dict | None = None, **task_kwargs: Any) -> None:
+                 base_water: dict | None = None, start_spread: dict | str | None = None,
+                 **task_kwargs: Any) -> None:
         check_render_mode(render_mode)
         self.core = make_core(1, task, task_kwargs, body, duration, physics_dt, frame_skip,
-                              reset_noise_scale, reward_weights, water, fins, base_water)
+                              reset_noise_scale, reward_weights, water, fins, base_water,
+                              start_spread)
         self.observer = Observer(self.core, sensors)
         self.action_space = action_space_of(self.core)
         self.observation_space = self.observer.single_space
@@ -214,7 +222,8 @@ class BodyVectorEnv(PublicSurface, VectorEnv):
                  reset_noise_scale: float = 0.005,
                  reward_weights: RewardWeights | dict | None = None,
                  autoreset_mode: str | AutoresetMode = AutoresetMode.NEXT_STEP,
-                 base_water: dict | None = None, **task_kwargs: Any) -> None:
+                 base_water: dict | None = None, start_spread: dict | str | None = None,
+                 **task_kwargs: Any) -> None:
         mode = parse_autoreset_mode(autoreset_mode)
         self.autoreset_mode = mode
         self.metadata = {**self.metadata, "autoreset_mode": mode}
@@ -222,7 +231,7 @@ class BodyVectorEnv(PublicSurface, VectorEnv):
         self.num_envs = check_integer("num_envs", num_envs, 1, MAX_NUM_ENVS)
         self.core = make_core(self.num_envs, task, task_kwargs, body, duration, physics_dt,
                               frame_skip, reset_noise_scale, reward_weights, water, fins,
-                              base_water)
+                              base_water, start_spread)
         self.observer = Observer(self.core, sensors)
         self.single_action_space = action_space_of(self.core)
         self.single_observation_space = self.observer.single_space

@@ -35,9 +35,11 @@ def merged_water(water: dict | None, base_water: dict | None) -> dict | None:
 def make_core(num_envs: int, task: str, task_kwargs: dict, body: str | BodySpec | None,
               duration: float | None, physics_dt: float, frame_skip: int,
               reset_noise_scale: float, reward_weights: RewardWeights | dict | None,
-              water: dict | None, fins: bool, base_water: dict | None = None) -> BodyBatch:
+              water: dict | None, fins: bool, base_water: dict | None = None,
+              start_spread: dict | str | None = None) -> BodyBatch:
     """The batch of an env's arguments: ``water`` changes fields of ``base_water``; the task
-    by name with ``task_kwargs``; ``duration`` None is the task's."""
+    by name with ``task_kwargs``; ``duration`` None is the task's; ``start_spread`` over the
+    task's own."""
     water = merged_water(water, base_water)
     task_object = make_task(task, **task_kwargs)
     weights = RewardWeights.from_value(reward_weights)
@@ -45,7 +47,7 @@ def make_core(num_envs: int, task: str, task_kwargs: dict, body: str | BodySpec 
                      physics_dt=physics_dt, frame_skip=frame_skip,
                      reset_noise_scale=reset_noise_scale,
                      duration=task_object.default_duration if duration is None else duration,
-                     weights=weights, fins=fins)
+                     weights=weights, fins=fins, start_spread=start_spread)
 
 
 class PublicSurface:

@@ -31,6 +31,8 @@ class BodyState:
         memory: (B, M) what the task keeps over an episode (``Task.memory_size``).
         ball: (B, 6) the beach ball's position (m) and velocity (m/s), if the task has one.
         touch: (B, 3) the ball's contact impulse with each body part this episode, N s.
+        start_yaw: (B,) the yaw of each episode's start heading, rad
+            (:func:`animat.envs.tasks.start.spread_start`).
     """
 
     x: np.ndarray
@@ -45,6 +47,7 @@ class BodyState:
     memory: np.ndarray
     ball: np.ndarray
     touch: np.ndarray
+    start_yaw: np.ndarray
 
     @classmethod
     def zeros(cls, num_envs: int, body: BodySpec, task: Task) -> BodyState:
@@ -54,7 +57,7 @@ class BodyState:
                    np.zeros(num_envs, dtype=np.int64), np.zeros((num_envs, 3)),
                    np.zeros((num_envs, task.target_size)), np.zeros(num_envs),
                    np.zeros((num_envs, task.memory_size)), np.zeros((num_envs, 6)),
-                   np.zeros((num_envs, 3)))
+                   np.zeros((num_envs, 3)), np.zeros(num_envs))
 
     def copy_arrays(self) -> dict[str, np.ndarray]:
         """A copy of every array, by name."""
@@ -63,8 +66,11 @@ class BodyState:
     def restore(self, saved: dict[str, np.ndarray]) -> None:
         """Continue from ``saved`` (:meth:`copy_arrays`'s dict); ValueError naming the first
         entry that does not fit this state (wrong name, dtype or shape; bodies not finite),
-        before anything is changed."""
+        before anything is changed. A state saved before start headings existed has no
+        ``start_yaw``: its episodes started heading +x (0)."""
         names = [f.name for f in fields(BodyState)]
+        if "start_yaw" not in saved:
+            saved = {**saved, "start_yaw": np.zeros_like(self.start_yaw)}
         if sorted(saved) != sorted(names):
             raise ValueError(f"a fish state has the entries {names}, got {sorted(saved)}")
         arrays = {}

@@ -16,9 +16,11 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
+
+from .start import POINT_START, StartSpread
 
 
 def heading_yaw(frames: np.ndarray) -> np.ndarray:
@@ -29,6 +31,20 @@ def heading_yaw(frames: np.ndarray) -> np.ndarray:
 def wrap_angle(angle: np.ndarray) -> np.ndarray:
     """Angles wrapped to [-pi, pi)."""
     return (angle + np.pi) % (2.0 * np.pi) - np.pi
+
+
+def start_heading(world: World) -> np.ndarray:
+    """(B, 3) the unit vector of each episode's start heading, horizontal (``World.start_yaw``)."""
+    yaw = world.start_yaw
+    return np.stack([np.cos(yaw), np.sin(yaw), np.zeros_like(yaw)], axis=1)
+
+
+def from_start_frame(vectors: np.ndarray, start_yaw: np.ndarray) -> np.ndarray:
+    """(B, 3) vectors given in each episode's start frame (x along its start heading, y to its
+    left, z up) in the world frame: turned by ``start_yaw`` (B,) rad about +z."""
+    c, s = np.cos(start_yaw), np.sin(start_yaw)
+    x, y = vectors[:, 0], vectors[:, 1]
+    return np.stack([x * c - y * s, x * s + y * c, vectors[:, 2]], axis=1)
 
 
 def world_to_body(vectors: np.ndarray, frames: np.ndarray) -> np.ndarray:
@@ -48,7 +64,9 @@ class World:
     centre of mass in the world frame, m; ``x``, ``v`` (B, N, 3) the nodes, m and m/s;
     ``splash`` (B,) the last env step's splash, kg m/s; ``memory`` (B, M) the task's episode
     memory; ``ball`` (B, 6) and ``touch`` (B, 3) (:class:`animat.envs.core.state.BodyState`);
-    ``surface_z`` m; ``body`` the ``BodySpec``; ``dt`` the env step, s.
+    ``surface_z`` m; ``body`` the ``BodySpec``; ``dt`` the env step, s; ``start_yaw`` (B,)
+    the yaw of each episode's start heading, rad (:mod:`animat.envs.tasks.start`: the tasks
+    measure headings, speeds and goals from it).
     """
 
     com: np.ndarray
@@ -66,6 +84,7 @@ class World:
     surface_z: float
     body: Any
     dt: float
+    start_yaw: np.ndarray
 
 
 Terms = tuple[np.ndarray, dict[str, np.ndarray], np.ndarray]
@@ -82,7 +101,8 @@ class Task:
     if ``obs_size`` > 0, :meth:`observe`. A task may keep ``memory_size`` numbers per episode
     (from :meth:`initial_memory`, updated by :meth:`terms`; the stunts,
     :mod:`animat.envs.tasks.stunts`), start the body elsewhere (:meth:`place`) and put a beach
-    ball in the world (``ball``, a :class:`animat.envs.physics.ball.BallParams`)."""
+    ball in the world (``ball``, a :class:`animat.envs.physics.ball.BallParams`). Its episodes
+    start from ``start_spread`` about the placement (:mod:`animat.envs.tasks.start`)."""
 
     name = "task"
     target_size = 0
@@ -91,6 +111,13 @@ class Task:
     default_duration = 10.0
     mean_metrics: tuple[str, ...] = ()
     ball = None
+    # the documented spread of its episodes' starts (:mod:`animat.envs.tasks.start`)
+    start_spread: ClassVar[StartSpread] = POINT_START
+
+    def check_start_spread(self, spread: StartSpread) -> None:
+        """A ValueError of one line if this task cannot start from ``spread`` (the default
+        takes any)."""
+        return None
 
     def place(self, body) -> np.ndarray:
         """(N, 3) the body's start (``body`` a ``BodySpec``), before the reset noise: the rest

@@ -26,10 +26,17 @@ from ..checks import check_number
 from ..motor.dolphin import dolphin_calibrated, dolphin_swim_mc, dolphin_turn_mc
 from ..physics.observe import momenta
 from .base import Task, Terms, World, heading_yaw, wrap_angle
-from .locomotion import SwimTask, TurnTask
+from .locomotion import SwimTask, TurnTask, yaw_rate
+from .start import StartSpread
 
 MAX_HEIGHT, MAX_DEPTH = 100.0, 1000.0  # m, a start above and under the surface
 MAX_START_SPEED = 20.0  # m/s
+# The dolphin's tasks in the pool: set in the pool's frame (the surface, the ball), so its
+# heading does not spread; its body bent up to 10 deg, pitched up to 5 deg, 0.1 BL deeper or
+# shallower, gliding at up to 0.2 BL/s on top of the task's start speed, drifting and yawing a
+# little.
+DOLPHIN_START = StartSpread(pitch_deg=5.0, bend_deg=10.0, speed_bl=0.2, drift_bl=0.05,
+                            yaw_rate_deg=10.0, depth_bl=0.1)
 
 
 def placed(body, depth: float, pitch_deg: float) -> np.ndarray:
@@ -52,11 +59,18 @@ class Underwater:
     """A dolphin task's start: ``start_depth`` m (negative: above the surface),
     ``start_pitch_deg`` and ``start_speed`` m/s, the velocity of every node along the pitched
     heading (0: at rest; a glide at speed, the start of a turn learned while swimming), the
-    task's dataclass fields."""
+    task's dataclass fields; spread about them by :data:`DOLPHIN_START`."""
 
     start_depth: float
     start_pitch_deg: float
     start_speed: float
+    start_spread = DOLPHIN_START
+
+    def check_start_spread(self, spread: StartSpread) -> None:
+        """The dolphin's tasks are set in the pool's frame: no heading spread."""
+        if spread.heading_deg:
+            raise ValueError(f"task {self.name!r} is set in the pool's frame: start_spread "
+                             f"heading_deg must be 0, got {spread.heading_deg:g}")
 
     def check_start(self) -> None:
         """``start_depth`` in [-100, 1000] m (negative: above the surface),
@@ -97,9 +111,10 @@ class DolphinForwardTask(Underwater, SwimTask):
 
 @dataclass
 class DolphinTurnTask(Underwater, TurnTask):
-    """Turn ``direction`` (up, down, left, right) by ``angle_deg``: E_v the squared error of
-    the pitch (up, down) or of the yaw (left, right), rad^2; observation: its sine and
-    cosine (the fish's turn task, in both planes)."""
+    """Turn ``direction`` (up, down, left, right) by ``angle_deg``: E_v of the error of the
+    pitch (up, down) or of the yaw (left, right) and of the pitch or yaw rate, as the fish's
+    (:meth:`TurnTask.objective`: by default the squared error, rad^2); observation: the
+    error's sine and cosine (the fish's turn task, in both planes)."""
 
     angle_deg: float = 45.0
     direction: str = "up"
@@ -121,20 +136,22 @@ class DolphinTurnTask(Underwater, TurnTask):
         check_number("angle_deg", self.angle_deg, 0.0, limit, "deg", low_open=True,
                      note=f"for {self.direction} from start_pitch_deg {self.start_pitch_deg:g}")
 
-    def _error(self, frames: np.ndarray) -> np.ndarray:
-        """(B,) the pitch or yaw error, rad, from the frames (B, 3, 3)."""
+    def _error(self, world: World) -> np.ndarray:
+        """(B,) the pitch error, or the yaw error from the start heading, rad."""
         sign = 1.0 if self.direction in ("up", "left") else -1.0
         target = sign * np.radians(float(self.angle_deg))
         if self.direction in ("up", "down"):
-            return pitch_of(frames) - (np.radians(self.start_pitch_deg) + target)
-        return wrap_angle(heading_yaw(frames) - target)
+            return pitch_of(world.frames) - (np.radians(self.start_pitch_deg) + target)
+        return wrap_angle(heading_yaw(world.frames) - world.start_yaw - target)
 
     def terms(self, world: World, last: np.ndarray) -> Terms:
         frames = world.frames
-        error = self._error(frames)
-        return error**2, {"pitch_deg": np.degrees(pitch_of(frames)),
-                          "heading_deg": np.degrees(heading_yaw(frames)),
-                          "turn_error_deg": np.degrees(error)}, world.memory
+        error = self._error(world)
+        rate = pitch_rate(world) if self.direction in ("up", "down") else yaw_rate(world)
+        return self.objective(error, rate, last), {
+            "pitch_deg": np.degrees(pitch_of(frames)),
+            "heading_deg": np.degrees(wrap_angle(heading_yaw(frames) - world.start_yaw)),
+            "turn_error_deg": np.degrees(error)}, world.memory
 
     def final_metrics(self, last):
         """``final_turn_error_deg``: the absolute pitch or yaw error at the end."""

@@ -11,22 +11,35 @@ import numpy as np
 
 from ..checks import check_number, check_range
 from ..motor.fish import calibrated, swim_mc, turn_mc
-from .base import Task, Terms, World, heading_yaw, world_to_body, wrap_angle
+from ..physics.observe import momenta
+from .base import (
+    Task,
+    Terms,
+    World,
+    from_start_frame,
+    heading_yaw,
+    start_heading,
+    world_to_body,
+    wrap_angle,
+)
+from .start import FISH_START
 
 
 @dataclass
 class SwimTask(Task):
     """Swim forward. u is the swimming speed: the centre of mass's velocity along the start
-    heading (+x, where every episode starts facing), BL/s, so that its mean over an episode is
+    heading (``World.start_yaw``), BL/s, so that its mean over an episode is
     the net displacement along the start heading per second: a fish that veers or circles
     scores only what it makes good (the paper's E_v, "deviation from desired speed", holds as
     is). Without ``target_speed`` E_v = -u
     (faster is better); with it (in [0, 10] BL/s) E_v = (u - target_speed)^2. Metrics:
     ``speed_bl_per_s`` (u), ``distance_bl`` (net horizontal distance from the start, BL),
-    ``heading_deg``."""
+    ``heading_deg`` (from the start heading). Starts: :data:`~animat.envs.tasks.start.FISH_START`
+    (as the turn and the reach)."""
 
     target_speed: float | None = None
     name = "swim"
+    start_spread = FISH_START
     default_duration = 10.0
     mean_metrics = ("speed_bl_per_s",)
 
@@ -43,8 +56,8 @@ class SwimTask(Task):
 
     def terms(self, world: World, last: np.ndarray) -> Terms:
         com, length = world.com, world.length
-        yaw = heading_yaw(world.frames)
-        speed = world.com_vel[:, 0] / length
+        yaw = wrap_angle(heading_yaw(world.frames) - world.start_yaw)
+        speed = np.einsum("bk,bk->b", world.com_vel, start_heading(world)) / length
         if self.target_speed is None:
             e_v = -speed
         else:
@@ -58,14 +71,34 @@ class SwimTask(Task):
         return lambda t: swim_mc(speed, t, swim)
 
 
+def yaw_rate(world: World) -> np.ndarray:
+    """(B,) the body's yaw rate, rad/s (positive: to the left): its angular momentum about
+    the vertical through its centre of mass over its moment of inertia about that line."""
+    masses = world.body.masses
+    _, momentum = momenta(world.x, world.v, masses, world.position)
+    r = world.x[:, :, :2] - world.position[:, None, :2]
+    return momentum[:, 2] / np.einsum("n,bnk->b", masses, r * r)
+
+
 @dataclass
 class TurnTask(Task):
-    """Turn by ``angle_deg`` (in (0, 180]) to the left (``direction="left"``) or right. E_v is
-    the squared heading error (rad^2); observation: sin and cos of the heading error."""
+    """Turn by ``angle_deg`` (in (0, 180]) from the start heading to the left
+    (``direction="left"``) or right. E_v = ``path_weight`` e^2 + ``final_weight`` (e^2 +
+    (``settle_s`` w)^2) on the episode's last step, e the heading error (rad) and w the yaw
+    rate (rad/s, :func:`yaw_rate`): by default (1, 0) the squared error all along (the paper's
+    integral); a final weight scores where the turn ends and that it has settled there (not
+    still swinging: ``settle_s`` seconds of the yaw rate weigh as much as the error they would
+    turn). Observation: sin and cos of the heading error; ``heading_deg`` is from the start
+    heading; ``final_yaw_rate_deg_s`` the yaw rate at the end. Ranges: ``path_weight`` and
+    ``final_weight`` in [0, 1000], ``settle_s`` in [0, 10] s."""
 
     angle_deg: float = 90.0
     direction: str = "left"
+    path_weight: float = 1.0
+    final_weight: float = 0.0
+    settle_s: float = 0.5
     name = "turn"
+    start_spread = FISH_START
     obs_size = 2
     default_duration = 5.0
 
@@ -73,29 +106,44 @@ class TurnTask(Task):
         if self.direction not in ("left", "right"):
             raise ValueError(f"direction must be 'left' or 'right', got {self.direction!r}")
         check_number("angle_deg", self.angle_deg, 0.0, 180.0, "deg", low_open=True)
+        check_number("path_weight", self.path_weight, 0.0, 1000.0)
+        check_number("final_weight", self.final_weight, 0.0, 1000.0)
+        check_number("settle_s", self.settle_s, 0.0, 10.0, "s")
 
     @property
     def target_yaw(self) -> float:
         sign = 1.0 if self.direction == "left" else -1.0
         return sign * np.radians(float(self.angle_deg))
 
-    def _error(self, frames: np.ndarray) -> np.ndarray:
-        """(B,) the heading error, rad, from the frames (B, 3, 3)."""
-        return wrap_angle(heading_yaw(frames) - self.target_yaw)
+    def _error(self, world: World) -> np.ndarray:
+        """(B,) the heading error, rad: the heading from the start heading less the target."""
+        return wrap_angle(heading_yaw(world.frames) - world.start_yaw - self.target_yaw)
 
     def observe(self, world: World) -> np.ndarray:
         """(B, 2) sine and cosine of the heading error."""
-        error = self._error(world.frames)
+        error = self._error(world)
         return np.stack([np.sin(error), np.cos(error)], axis=1)
 
     def terms(self, world: World, last: np.ndarray) -> Terms:
-        error = self._error(world.frames)
-        return error**2, {"heading_deg": np.degrees(heading_yaw(world.frames)),
-                          "heading_error_deg": np.degrees(error)}, world.memory
+        error = self._error(world)
+        heading = wrap_angle(heading_yaw(world.frames) - world.start_yaw)
+        rate = yaw_rate(world)
+        return self.objective(error, rate, last), {
+            "heading_deg": np.degrees(heading), "heading_error_deg": np.degrees(error),
+            "yaw_rate_deg_s": np.degrees(rate)}, world.memory
+
+    def objective(self, error: np.ndarray, rate: np.ndarray, last: np.ndarray) -> np.ndarray:
+        """(B,) E_v of the error (B,) rad and the turn's rate (B,) rad/s (the class
+        docstring)."""
+        settled = error**2 + (float(self.settle_s) * rate) ** 2
+        return float(self.path_weight) * error**2 + np.where(
+            last, float(self.final_weight) * settled, 0.0)
 
     def final_metrics(self, last):
-        """``final_heading_error_deg``: the absolute heading error at the end."""
-        return {"final_heading_error_deg": np.abs(last["heading_error_deg"])}
+        """``final_heading_error_deg``: the absolute heading error at the end;
+        ``final_yaw_rate_deg_s``: the absolute yaw rate there."""
+        return {"final_heading_error_deg": np.abs(last["heading_error_deg"]),
+                "final_yaw_rate_deg_s": np.abs(last["yaw_rate_deg_s"])}
 
     def hand_controller(self, speed: float = 1.0, model: str = "reactive"):
         """The turn-MC for this angle and direction, calibrated for ``model`` (``speed`` is not
@@ -108,16 +156,17 @@ class TurnTask(Task):
 @dataclass
 class ReachTask(Task):
     """Reach a goal point. Each episode's goal lies ``distance_bl`` body lengths from the start,
-    at a bearing drawn uniformly from ``bearing_deg`` (0: straight ahead, 180: behind, positive:
-    left), at the start depth. E_v = distance to the goal (BL) at every step, plus
-    ``final_weight`` times the distance on the episode's last step. Observation: the goal in
-    the body frame, BL. Ranges: ``distance_bl`` within [0, 1000] BL, ``bearing_deg`` within
-    [-360, 360] deg (each low <= high), ``final_weight`` in [0, 1000]."""
+    at a bearing from the start heading drawn uniformly from ``bearing_deg`` (0: straight ahead,
+    180: behind, positive: left), at the start depth. E_v = distance to the goal (BL) at every
+    step, plus ``final_weight`` times the distance on the episode's last step. Observation: the
+    goal in the body frame, BL. Ranges: ``distance_bl`` within [0, 1000] BL, ``bearing_deg``
+    within [-360, 360] deg (each low <= high), ``final_weight`` in [0, 1000]."""
 
     distance_bl: tuple[float, float] = (2.0, 4.0)
     bearing_deg: tuple[float, float] = (-180.0, 180.0)
     final_weight: float = 20.0
     name = "reach"
+    start_spread = FISH_START
     target_size = 3
     obs_size = 3
     default_duration = 20.0
@@ -128,18 +177,21 @@ class ReachTask(Task):
         check_number("final_weight", self.final_weight, 0.0, 1000.0)
 
     def sample(self, rng):
+        """(3,) the goal in the start frame (x along the start heading), BL."""
         distance = rng.uniform(*self.distance_bl)
         bearing = np.radians(rng.uniform(*self.bearing_deg))
         return np.array([distance * np.cos(bearing), distance * np.sin(bearing), 0.0])
 
     def observe(self, world: World) -> np.ndarray:
         """(B, 3) the goal relative to the centre of mass in the body frame, BL."""
-        length = world.length
-        return world_to_body(world.targets * length - world.com, world.frames) / length
+        return world_to_body(self._to_goal(world), world.frames) / world.length
+
+    def _to_goal(self, world: World) -> np.ndarray:
+        """(B, 3) from the centre of mass to the goal, world frame, m."""
+        return from_start_frame(world.targets, world.start_yaw) * world.length - world.com
 
     def terms(self, world: World, last: np.ndarray) -> Terms:
-        length = world.length
-        distance = np.linalg.norm(world.targets * length - world.com, axis=1) / length
+        distance = np.linalg.norm(self._to_goal(world), axis=1) / world.length
         e_v = distance + np.where(last, float(self.final_weight) * distance, 0.0)
         return e_v, {"distance_bl": distance}, world.memory
 

@@ -41,7 +41,7 @@ class MarineWorld:
         self.habits = params.habits
         f = len(self.habits)
         self.core = BodyBatch(f, SwimTask(), duration=params.duration, fins=True,
-                              water=params.water)
+                              water=params.water, start_spread="point")  # placed by the world
         self.dt, self.length = self.core.dt, self.core.body.length
         self.navigator = Navigator(f, navigation_for(self.core.system.water))
         self.intentions = IntentionGenerator(f, params.intention)

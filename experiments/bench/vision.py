@@ -45,7 +45,8 @@ def main(argv: list[str] | None = None) -> None:
     moves = env.navigator.actions(np.array([[0.6, 0.0, 0.0]] * 3), 0.0).astype(np.float64)
     scene, retina = paper_scene(), RetinaParams()
     state = {"obs": obs}
-    fish = BodyBatch(3, make_task("swim"), duration=10_000.0, fins=True)  # as the pursuit's
+    fish = BodyBatch(3, make_task("swim"), duration=10_000.0, fins=True,
+                     start_spread="point")  # as the pursuit's
     fish.reset_rows(np.arange(3), [np.random.default_rng(seed) for seed in range(3)])
 
     def physics() -> None:

@@ -283,35 +283,45 @@ def load_config(path: str | Path, overrides: list[str] | None = None, build: boo
     return config
 
 
-# The water a run folder made before the reactive water became the default ran in: its
-# config.yaml names no water model (every folder made since names its own, record_water).
+# What a run folder made before run folders recorded it ran in: its config.yaml names no water
+# model (the reactive water became the default later) and no start spread (each episode then
+# started from the task's placement, the point start). Every folder made since names its own
+# (record_env).
 WATER_BEFORE_RECORDS = "resistive"
+START_BEFORE_RECORDS = "point"
 
 
-def record_water(config: ExperimentConfig, model: str | None = None) -> ExperimentConfig:
-    """``config`` with its env's water model written out in ``env.kwargs.water.model``: the
-    model it names, else ``model``, else the one its env would take
-    (:func:`animat.envs.registration.water_of`), so that a run folder's config says which
-    water it ran in whatever the default becomes. An env without a ``water`` argument (an id
-    not of this project) is left alone."""
-    from animat.envs.registration import ENVS, water_of
+def record_env(config: ExperimentConfig, before_records: bool = False) -> ExperimentConfig:
+    """``config`` with what its env ran in written out, so that a run folder's config says it
+    whatever the defaults become: ``env.kwargs.water.model`` (the model it names, else the one
+    its env would take, :func:`animat.envs.registration.water_of`) and, for an env of the core,
+    ``env.kwargs.start_spread`` (its fields, :func:`animat.envs.registration.start_spread_of`).
+    ``before_records``: a config of a folder made before the records, which ran in
+    :data:`WATER_BEFORE_RECORDS` from :data:`START_BEFORE_RECORDS` where it names neither. An
+    env not of this project is left alone."""
+    from animat.envs.registration import ENVS, start_spread_of, water_of
 
-    kwargs = config.env.kwargs
-    water = kwargs.get("water")
-    if config.env.id not in ENVS or (isinstance(water, dict) and "model" in water):
+    kwargs = dict(config.env.kwargs)
+    if config.env.id not in ENVS:
         return config
-    model = model or water_of(config.env.id, kwargs).model
-    water = {**(water if isinstance(water, dict) else {}), "model": model}
-    return config.model_copy(update={"env": config.env.model_copy(
-        update={"kwargs": {**kwargs, "water": water}})})
+    water = kwargs.get("water")
+    if not (isinstance(water, dict) and "model" in water):
+        model = WATER_BEFORE_RECORDS if before_records else water_of(config.env.id, kwargs).model
+        kwargs["water"] = {**(water if isinstance(water, dict) else {}), "model": model}
+    before = {"start_spread": START_BEFORE_RECORDS} if before_records else {}
+    spread = start_spread_of(config.env.id, {**before, **kwargs})
+    if spread is not None:
+        kwargs["start_spread"] = spread.as_dict()
+    return config.model_copy(update={"env": config.env.model_copy(update={"kwargs": kwargs})})
 
 
 def load_run_config(folder: str | Path, build: bool = False) -> ExperimentConfig:
-    """A run folder's ``config.yaml`` with the water it ran in: a folder made before run
-    folders recorded it names none and ran in the resistive water (:data:`WATER_BEFORE_RECORDS`),
-    where its learner learned; with ``build``, checked as :func:`load_config` checks it."""
+    """A run folder's ``config.yaml`` with the water and the start it ran in: a folder made
+    before run folders recorded them names neither and ran in the resistive water from the
+    point start (:func:`record_env`), where its learner learned; with ``build``, checked as
+    :func:`load_config` checks it."""
     path = Path(folder) / "config.yaml"
-    config = record_water(load_config(path, build=False), WATER_BEFORE_RECORDS)
+    config = record_env(load_config(path, build=False), before_records=True)
     if build:
         check_buildable(config, str(path), learner_params(Path(folder), config))
     return config

@@ -28,7 +28,7 @@ from pathlib import Path
 from animat.learners.base import LearnResult
 from animat.learners.storage.files import TMP_SUFFIX, atomic_write, read_json
 
-from .config import ExperimentConfig, record_water, to_yaml
+from .config import ExperimentConfig, record_env, to_yaml
 from .lock import LOCK_NAME, UNWRITABLE, RunError, lock_held, run_lock
 from .machine import versions
 
@@ -119,7 +119,7 @@ RUN_FILES = ("config.yaml", "command.txt", "versions.json", "result.json")
 
 def _write_new_run(folder: Path, config: ExperimentConfig, command: list[str]) -> None:
     """A new run folder's files, each written atomically, ``result.json`` ("pending") last."""
-    atomic_write(folder / "config.yaml", lambda file: file.write(to_yaml(record_water(config))))
+    atomic_write(folder / "config.yaml", lambda file: file.write(to_yaml(record_env(config))))
     atomic_write(folder / "command.txt", lambda file: file.write(shlex.join(command) + "\n"))
     write_json(folder / "versions.json", versions())
     write_json(folder / "result.json", make_status("pending", folder))

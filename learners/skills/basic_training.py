@@ -23,23 +23,25 @@ from ..logger import Logger
 from ..validation import typed_params
 from .repertoire import Repertoire, Skill
 
-# The fish's and the dolphin's regimens, in the paper's (resistive) water that the shipped
-# repertoires (repertoires/fish.json, dolphin.json) were learned in; the motor-learning issue
-# re-learns them in the default (reactive) water.
+# The fish's and the dolphin's regimens, in the paper's (resistive) water and from the point
+# start (each episode from the task's placement) that the shipped repertoires
+# (repertoires/fish.json, dolphin.json) were learned in; the motor-learning issue re-learns
+# them in the default (reactive) water from the tasks' start spreads.
 _PAPER_WATER = {"model": "resistive"}
+_PAPER = {"water": _PAPER_WATER, "start_spread": "point"}
 FISH_REGIMEN = [
     {"name": "swim_slow", "env_id": "Animat/FishSwim-v0",
-     "env_kwargs": {"duration": 4.0, "target_speed": 0.4, "water": _PAPER_WATER},
+     "env_kwargs": {"duration": 4.0, "target_speed": 0.4, **_PAPER},
      "params": {"period": 1.0}},
     {"name": "swim_fast", "env_id": "Animat/FishSwim-v0",
-     "env_kwargs": {"duration": 4.0, "water": _PAPER_WATER}, "params": {"period": 1.0}},
+     "env_kwargs": {"duration": 4.0, **_PAPER}, "params": {"period": 1.0}},
     {"name": "turn_left_90", "env_id": "Animat/FishTurn-v0",
      "env_kwargs": {"duration": 4.0, "angle_deg": 90.0, "direction": "left",
-                    "water": _PAPER_WATER},
+                    **_PAPER},
      "params": {"period": None, "nodes": 11}},
     {"name": "turn_right_90", "env_id": "Animat/FishTurn-v0",
      "env_kwargs": {"duration": 4.0, "angle_deg": 90.0, "direction": "right",
-                    "water": _PAPER_WATER},
+                    **_PAPER},
      "params": {"period": None, "nodes": 11}},
 ]  # turns get 4 s: the hand turn-MC needs 2.8 s for 90 deg in this water
 
@@ -56,16 +58,16 @@ FISH_REGIMEN = [
 _DOLPHIN_TURN = {"period": None, "nodes": 11}
 DOLPHIN_REGIMEN = [
     {"name": "move_forward", "env_id": "Animat/DolphinForward-v0",
-     "env_kwargs": {"duration": 4.0, "water": _PAPER_WATER},
+     "env_kwargs": {"duration": 4.0, **_PAPER},
      "params": {"period": 0.2, "nodes": 6}},
     *({"name": f"turn_{direction}", "env_id": "Animat/DolphinTurn-v0",
        "env_kwargs": {"duration": 4.0, "direction": direction, "angle_deg": angle,
-                      "water": _PAPER_WATER},
+                      **_PAPER},
        "params": _DOLPHIN_TURN}
       for direction, angle in (("down", 45.0), ("up", 45.0), ("left", 90.0), ("right", 90.0))),
     *({"name": f"arc_{direction}", "env_id": "Animat/DolphinArc-v0",
        "env_kwargs": {"duration": 4.0, "direction": direction, "radius_bl": 2.0,
-                      "water": _PAPER_WATER},
+                      **_PAPER},
        "params": {"period": 0.2, "nodes": 6}} for direction in ("down", "up")),
 ]
 REGIMENS = {"fish": FISH_REGIMEN, "dolphin": DOLPHIN_REGIMEN}

@@ -7,6 +7,7 @@ import shutil
 import numpy as np
 import pytest
 
+from animat.envs.tasks.start import FISH_START, POINT_START
 from animat.experiments.evaluate import evaluate, load
 from animat.experiments.launch.lock import RunError
 from animat.learners.agents import OpenLoopAgent, PolicyAgent, SkillSet
@@ -42,9 +43,10 @@ def test_a_loaded_run_scores_what_the_run_reported(tmp_path, label):
     agent = load(folder)
     assert isinstance(agent, OpenLoopAgent if label != "ppo" else PolicyAgent)
     assert agent.env_id == SWIM["id"]
-    assert agent.env_kwargs == {**SWIM["kwargs"], "water": {"model": "reactive"}}  # recorded
+    assert agent.env_kwargs == {**SWIM["kwargs"], "water": {"model": "reactive"},  # recorded
+                                "start_spread": FISH_START.as_dict()}
     reported = json.loads((folder / "result.json").read_text())["metrics"]
-    result = evaluate(folder)  # the run's own 4 start states
+    result = evaluate(folder, seeds=[0, 1, 2, 3])  # the run's own 4 start states
     assert result["seeds"] == [0, 1, 2, 3]
     for key in ("eval/return", "eval/speed_bl_per_s"):
         assert result["metrics"][key] == pytest.approx(reported[key], rel=1e-6, abs=1e-9), key
@@ -56,25 +58,28 @@ def test_a_loaded_run_scores_what_the_run_reported(tmp_path, label):
 
 def test_a_run_folder_records_its_water_and_one_from_before_the_records_plays_resistive(
         tmp_path):
-    """A new run's config.yaml names the water model it ran in, so that it re-scores in it
-    whatever the default becomes; a folder made before folders recorded it (its config names
-    no model) ran in the resistive water, the default then, and loads, resumes and re-scores
-    there."""
+    """A new run's config.yaml names the water model it ran in and its start spread, so that
+    it re-scores in them whatever the defaults become; a folder made before folders recorded
+    them (its config names neither) ran in the resistive water from the point start, the
+    defaults then, and loads, resumes and re-scores there."""
     import yaml
 
     folder = _run(tmp_path, "handmc")
     config = yaml.safe_load((folder / "config.yaml").read_text())
     assert config["env"]["kwargs"]["water"] == {"model": "reactive"}
+    assert config["env"]["kwargs"]["start_spread"] == FISH_START.as_dict()
     reported = json.loads((folder / "result.json").read_text())["metrics"]["eval/return"]
     del config["env"]["kwargs"]["water"]  # as a folder of an earlier version has it
+    del config["env"]["kwargs"]["start_spread"]
     (folder / "config.yaml").write_text(yaml.safe_dump(config))
     agent = load(folder)
     assert agent.env_kwargs["water"] == {"model": "resistive"}
-    resistive = evaluate(folder)["metrics"]["eval/return"]
+    assert agent.env_kwargs["start_spread"] == POINT_START.as_dict()
+    resistive = evaluate(folder, seeds=[0, 1, 2, 3])["metrics"]["eval/return"]
     assert resistive != pytest.approx(reported, rel=1e-3)  # played in the other water
     old = _run(tmp_path, "handmc-paper", env={**SWIM, "kwargs": {
-        **SWIM["kwargs"], "water": {"model": "resistive"}}}, learner="handmc", params={},
-        budget=40)
+        **SWIM["kwargs"], "water": {"model": "resistive"}, "start_spread": "point"}},
+        learner="handmc", params={}, budget=40)
     assert json.loads((old / "result.json").read_text())["metrics"]["eval/return"] == (
         pytest.approx(resistive, rel=1e-9))
 
@@ -88,7 +93,8 @@ def test_macro_and_active_vision_runs_load_and_act(tmp_path):
         budget=800)
     repertoire.write_text("overwritten by a later basic training")  # the run kept its copy
     reported = json.loads((macro / "result.json").read_text())["metrics"]
-    assert evaluate(macro)["metrics"]["eval/return"] == pytest.approx(reported["eval/return"])
+    assert evaluate(macro, seeds=[0, 1, 2, 3])["metrics"]["eval/return"] == pytest.approx(
+        reported["eval/return"])
     status = json.loads((macro / "result.json").read_text())  # as if it had been killed
     (macro / "result.json").write_text(json.dumps({**status, "status": "failed"}))
     animat("run", "--resume", macro, "--quiet")  # from its own copy of the repertoire
@@ -101,10 +107,22 @@ def test_macro_and_active_vision_runs_load_and_act(tmp_path):
     with pytest.raises(RunError, match="does not take physics_dt and frame_skip"):
         evaluate(vision, refine=2)
     reported = json.loads((vision / "result.json").read_text())["metrics"]
-    result = evaluate(vision)  # as many start states as the run scored: its 2 episodes
+    result = evaluate(vision, seeds=[0, 1])  # the 2 episodes the run scored
     assert result["seeds"] == [0, 1]
     assert result["metrics"]["eval/fovea_fraction"] == pytest.approx(
         reported["eval/fovea_fraction"])
+
+
+def test_eval_plays_start_states_the_run_never_saw_by_default(tmp_path):
+    """By default ``animat eval`` scores a run on as many start states as it learned from,
+    but drawn from seeds it never used (1,000,000 + its seed on), which differ."""
+    folder = _run(tmp_path, "handmc")
+    result = evaluate(folder)
+    assert result["seeds"] == [1_000_000, 1_000_001, 1_000_002, 1_000_003]
+    speeds = [row["speed_bl_per_s"] for row in result["episodes"]]
+    assert np.ptp(speeds) > 0.01  # the starts differ: so do the figures
+    own = evaluate(folder, seeds=[0, 1, 2, 3])["metrics"]["eval/speed_bl_per_s"]
+    assert result["metrics"]["eval/speed_bl_per_s"] != own
 
 
 def test_eval_prints_the_metric_and_films_every_episode(tmp_path):

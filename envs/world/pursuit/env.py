@@ -108,7 +108,8 @@ class FishPursuitEnv(gym.Env):
             raise ValueError(f"render_mode must be None, 'rgb_array' or 'retina', got "
                              f"{render_mode!r}")
         self.render_mode = render_mode
-        self.core = BodyBatch(3, SwimTask(), duration=duration, fins=True, water=water)
+        self.core = BodyBatch(3, SwimTask(), duration=duration, fins=True, water=water,
+                              start_spread="point")  # placed by the pursuit
         self.dt, self.body_length = self.core.dt, self.core.body.length
         self.start_distance_bl = check_range("start_distance_bl", start_distance_bl, 1.0,
                                              MAX_DISTANCE_BL, "BL")

@@ -26,6 +26,7 @@ STEP, SKIP = DOLPHIN_KWARGS["physics_dt"], DOLPHIN_KWARGS["frame_skip"]
 
 def _core(task, num_envs=1, physics_dt=STEP, frame_skip=SKIP, water=None, noise=0.0):
     core = BodyBatch(num_envs, task, body=BODY, water=water or WATER, physics_dt=physics_dt,
+                     start_spread="point",
                      frame_skip=frame_skip, duration=120.0, reset_noise_scale=noise)
     core.reset_rows(np.arange(num_envs), [np.random.default_rng(k) for k in range(num_envs)])
     return core

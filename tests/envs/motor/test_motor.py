@@ -20,7 +20,8 @@ waters = pytest.mark.parametrize("model", WATER_MODELS)
 
 
 def _env(task: str, model: str, **kwargs) -> BodyEnv:
-    return BodyEnv(task, water={"model": model}, **kwargs)
+    """The task's env from rest (the point start): the MCs' calibration."""
+    return BodyEnv(task, water={"model": model}, start_spread="point", **kwargs)
 
 
 def _run(env, actuation, seconds, fins=None):

@@ -105,7 +105,7 @@ def test_a_somersault_is_one_flights_turn_not_the_sum_of_several_leaps():
         world = World(com=position, com_vel=np.zeros((1, 3)), frames=frames, targets=None,
                       length=2.5, position=position, x=None, v=None, splash=np.zeros(1),
                       memory=memory, ball=None, touch=None, surface_z=0.0, body=body,
-                      dt=0.05)
+                      dt=0.05, start_yaw=np.zeros(1))
         _, metrics, memory = task.terms(world, np.zeros(1, bool))
     assert metrics["rotation_deg"][0] == pytest.approx(216.0, rel=1e-6)
     assert metrics["flight_rotation_deg"][0] == pytest.approx(108.0, rel=1e-6)
@@ -113,7 +113,7 @@ def test_a_somersault_is_one_flights_turn_not_the_sum_of_several_leaps():
 
 
 def test_the_ball_stays_on_its_support_until_touched_then_knows_the_nose_hit_it():
-    env = gym.make("Animat/DolphinNoseBall-v0", duration=10.0).unwrapped
+    env = gym.make("Animat/DolphinNoseBall-v0", duration=10.0, start_spread="point").unwrapped
     env.reset(seed=0)
     rest = env.core.ball.rest.copy()
     for _ in range(200):  # 10 s with the dolphin relaxed 3 m down
@@ -121,7 +121,7 @@ def test_the_ball_stays_on_its_support_until_touched_then_knows_the_nose_hit_it(
     assert np.abs(env.core.state.ball[0, :3] - rest).max() < 1e-3
     assert info["first_touch"] == -1 and info["ball_off"] == 0 and info["ball_hit"] == 0
     env = gym.make("Animat/DolphinNoseBall-v0", start_pitch_deg=80.0, ball_x=1.0, ball_y=0.0,
-                   ball_height=1.2).unwrapped
+                   ball_height=1.2, start_spread="point").unwrapped
     env.reset(seed=0)
     for k in range(env.episode_steps):
         _, _, _, _, info = env.step(_swim(k))
@@ -151,7 +151,8 @@ def test_turn_tasks_measure_pitch_and_yaw_and_the_hand_mcs_turn_the_right_way(mo
 
 
 def test_a_start_at_speed_glides_along_the_pitched_heading_and_bad_speeds_are_refused():
-    env = gym.make("Animat/DolphinArc-v0", start_speed=4.0, start_pitch_deg=30.0)
+    env = gym.make("Animat/DolphinArc-v0", start_speed=4.0, start_pitch_deg=30.0,
+                   start_spread="point")
     env.reset(seed=0)
     core = env.unwrapped.core
     heading = np.array([np.cos(np.radians(30.0)), 0.0, np.sin(np.radians(30.0))])
@@ -183,7 +184,8 @@ def test_the_arc_pays_the_speed_round_its_circle():
                         [2.0, 0.0, 0.0]])
         world = World(com=com, com_vel=vel, frames=frames, targets=None, length=length,
                       position=None, x=None, v=None, splash=None, memory=np.zeros((3, 0)),
-                      ball=None, touch=None, surface_z=0.0, body=None, dt=0.05)
+                      ball=None, touch=None, surface_z=0.0, body=None, dt=0.05,
+                      start_yaw=np.zeros(3))
         e_v, metrics, _ = task.terms(world, None)
         assert e_v[0] == pytest.approx(-2.0 / length), direction
         assert e_v[1] == pytest.approx(0.0, abs=1e-12), direction
@@ -212,7 +214,7 @@ def test_the_spin_pays_the_bodys_pitch_rate_whatever_it_moves_along():
                   length=2.5, position=np.array([[0.0, 0.0, -3.0]] * 2),
                   x=np.stack([x, x]) + [0.0, 0.0, -3.0], v=v,
                   splash=np.zeros(2), memory=np.zeros((2, 0)), ball=None, touch=None,
-                  surface_z=0.0, body=body, dt=0.05)
+                  surface_z=0.0, body=body, dt=0.05, start_yaw=np.zeros(2))
     for direction, sign in (("up", 1.0), ("down", -1.0)):
         e_v, metrics, _ = DolphinSpinTask(direction=direction).terms(world, None)
         assert e_v == pytest.approx([-sign * w, 0.0], abs=1e-12)

@@ -67,3 +67,30 @@ def test_the_world_is_built_by_keyword_and_frozen():
     with pytest.raises(dataclasses.FrozenInstanceError):
         world.length = 1.0
     assert world.length == core.body.length and world.memory is core.state.memory
+
+
+def test_a_turn_scores_its_path_by_default_and_its_end_and_settling_with_a_final_weight():
+    """E_v = path_weight e^2 + final_weight (e^2 + (settle_s w)^2) on the last step, w the yaw
+    rate of the body: a rigid rotation at w rad/s about the vertical reads w."""
+    from animat.envs.tasks.locomotion import TurnTask, yaw_rate
+
+    core = BodyBatch(2, TurnTask(angle_deg=90.0), start_spread="point", reset_noise_scale=0.0)
+    core.reset_rows(np.arange(2), [np.random.default_rng(k) for k in range(2)])
+    w = np.array([0.5, -1.0])  # rad/s, to the left and to the right
+    com = core.kinematics().com
+    arm = core.state.x - com[:, None]
+    core.state.v[:] = w[:, None, None] * np.stack(
+        [-arm[..., 1], arm[..., 0], np.zeros(arm.shape[:2])], axis=-1)
+    world = core.world(core.kinematics())
+    assert np.allclose(yaw_rate(world), w, rtol=1e-12)
+    error = np.radians(-90.0)
+    last = np.array([False, True])
+    e_v, metrics, _ = TurnTask(angle_deg=90.0).terms(world, last)
+    assert np.allclose(e_v, error**2)  # the paper's: the squared error, whatever the step
+    assert np.allclose(metrics["yaw_rate_deg_s"], np.degrees(w))
+    task = TurnTask(angle_deg=90.0, path_weight=0.0, final_weight=20.0, settle_s=0.5)
+    e_v, _, _ = task.terms(world, last)
+    assert e_v[0] == 0.0 and e_v[1] == pytest.approx(20.0 * (error**2 + (0.5 * w[1]) ** 2))
+    for bad in ({"final_weight": -1.0}, {"settle_s": 11.0}, {"path_weight": float("nan")}):
+        with pytest.raises(ValueError, match=next(iter(bad))):
+            TurnTask(**bad)
