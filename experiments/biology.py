@@ -24,6 +24,7 @@ score over the tasks' start spreads, :mod:`animat.envs.tasks.start`):
 from __future__ import annotations
 
 from collections.abc import Callable
+from typing import Any
 
 import gymnasium as gym
 import numpy as np
@@ -43,6 +44,8 @@ from ..envs.motor.fish import (
     turn_duration,
     wave_mc,
 )
+from ..envs.registration import water_of
+from ..envs.tasks.base import EpisodeSummary
 from ..envs.tasks.locomotion import SwimTask
 
 TAIL_TIPS = [21, 22]  # the trailing edge's nodes, the fish's and the dolphin's
@@ -62,6 +65,23 @@ def play(env: gym.Env, actuation: Callable, seconds: float, fins=None
         infos.append(env.step(action)[4])
         nodes.append(env.unwrapped.node_positions)
     return infos, np.array(nodes)
+
+
+def hand_mc_over_starts(env_id: str, env_kwargs: dict, seeds: list[int]
+                        ) -> dict[str, np.ndarray]:
+    """The task's hand-designed MC (calibrated for the env's water) played open loop from each
+    seeded start of the task's start spread (:mod:`animat.envs.tasks.start`), in one native
+    batch: the task's episode summary, each figure (len(seeds),)."""
+    env = gym.make_vec(env_id, num_envs=len(seeds), **env_kwargs)
+    env.reset(seed=list(seeds))
+    core: Any = env.unwrapped
+    controller = core.task.hand_controller(model=water_of(env_id, env_kwargs).model)
+    summary = EpisodeSummary(core.task, len(seeds))
+    for k in range(core.episode_steps):
+        action = to_action(controller((k + 1) * core.dt))
+        summary.update(env.step(np.tile(action, (len(seeds), 1)))[4])
+    env.close()
+    return summary.summary()
 
 
 def rear_wave_speed(nodes: np.ndarray, com: np.ndarray, hz: float, dt: float, body: BodySpec,

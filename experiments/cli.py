@@ -150,6 +150,9 @@ def cmd_eval(args) -> int:
     result = evaluate(args.run_dir, seeds, args.episodes, args.video, args.refine,
                       args.trust_pickles)
     print(report(result))
+    if result.get("shipped"):
+        print(result["shipped"])
+        return 0
     if result.get("not_written"):  # scored, but the folder would not take the file
         print(f"animat: error: not written: {result['not_written']}", file=sys.stderr)
         return 1

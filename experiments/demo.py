@@ -1,12 +1,13 @@
 """Swim demo: the hand-designed motor controllers drive the fish; prints what they achieve.
 
-``animat demo [--seconds 10] [--video DIR]`` (or ``python -m animat.experiments.demo``): for each
-water, the paper's resistive one (``Water(model="resistive")``) and the reactive one of Lighthill's
-theory (``model="reactive"``, the default), swims at full speed with the swim-MC and prints the
-biology figures of its cruise (tail-beat frequency f, peak-to-peak tail amplitude A, speed U along
-the start heading, Strouhal number fA/U, stride U/f), the fastest head-to-tail wave of a grid and
-the same wave reversed, a C-start, the turn-MCs, and the fin-MC (fin angles through the action
-space); the dolphin's fluke stroke and turn-MCs; with ``--video`` it records the swim to DIR.
+``animat demo [--seconds 10] [--video DIR]`` (or ``python -m animat.experiments.demo``): for
+each water, the paper's resistive one (``Water(model="resistive")``) and the reactive one of
+Lighthill's theory (``model="reactive"``, the default), swims at full speed with the swim-MC and
+prints the biology figures of its cruise (tail-beat frequency f, peak-to-peak tail amplitude A,
+speed U along the start heading, Strouhal number fA/U, stride U/f), the fastest head-to-tail
+wave of a grid and the same wave reversed, a C-start, the turn-MCs, the swim- and turn-MCs over
+32 starts of the fish's start spread, and the fin-MC (fin angles through the action space); the
+dolphin's fluke stroke and turn-MCs; with ``--video`` it records the swim to DIR.
 ``--model-sweep`` prints how the Strouhal number and stride respond to the force model and the
 swim-MC's gains. The figures' functions are in :mod:`animat.experiments.biology`.
 """
@@ -40,12 +41,14 @@ from .biology import (
     dolphin_turn,
     fish_cruise,
     gait_grid,
+    hand_mc_over_starts,
     play,
 )
 from .parser import demo_arguments
 
 MODELS = ("resistive", "reactive")  # each printed with its own hand controllers (calibrated)
 GRID_HZ, GRID_LAGS = [2.0, 3.0, 4.0], [0.0, 0.5, 1.0, 1.5, 2.0]  # Hz; rad per segment
+SPREAD_SEEDS = list(range(1000, 1032))  # starts of the fish's start spread
 
 PAPER = {"model": "resistive"}
 PAPER_GAINS = {"max_amplitude": PAPER_SWIM.max_amplitude}  # the paper's swim-MC's (1.0)
@@ -148,6 +151,7 @@ def water_figures(model: str, args: argparse.Namespace) -> None:
         print(f"{'left' if left else 'right'}-turn-MC, 90 deg: {at_end:.1f}"
               f" deg when it ends at {end:.1f} s, {headings.max():.1f} at most, "
               f"{headings[-1]:.1f} 3 s later")
+    spread_figures(water)
     for pitch in (1.0, -1.0):
         dive = BodyEnv("swim", duration=6.0, fins=True, water=water, start_spread="point")
         fin_infos, _ = play(dive, lambda t: swim_mc(1.0, t, swim), 6.0,
@@ -155,6 +159,24 @@ def water_figures(model: str, args: argparse.Namespace) -> None:
         z = np.array([i["com"][2] for i in fin_infos]) / length
         print(f"fin-MC pitch {pitch:+.0f} while swimming: depth change {z[-1] - z[0]:+.2f} BL "
               f"in 6 s, {(z[-1] - z[59]) / 3.0:+.3f} BL/s over the last 3 s")
+
+
+def spread_figures(water: dict) -> None:
+    """Print the swim-MC's speed and the 90 deg turn-MCs' final errors over the fish's start
+    spread (:data:`SPREAD_SEEDS`), and from the point start (the node noise only): what an
+    open-loop controller meets from starts that differ."""
+    for label, spread in (("the fish's start spread", None), ("the point start", "point")):
+        kwargs = {"water": water, "duration": 4.0, "start_spread": spread}
+        swim = hand_mc_over_starts("Animat/FishSwim-v0", kwargs, SPREAD_SEEDS)
+        speed = swim["speed_bl_per_s"]
+        print(f"over {len(SPREAD_SEEDS)} starts of {label} (seeds {SPREAD_SEEDS[0]}-"
+              f"{SPREAD_SEEDS[-1]}): swim-MC, 4 s, {speed.mean():.2f} +- {speed.std():.3f} BL/s "
+              f"({speed.min():.2f}-{speed.max():.2f})")
+        for direction in ("left", "right"):
+            error = hand_mc_over_starts("Animat/FishTurn-v0", {**kwargs, "direction": direction},
+                                        SPREAD_SEEDS)["final_heading_error_deg"]
+            print(f"  {direction}-turn-MC, 90 deg, at 4 s: {error.mean():.1f} deg from the "
+                  f"target on average (std {error.std():.1f}, at most {error.max():.1f})")
 
 
 def dolphin_figures(model: str) -> None:

@@ -39,6 +39,7 @@ from animat.learners.storage.files import read_json
 from .launch.config import learner_params, load_run_config
 from .launch.folders import read_status, write_json
 from .launch.lock import RunError
+from .launch.shipped import is_shipped_result
 
 
 def load(run_dir: str | Path, trust_pickles: bool = False):
@@ -132,11 +133,33 @@ def evaluate(run_dir: str | Path, seeds: list[int] | None = None, episodes: int 
         runs, metrics = episodes_run, spread([_figures(r) for r in episodes_run])
     result = {"seeds": seeds, "metric": config.eval.metric, "episodes": runs, "metrics": metrics,
               "physics_step_over": refine}
+    if is_shipped_result(folder):  # a quoted result: compared with what it quotes, not changed
+        result["shipped"] = shipped_comparison(folder / result_name(refine), result)
+        return result
     try:  # a read-only run folder (a shared one) is still scored; the CLI says what is missing
         write_json(folder / result_name(refine), result)
     except OSError as error:
         result["not_written"] = f"{folder / result_name(refine)}: {error.strerror}"
     return result
+
+
+def shipped_comparison(path: Path, result: dict) -> str:
+    """How ``result`` compares with the shipped scores in ``path`` (the same seeds' metrics, to
+    1e-9 relative): a line for ``animat eval`` to print."""
+    if not path.is_file():
+        return f"a shipped result, left as it is ({path.name} not written)"
+    shipped = read_json(path)
+    if shipped.get("seeds") != result["seeds"]:
+        return f"a shipped result, left as it is ({path.name} scores other seeds)"
+    old, new = _flat(shipped.get("metrics", {})), _flat(result["metrics"])
+    same = len(old) == len(new) and np.allclose(old, new, rtol=1e-9, atol=0)
+    return (f"{'the same as' if same else 'DIFFERENT from'} the shipped {path}")
+
+
+def _flat(metrics: dict) -> list[float]:
+    """A metrics table's numbers in key order (per skill for a repertoire)."""
+    return [x for _, v in sorted(metrics.items())
+            for x in (_flat(v) if isinstance(v, dict) else [float(v)])]
 
 
 def result_name(refine: int) -> str:

@@ -223,7 +223,8 @@ class BlackBoxLearner(Learner):
         """Phase 2 starts at the truncated abstraction, which is scored first (one episode,
         charged), so that the refined controller is never worse than the one it came from."""
         support = abstraction_of(x, self.nodes, self.period, evaluator.duration,
-                                 self.refine["threshold"])
+                                 self.refine["threshold"], self.refine["max_parameters"],
+                                 evaluator.steps)
         x0 = support.frequency_parameters()
         params = self.optimizer.same_schedule(self.refine["params"], run.phases[0].params)
         phase = self._phase(params, x0, self.seed + 1, support)

@@ -19,7 +19,7 @@ from .storage import checkpoint_data
 from .storage.pickles import UntrustedPickle, load_checkpoint, save_checkpoint
 from .validation import unknown_params
 
-REFINE_KEYS = {"share", "threshold"}
+REFINE_KEYS = {"share", "threshold", "max_parameters"}
 
 
 def refine_settings(refine: dict | None, learner: str, optimizer: ModuleType,
@@ -27,8 +27,9 @@ def refine_settings(refine: dict | None, learner: str, optimizer: ModuleType,
     """The refinement phase's settings of learner ``learner`` (its optimiser module and
     params ``opt_params``) from ``refine``: {``share`` (the fraction of the run's budget it
     gets, in (0, 1)), ``threshold`` (the FFT threshold of the abstraction refined, default
-    0.5), and optimiser parameters that differ in the frequency space (e.g. ``step_size``)};
-    smoothing is off there."""
+    0.5), ``max_parameters`` (an integer: keep only the largest harmonics whose parameters,
+    with the means, fit in it; default none), and optimiser parameters that differ in the
+    frequency space (e.g. ``step_size``)}; smoothing is off there."""
     if refine is None:
         return None
     if not isinstance(refine, dict):
@@ -43,6 +44,10 @@ def refine_settings(refine: dict | None, learner: str, optimizer: ModuleType,
             and type(threshold) in (float, int) and 0.0 <= threshold < 1.0):
         raise ValueError(f"learner {learner!r}: refine needs share in (0, 1) and "
                          f"threshold in [0, 1); got {share!r}, {threshold!r}")
+    most = refine.get("max_parameters")
+    if most is not None and not (type(most) is int and 1 <= most <= 100_000):
+        raise ValueError(f"learner {learner!r}: refine.max_parameters must be an integer in "
+                         f"[1, 100000], got {most!r}")
     options = optimizer.refine_options({k: v for k, v in refine.items() if k not in REFINE_KEYS})
     params = replace(opt_params, **options)
     # the population stays: one batch width for both phases, every row a candidate
@@ -50,7 +55,8 @@ def refine_settings(refine: dict | None, learner: str, optimizer: ModuleType,
     if optimizer.population(params) != population:
         raise ValueError(f"learner {learner!r}: refine cannot change the population "
                          f"({population})")
-    return {"share": float(share), "threshold": threshold, "params": params}
+    return {"share": float(share), "threshold": threshold, "max_parameters": most,
+            "params": params}
 
 
 @dataclass

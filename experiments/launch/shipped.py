@@ -1,4 +1,6 @@
-"""What the package ships beside its code: the configs and the learned repertoires.
+"""What the package ships beside its code: the configs and the learned repertoires; and what
+the repository ships beside them: the run folders of the results the README and docs quote
+(``results/``, :func:`is_shipped_result`).
 
 In a source checkout they are the top-level folders ``configs/`` and ``repertoires/``; in an
 installed wheel, the package data ``animat/configs/`` and ``animat/repertoires/``. Either way
@@ -14,6 +16,13 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[2]  # the checkout, or the installed animat/ folder
 CONFIGS = ROOT / "configs"
 REPERTOIRES = ROOT / "repertoires"
+RESULTS = ROOT / "results"  # in a source checkout only
+
+
+def is_shipped_result(folder: str | Path) -> bool:
+    """Whether ``folder`` is (inside) the repository's ``results/``: a quoted result's run
+    folder, which ``animat eval`` re-scores without writing into."""
+    return Path(folder).resolve().is_relative_to(RESULTS.resolve())
 
 
 def shipped_configs() -> list[str]:

@@ -122,34 +122,55 @@ class AbstractController:
 
 
 def abstract(controller: TentController, threshold: float = 0.1,
-             samples: int | None = None) -> AbstractController:
+             samples: int | None = None, max_parameters: int | None = None
+             ) -> AbstractController:
     """FFT abstraction of a tent controller over its interval.
 
-    The controller is sampled at ``samples`` evenly spaced times over one period (default: its
-    node count, i.e. the nodal values themselves, the last node dropped as the period's end);
+    The controller is sampled at ``samples`` evenly spaced times over one period, at the end of
+    each of its ``samples`` steps (default: its node count less one, i.e. the nodal values
+    themselves, the first node taken as the period's end: the same for a periodic controller);
     harmonics with amplitude below ``threshold`` times the largest harmonic amplitude of any
     actuator are suppressed (one threshold for the whole controller: an actuator that barely
-    moves keeps only its mean).
+    moves keeps only its mean). With ``max_parameters``, of those only the largest harmonics
+    whose parameters, with the N means, fit in it are kept (a budget of real numbers; at least
+    N, the means alone).
     """
     if not 0.0 <= threshold < 1.0:
         raise ValueError(f"threshold must be in [0, 1), got {threshold!r}")
     count = samples or controller.num_nodes - 1
-    t = controller.t0 + controller.duration * np.arange(count) / count
-    values = controller(t)  # (count, N)
+    # the samples at the ends of the count steps of the period, the last (its end: phase 0)
+    # first: where a player reads a controller (u(t0 + (k + 1) dt)); a periodic controller's
+    # end is its start, so these are its samples from t0
+    t = controller.t0 + controller.duration * (np.arange(count) + 1) / count
+    values = np.roll(controller(t), 1, axis=0)  # (count, N)
     spectrum = np.fft.rfft(values, axis=0) / count  # (count // 2 + 1, N)
     nyquist = count // 2 if count % 2 == 0 else None
     if nyquist is not None:  # the Nyquist term appears once in the series, not twice
         spectrum[-1] = 0.5 * spectrum[-1].real
-    largest = np.abs(spectrum[1:]).max() if count > 1 else 0.0
-    harmonics, coefficients = [], []
-    for i in range(controller.num_actuators):
-        amplitudes = np.abs(spectrum[1:, i])
-        keep = np.flatnonzero((amplitudes >= threshold * largest) & (amplitudes > 1e-12)) + 1
-        harmonics.append(keep)
-        coefficients.append(spectrum[keep, i].copy())
-    return AbstractController(mean=spectrum[0].real.copy(), harmonics=tuple(harmonics),
-                              coefficients=tuple(coefficients), period=controller.duration,
+    amplitudes = np.abs(spectrum[1:])  # (count // 2, N): harmonic k + 1 of each actuator
+    largest = amplitudes.max() if count > 1 else 0.0
+    keep = (amplitudes >= threshold * largest) & (amplitudes > 1e-12)
+    if max_parameters is not None:
+        keep &= _largest_within(amplitudes, keep, max_parameters - controller.num_actuators,
+                                nyquist)
+    harmonics = tuple(np.flatnonzero(keep[:, i]) + 1 for i in range(controller.num_actuators))
+    coefficients = tuple(spectrum[h, i].copy() for i, h in enumerate(harmonics))
+    return AbstractController(mean=spectrum[0].real.copy(), harmonics=harmonics,
+                              coefficients=coefficients, period=controller.duration,
                               nyquist=nyquist)
+
+
+def _largest_within(amplitudes: np.ndarray, allowed: np.ndarray, budget: int,
+                    nyquist: int | None) -> np.ndarray:
+    """(K, N) bool: the ``allowed`` harmonics, largest amplitude first, while their
+    parameters (2 each, 1 for the Nyquist harmonic) fit in ``budget``."""
+    chosen = np.zeros_like(allowed)
+    for flat in np.argsort(-amplitudes, axis=None, kind="stable"):
+        k, i = np.unravel_index(flat, amplitudes.shape)
+        cost = 1 if nyquist is not None and k + 1 == nyquist else 2
+        if allowed[k, i] and cost <= budget:
+            chosen[k, i], budget = True, budget - cost
+    return chosen
 
 
 DEFAULT_THRESHOLDS = (0.5, 0.4, 0.3, 0.2, 0.15, 0.1, 0.05, 0.0)

@@ -54,19 +54,25 @@ def eval_metrics(best: dict) -> dict[str, float]:
     return {"eval/return": best["return"], **{f"eval/{k}": v for k, v in best["metrics"].items()}}
 
 
-def samples(tent: TentController, period: float | None) -> int | None:
+def samples(tent: TentController, period: float | None, steps: int | None = None
+            ) -> int | None:
     """Samples of the FFT abstraction of ``tent``: the default over a period, else over the
-    whole window, 4x finer than its nodes."""
-    return None if period is not None else 4 * (tent.num_nodes - 1)
+    whole window, 4x finer than its nodes or, given the ``steps`` (env steps) it spans, one a
+    step if that is finer: the env reads a controller only at the steps' ends, so the
+    abstraction with every harmonic kept then plays exactly as the tent."""
+    if period is not None:
+        return None
+    return max(4 * (tent.num_nodes - 1), int(steps or 0))
 
 
 def abstraction_of(x: np.ndarray, nodes: int, period: float | None, duration: float,
-                   threshold: float) -> AbstractController:
+                   threshold: float, max_parameters: int | None = None,
+                   steps: int | None = None) -> AbstractController:
     """The FFT abstraction of the tent controller of ``x`` at ``threshold`` (over the period,
-    or over the whole window for a non-periodic controller, sampled 4x finer than its
-    nodes)."""
+    or over the whole window of ``steps`` env steps for a non-periodic controller,
+    :func:`samples`), its largest harmonics within ``max_parameters`` if given."""
     tent = controller_from_vector(x, nodes, period, duration)
-    return abstract(tent, threshold, samples(tent, period))
+    return abstract(tent, threshold, samples(tent, period, steps), max_parameters)
 
 
 def scores(controllers, period: float | None, evaluator: BatchEvaluator) -> list[dict]:
@@ -89,11 +95,11 @@ def learned_artefacts(x: np.ndarray, nodes: int, period: float | None, threshold
                  "episode": {"task": evaluator.task.name,
                              "duration": evaluator.duration}}
     if threshold is not None:
-        chosen = abstract(tent, threshold, samples(tent, period))
+        chosen = abstract(tent, threshold, samples(tent, period, evaluator.steps))
     else:
         chosen, artefacts["abstraction_report"] = most_compact(
             tent, lambda cs: [-m["eval/return"] for m in scores(cs, period, evaluator)],
-            samples=samples(tent, period))
+            samples=samples(tent, period, evaluator.steps))
     artefacts["abstraction"] = chosen.to_dict()
     artefacts["abstraction_metrics"] = {
         **scores([chosen], period, evaluator)[0], "parameters": chosen.num_parameters,

@@ -1,10 +1,11 @@
 """Basic training (the paper's Section 4.2): primitive skills learned one by one into a
 repertoire.
 
-A regimen of primitive skills (swim at several speeds, turns of several angles left and
-right; for the dolphin later: turn-down, turn-up, turn-left, turn-right, move-forward) is
-learned one skill at a time by annealing, each learned controller abstracted by FFT, and the
-abstractions kept in a repertoire file (:mod:`animat.learners.skills.repertoire`).
+A regimen of primitive skills (:mod:`animat.learners.skills.regimens`: swims at several
+speeds, turns of several angles left and right; the dolphin's turn-down, turn-up, turn-left,
+turn-right, move-forward) is learned one skill at a time by annealing, each learned controller
+abstracted by FFT (and, where its params ask, the abstraction refined), and the abstractions
+kept in a repertoire file (:mod:`animat.learners.skills.repertoire`).
 """
 
 from __future__ import annotations
@@ -21,56 +22,8 @@ from ..blackbox import AnnealingLearner
 from ..controllers.abstraction import AbstractController
 from ..logger import Logger
 from ..validation import typed_params
+from .regimens import REGIMENS
 from .repertoire import Repertoire, Skill
-
-# The fish's and the dolphin's regimens, in the paper's (resistive) water and from the point
-# start (each episode from the task's placement) that the shipped repertoires
-# (repertoires/fish.json, dolphin.json) were learned in; the motor-learning issue re-learns
-# them in the default (reactive) water from the tasks' start spreads.
-_PAPER_WATER = {"model": "resistive"}
-_PAPER = {"water": _PAPER_WATER, "start_spread": "point"}
-FISH_REGIMEN = [
-    {"name": "swim_slow", "env_id": "Animat/FishSwim-v0",
-     "env_kwargs": {"duration": 4.0, "target_speed": 0.4, **_PAPER},
-     "params": {"period": 1.0}},
-    {"name": "swim_fast", "env_id": "Animat/FishSwim-v0",
-     "env_kwargs": {"duration": 4.0, **_PAPER}, "params": {"period": 1.0}},
-    {"name": "turn_left_90", "env_id": "Animat/FishTurn-v0",
-     "env_kwargs": {"duration": 4.0, "angle_deg": 90.0, "direction": "left",
-                    **_PAPER},
-     "params": {"period": None, "nodes": 11}},
-    {"name": "turn_right_90", "env_id": "Animat/FishTurn-v0",
-     "env_kwargs": {"duration": 4.0, "angle_deg": 90.0, "direction": "right",
-                    **_PAPER},
-     "params": {"period": None, "nodes": 11}},
-]  # turns get 4 s: the hand turn-MC needs 2.8 s for 90 deg in this water
-
-# The dolphin's 5 basic motor tasks (the paper's Section 4.2), each 4 s from rest 3 m down.
-# Move-forward is periodic over one 5 Hz fluke beat (0.2 s, 6 nodes per actuator: a 0.4 s
-# period with 10 nodes reached 1.40 BL/s on the same budget, this one 1.91); the turns span
-# their episode (11 nodes), 45 deg up or down, 90 deg left or right. Then two turns taken at
-# speed (the paper's "turns of different radii"): arcs of 2 BL radius down and up, periodic
-# over one beat as move-forward. The pitch turns are turns from rest, whose best is a held
-# bend; a somersault needs a stroke that keeps its power while it bends, which only the arcs
-# have (docs/dolphin_stunts.md). Appended last, they leave the first five skills, their
-# seeds (seed + index) and budgets (the run's budget over the regimen) as they were when the
-# run's budget grows by theirs.
-_DOLPHIN_TURN = {"period": None, "nodes": 11}
-DOLPHIN_REGIMEN = [
-    {"name": "move_forward", "env_id": "Animat/DolphinForward-v0",
-     "env_kwargs": {"duration": 4.0, **_PAPER},
-     "params": {"period": 0.2, "nodes": 6}},
-    *({"name": f"turn_{direction}", "env_id": "Animat/DolphinTurn-v0",
-       "env_kwargs": {"duration": 4.0, "direction": direction, "angle_deg": angle,
-                      **_PAPER},
-       "params": _DOLPHIN_TURN}
-      for direction, angle in (("down", 45.0), ("up", 45.0), ("left", 90.0), ("right", 90.0))),
-    *({"name": f"arc_{direction}", "env_id": "Animat/DolphinArc-v0",
-       "env_kwargs": {"duration": 4.0, "direction": direction, "radius_bl": 2.0,
-                      **_PAPER},
-       "params": {"period": 0.2, "nodes": 6}} for direction in ("down", "up")),
-]
-REGIMENS = {"fish": FISH_REGIMEN, "dolphin": DOLPHIN_REGIMEN}
 
 
 def learn_skill(spec: dict, env_steps: int, seed: int, threshold: float | None,
@@ -124,7 +77,8 @@ class _Prefixed:
 @dataclass(frozen=True)
 class BasicTrainingParams:
     """regimen: [{name, env_id, env_kwargs, params}], or the name of a shipped one
-    (:data:`REGIMENS`: ``fish``, ``dolphin``; None: the fish's); threshold: the FFT
+    (:data:`~animat.learners.skills.regimens.REGIMENS`: ``fish``, ``fish_paper``,
+    ``dolphin``; None: the fish's); threshold: the FFT
     threshold (None: the most compact abstraction within 10%); annealing: annealing params
     shared by all skills; output: a path the repertoire is also written to (None: only the
     run folder's ``checkpoints/repertoire.json``), refused if it exists unless ``force``."""
@@ -163,8 +117,8 @@ class BasicTrainingLearner(Learner):
     budget and writes ``repertoire.json`` into the checkpoint folder (and, asked, to
     ``output``: never over a file that exists unless ``force``).
 
-    Params: ``regimen`` (list of {name, env_id, env_kwargs, params}, or ``"fish"`` /
-    ``"dolphin"``), ``threshold`` (FFT;
+    Params: ``regimen`` (list of {name, env_id, env_kwargs, params}, or ``"fish"``,
+    ``"fish_paper"`` or ``"dolphin"``, :mod:`animat.learners.skills.regimens`), ``threshold`` (FFT;
     default: the most compact abstraction within 10% of the learned objective),
     ``annealing`` (annealing parameters shared by all skills), ``output`` (a second copy's
     path, relative to the config's folder), ``force`` (let ``output`` replace a file).

@@ -175,3 +175,23 @@ def test_only_a_finished_run_loads(tmp_path):
     with pytest.raises(RunError, match="the run is failed; only a finished run"):
         load(folder)
     assert animat("eval", folder, check=False).returncode == 2
+
+
+def test_a_shipped_result_is_re_scored_against_what_it_quotes_and_never_written(
+        tmp_path, monkeypatch):
+    """A run folder under the repository's results/ is a quoted result: ``animat eval``
+    compares its score with the shipped eval.json and writes nothing into it."""
+    from animat.experiments.launch import shipped
+
+    monkeypatch.setattr(shipped, "RESULTS", tmp_path)
+    folder = _run(tmp_path, "handmc")
+    first = evaluate(folder)
+    assert "left as it is" in first["shipped"] and not (folder / "eval.json").exists()
+    quoted = {k: first[k] for k in ("seeds", "metric", "episodes", "metrics")}
+    (folder / "eval.json").write_text(json.dumps(quoted))
+    assert evaluate(folder)["shipped"].startswith("the same as the shipped")
+    quoted["metrics"]["eval/return"] += 1e-3
+    (folder / "eval.json").write_text(json.dumps(quoted))
+    before = (folder / "eval.json").read_bytes()
+    assert evaluate(folder)["shipped"].startswith("DIFFERENT from the shipped")
+    assert (folder / "eval.json").read_bytes() == before

@@ -87,6 +87,25 @@ def test_full_abstraction_of_a_periodic_controller_has_its_parameter_count():
     np.testing.assert_allclose(whole.with_frequency_parameters(vector)(t), whole(t), atol=1e-12)
 
 
+@pytest.mark.parametrize("budget", [6, 7, 13, 25, 30, 119, 120])
+def test_an_abstraction_within_a_parameter_budget_keeps_the_largest_harmonics_that_fit(budget):
+    values = np.random.default_rng(0).uniform(0, 1, (A, 20))
+    tent = TentController(np.concatenate([values, values[:, :1]], axis=1), 0.0, 1.0)
+    within = abstract(tent, threshold=0.0, max_parameters=budget)
+    assert within.num_parameters <= budget and within.num_parameters >= budget - 1
+    whole = abstract(tent, threshold=0.0)
+    amplitude = {(i, int(k)): abs(c) for i, (hs, cs) in enumerate(zip(whole.harmonics,
+                                                                        whole.coefficients))
+                 for k, c in zip(hs, cs)}
+    kept = {(i, int(k)) for i, hs in enumerate(within.harmonics) for k in hs}
+    dropped = set(amplitude) - kept
+    if kept and dropped:  # none dropped is larger than a kept one of the same cost
+        complex_kept = [amplitude[key] for key in kept if key[1] != 10]
+        complex_dropped = [amplitude[key] for key in dropped if key[1] != 10]
+        if complex_kept and complex_dropped:
+            assert min(complex_kept) >= max(complex_dropped)
+
+
 def test_abstraction_rejects_bad_threshold():
     with pytest.raises(ValueError, match="threshold"):
         abstract(_sinusoid(), threshold=1.5)

@@ -1,0 +1,86 @@
+"""The regimens of basic training (:mod:`animat.learners.skills.basic_training`): each a list
+of skills {``name``, ``env_id``, ``env_kwargs``, ``params``} (the params the annealing learner's,
+over the run's shared ``annealing``), by name in :data:`REGIMENS`.
+
+* ``fish``: the paper's "locomoting at different speeds and executing turns of different
+  radii", in the default (reactive) water from the tasks' start spreads
+  (:mod:`animat.envs.tasks.start`): swims at 1 and 2 BL/s and as fast as it can, each periodic
+  over 1 s and refined within 25 parameters (its FFT abstraction's largest harmonics, annealed
+  again); turns of 45, 90 and 180 deg to each side, each over its 4 s episode, scored on the
+  heading where it ends and on having settled there (the turn task's ``final_weight``).
+* ``fish_paper``: the regimen the shipped ``repertoires/fish_paper.json`` was learned by (the
+  paper's water, the point start, one turn angle).
+* ``dolphin``: the dolphin's 5 basic motor tasks and two arcs (the paper's water, the point
+  start), which ``repertoires/dolphin.json`` was learned by.
+"""
+
+from __future__ import annotations
+
+# A swim's controller: periodic over 1 s; after learning, its FFT abstraction's largest
+# harmonics within 25 parameters are annealed again over a quarter of the skill's budget.
+_SWIM = {"period": 1.0, "refine": {"share": 0.25, "threshold": 0.0, "max_parameters": 25,
+                                   "step_size": 0.1}}
+# A turn's controller: 11 nodes per actuator over its 4 s episode; scored where it ends (the
+# heading error and half a second of the yaw rate, squared), weighing as much as 1 s of the
+# paper's path integral would.
+_TURN = {"period": None, "nodes": 11}
+_TURN_OBJECTIVE = {"duration": 4.0, "path_weight": 0.0, "final_weight": 20.0, "settle_s": 0.5}
+FISH_REGIMEN = [
+    *({"name": name, "env_id": "Animat/FishSwim-v0",
+       "env_kwargs": {"duration": 4.0, **({"target_speed": speed} if speed else {})},
+       "params": _SWIM}
+      for name, speed in (("swim_slow", 1.0), ("swim_medium", 2.0), ("swim_fast", None))),
+    *({"name": f"turn_{direction}_{angle}", "env_id": "Animat/FishTurn-v0",
+       "env_kwargs": {**_TURN_OBJECTIVE, "angle_deg": float(angle), "direction": direction},
+       "params": _TURN}
+      for angle in (45, 90, 180) for direction in ("left", "right")),
+]
+
+# The regimens the shipped repertoires (repertoires/fish_paper.json, dolphin.json) were learned
+# by: in the paper's (resistive) water, from the point start (each episode from the task's
+# placement).
+_PAPER_WATER = {"model": "resistive"}
+_PAPER = {"water": _PAPER_WATER, "start_spread": "point"}
+FISH_PAPER_REGIMEN = [
+    {"name": "swim_slow", "env_id": "Animat/FishSwim-v0",
+     "env_kwargs": {"duration": 4.0, "target_speed": 0.4, **_PAPER},
+     "params": {"period": 1.0}},
+    {"name": "swim_fast", "env_id": "Animat/FishSwim-v0",
+     "env_kwargs": {"duration": 4.0, **_PAPER}, "params": {"period": 1.0}},
+    {"name": "turn_left_90", "env_id": "Animat/FishTurn-v0",
+     "env_kwargs": {"duration": 4.0, "angle_deg": 90.0, "direction": "left",
+                    **_PAPER},
+     "params": {"period": None, "nodes": 11}},
+    {"name": "turn_right_90", "env_id": "Animat/FishTurn-v0",
+     "env_kwargs": {"duration": 4.0, "angle_deg": 90.0, "direction": "right",
+                    **_PAPER},
+     "params": {"period": None, "nodes": 11}},
+]  # turns get 4 s: the hand turn-MC needs 2.8 s for 90 deg in this water
+
+# The dolphin's 5 basic motor tasks (the paper's Section 4.2), each 4 s from rest 3 m down.
+# Move-forward is periodic over one 5 Hz fluke beat (0.2 s, 6 nodes per actuator: a 0.4 s
+# period with 10 nodes reached 1.40 BL/s on the same budget, this one 1.91); the turns span
+# their episode (11 nodes), 45 deg up or down, 90 deg left or right. Then two turns taken at
+# speed (the paper's "turns of different radii"): arcs of 2 BL radius down and up, periodic
+# over one beat as move-forward. The pitch turns are turns from rest, whose best is a held
+# bend; a somersault needs a stroke that keeps its power while it bends, which only the arcs
+# have (docs/dolphin_stunts.md). Appended last, they leave the first five skills, their
+# seeds (seed + index) and budgets (the run's budget over the regimen) as they were when the
+# run's budget grows by theirs.
+_DOLPHIN_TURN = {"period": None, "nodes": 11}
+DOLPHIN_REGIMEN = [
+    {"name": "move_forward", "env_id": "Animat/DolphinForward-v0",
+     "env_kwargs": {"duration": 4.0, **_PAPER},
+     "params": {"period": 0.2, "nodes": 6}},
+    *({"name": f"turn_{direction}", "env_id": "Animat/DolphinTurn-v0",
+       "env_kwargs": {"duration": 4.0, "direction": direction, "angle_deg": angle,
+                      **_PAPER},
+       "params": _DOLPHIN_TURN}
+      for direction, angle in (("down", 45.0), ("up", 45.0), ("left", 90.0), ("right", 90.0))),
+    *({"name": f"arc_{direction}", "env_id": "Animat/DolphinArc-v0",
+       "env_kwargs": {"duration": 4.0, "direction": direction, "radius_bl": 2.0,
+                      **_PAPER},
+       "params": {"period": 0.2, "nodes": 6}} for direction in ("down", "up")),
+]
+
+REGIMENS = {"fish": FISH_REGIMEN, "fish_paper": FISH_PAPER_REGIMEN, "dolphin": DOLPHIN_REGIMEN}
