@@ -122,8 +122,8 @@ class AbstractController:
 
 
 def abstract(controller: TentController, threshold: float = 0.1,
-             samples: int | None = None, max_parameters: int | None = None
-             ) -> AbstractController:
+             samples: int | None = None, max_parameters: int | None = None,
+             mirror: bool = False) -> AbstractController:
     """FFT abstraction of a tent controller over its interval.
 
     The controller is sampled at ``samples`` evenly spaced times over one period, at the end of
@@ -133,22 +133,21 @@ def abstract(controller: TentController, threshold: float = 0.1,
     actuator are suppressed (one threshold for the whole controller: an actuator that barely
     moves keeps only its mean). With ``max_parameters``, of those only the largest harmonics
     whose parameters, with the N means, fit in it are kept (a budget of real numbers; at least
-    N, the means alone).
+    N, the means alone). ``mirror``, for a controller that is not periodic (a turn): the series
+    of its window followed by the window played backwards (period twice the window), which
+    has no jump where the window's end meets its start, so that a few harmonics hold it (a
+    cosine series); it plays the controller over the window, then back.
     """
     if not 0.0 <= threshold < 1.0:
         raise ValueError(f"threshold must be in [0, 1), got {threshold!r}")
     count = samples or controller.num_nodes - 1
-    # the samples at the ends of the count steps of the period, the last (its end: phase 0)
-    # first: where a player reads a controller (u(t0 + (k + 1) dt)); a periodic controller's
-    # end is its start, so these are its samples from t0
-    t = controller.t0 + controller.duration * (np.arange(count) + 1) / count
-    values = np.roll(controller(t), 1, axis=0)  # (count, N)
-    spectrum = np.fft.rfft(values, axis=0) / count  # (count // 2 + 1, N)
-    nyquist = count // 2 if count % 2 == 0 else None
+    values, period = _samples(controller, count, mirror)
+    spectrum = np.fft.rfft(values, axis=0) / len(values)  # (len // 2 + 1, N)
+    nyquist = len(values) // 2 if len(values) % 2 == 0 else None
     if nyquist is not None:  # the Nyquist term appears once in the series, not twice
         spectrum[-1] = 0.5 * spectrum[-1].real
-    amplitudes = np.abs(spectrum[1:])  # (count // 2, N): harmonic k + 1 of each actuator
-    largest = amplitudes.max() if count > 1 else 0.0
+    amplitudes = np.abs(spectrum[1:])  # (len // 2, N): harmonic k + 1 of each actuator
+    largest = amplitudes.max() if len(amplitudes) else 0.0
     keep = (amplitudes >= threshold * largest) & (amplitudes > 1e-12)
     if max_parameters is not None:
         keep &= _largest_within(amplitudes, keep, max_parameters - controller.num_actuators,
@@ -156,8 +155,22 @@ def abstract(controller: TentController, threshold: float = 0.1,
     harmonics = tuple(np.flatnonzero(keep[:, i]) + 1 for i in range(controller.num_actuators))
     coefficients = tuple(spectrum[h, i].copy() for i, h in enumerate(harmonics))
     return AbstractController(mean=spectrum[0].real.copy(), harmonics=harmonics,
-                              coefficients=coefficients, period=controller.duration,
-                              nyquist=nyquist)
+                              coefficients=coefficients, period=period, nyquist=nyquist)
+
+
+def _samples(controller: TentController, count: int, mirror: bool
+             ) -> tuple[np.ndarray, float]:
+    """The values (M, N) the series is fitted to, one per phase step of its period, and that
+    period, s: at the ends of the ``count`` steps of the window, the last (its end: phase 0)
+    first, where a player reads a controller (u(t0 + (k + 1) dt)), a periodic controller's end
+    being its start; mirrored, the window's count + 1 values from its start to its end and
+    back (2 count, period twice the window)."""
+    steps = np.arange(count + 1) / count
+    if mirror:
+        forward = controller(controller.t0 + controller.duration * steps)
+        return np.concatenate([forward, forward[-2:0:-1]]), 2.0 * controller.duration
+    values = controller(controller.t0 + controller.duration * steps[1:])
+    return np.roll(values, 1, axis=0), controller.duration
 
 
 def _largest_within(amplitudes: np.ndarray, allowed: np.ndarray, budget: int,
@@ -177,16 +190,17 @@ DEFAULT_THRESHOLDS = (0.5, 0.4, 0.3, 0.2, 0.15, 0.1, 0.05, 0.0)
 
 
 def most_compact(controller: TentController, score, tolerance: float = 0.1,
-                 thresholds: tuple[float, ...] = DEFAULT_THRESHOLDS, samples: int | None = None
-                 ) -> tuple[AbstractController, list[dict]]:
+                 thresholds: tuple[float, ...] = DEFAULT_THRESHOLDS, samples: int | None = None,
+                 mirror: bool = False) -> tuple[AbstractController, list[dict]]:
     """The most compact abstraction whose objective is within ``tolerance`` of the learned
     controller's: E_abstract <= E_learned + tolerance * |E_learned|.
 
     ``score(list of controllers) -> (K,) E`` evaluates by simulation (the learned one first).
     Returns the chosen abstraction and a report row per threshold tried (threshold, kept
-    coefficients, parameters, E), highest threshold first.
+    coefficients, parameters, E), highest threshold first. ``samples``, ``mirror``: as
+    :func:`abstract`'s.
     """
-    candidates = [abstract(controller, th, samples) for th in thresholds]
+    candidates = [abstract(controller, th, samples, mirror=mirror) for th in thresholds]
     energies = np.asarray(score([controller, *candidates]), dtype=float)
     learned, rows = energies[0], []
     chosen = candidates[-1]

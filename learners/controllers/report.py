@@ -72,7 +72,8 @@ def abstraction_of(x: np.ndarray, nodes: int, period: float | None, duration: fl
     or over the whole window of ``steps`` env steps for a non-periodic controller,
     :func:`samples`), its largest harmonics within ``max_parameters`` if given."""
     tent = controller_from_vector(x, nodes, period, duration)
-    return abstract(tent, threshold, samples(tent, period, steps), max_parameters)
+    return abstract(tent, threshold, samples(tent, period, steps), max_parameters,
+                    mirror=period is None)
 
 
 def scores(controllers, period: float | None, evaluator: BatchEvaluator) -> list[dict]:
@@ -95,11 +96,12 @@ def learned_artefacts(x: np.ndarray, nodes: int, period: float | None, threshold
                  "episode": {"task": evaluator.task.name,
                              "duration": evaluator.duration}}
     if threshold is not None:
-        chosen = abstract(tent, threshold, samples(tent, period, evaluator.steps))
+        chosen = abstract(tent, threshold, samples(tent, period, evaluator.steps),
+                          mirror=period is None)
     else:
         chosen, artefacts["abstraction_report"] = most_compact(
             tent, lambda cs: [-m["eval/return"] for m in scores(cs, period, evaluator)],
-            samples=samples(tent, period, evaluator.steps))
+            samples=samples(tent, period, evaluator.steps), mirror=period is None)
     artefacts["abstraction"] = chosen.to_dict()
     artefacts["abstraction_metrics"] = {
         **scores([chosen], period, evaluator)[0], "parameters": chosen.num_parameters,
