@@ -122,6 +122,7 @@ class DolphinTurnTask(Underwater, TurnTask):
     start_pitch_deg: float = 0.0
     start_speed: float = 0.0
     name = "dolphin_turn"
+    memory_size = 0  # its error is the pitch's, or the heading's within a half turn
     default_duration = 4.0
 
     def __post_init__(self) -> None:
@@ -143,6 +144,11 @@ class DolphinTurnTask(Underwater, TurnTask):
         if self.direction in ("up", "down"):
             return pitch_of(world.frames) - (np.radians(self.start_pitch_deg) + target)
         return wrap_angle(heading_yaw(world.frames) - world.start_yaw - target)
+
+    def observe(self, world: World) -> np.ndarray:
+        """(B, 2) sine and cosine of the pitch or yaw error."""
+        error = self._error(world)
+        return np.stack([np.sin(error), np.cos(error)], axis=1)
 
     def terms(self, world: World, last: np.ndarray) -> Terms:
         frames = world.frames

@@ -88,8 +88,11 @@ class TurnTask(Task):
     rate (rad/s, :func:`yaw_rate`): by default (1, 0) the squared error all along (the paper's
     integral); a final weight scores where the turn ends and that it has settled there (not
     still swinging: ``settle_s`` seconds of the yaw rate weigh as much as the error they would
-    turn). Observation: sin and cos of the heading error; ``heading_deg`` is from the start
-    heading; ``final_yaw_rate_deg_s`` the yaw rate at the end. Ranges: ``path_weight`` and
+    turn). The heading is followed through the episode (its memory: the heading turned so far,
+    unwrapped, and the last heading), so that a turn of 180 deg to the left is not one to the
+    right and a fish that spins a full circle is a circle off. Observation: sin and cos of the
+    heading error; ``heading_deg`` is the heading turned from the start heading (unwrapped);
+    ``final_yaw_rate_deg_s`` the yaw rate at the end. Ranges: ``path_weight`` and
     ``final_weight`` in [0, 1000], ``settle_s`` in [0, 10] s."""
 
     angle_deg: float = 90.0
@@ -100,6 +103,7 @@ class TurnTask(Task):
     name = "turn"
     start_spread = FISH_START
     obs_size = 2
+    memory_size = 2  # the heading turned (unwrapped) and the last heading, rad from the start's
     default_duration = 5.0
 
     def __post_init__(self) -> None:
@@ -115,22 +119,26 @@ class TurnTask(Task):
         sign = 1.0 if self.direction == "left" else -1.0
         return sign * np.radians(float(self.angle_deg))
 
-    def _error(self, world: World) -> np.ndarray:
-        """(B,) the heading error, rad: the heading from the start heading less the target."""
-        return wrap_angle(heading_yaw(world.frames) - world.start_yaw - self.target_yaw)
+    def _turned(self, world: World) -> tuple[np.ndarray, np.ndarray]:
+        """(B,) the heading turned since the start, unwrapped, rad (the memory's, moved on by
+        the last step's change, taken as the shorter way round), and (B,) the heading now, rad
+        from the start heading in [-pi, pi)."""
+        heading = wrap_angle(heading_yaw(world.frames) - world.start_yaw)
+        turned, last = world.memory[:, 0], world.memory[:, 1]
+        return turned + wrap_angle(heading - last), heading
 
     def observe(self, world: World) -> np.ndarray:
         """(B, 2) sine and cosine of the heading error."""
-        error = self._error(world)
+        error = self._turned(world)[0] - self.target_yaw
         return np.stack([np.sin(error), np.cos(error)], axis=1)
 
     def terms(self, world: World, last: np.ndarray) -> Terms:
-        error = self._error(world)
-        heading = wrap_angle(heading_yaw(world.frames) - world.start_yaw)
+        turned, heading = self._turned(world)
+        error = turned - self.target_yaw
         rate = yaw_rate(world)
         return self.objective(error, rate, last), {
-            "heading_deg": np.degrees(heading), "heading_error_deg": np.degrees(error),
-            "yaw_rate_deg_s": np.degrees(rate)}, world.memory
+            "heading_deg": np.degrees(turned), "heading_error_deg": np.degrees(error),
+            "yaw_rate_deg_s": np.degrees(rate)}, np.stack([turned, heading], axis=1)
 
     def objective(self, error: np.ndarray, rate: np.ndarray, last: np.ndarray) -> np.ndarray:
         """(B,) E_v of the error (B,) rad and the turn's rate (B,) rad/s (the class

@@ -8,8 +8,9 @@ over the run's shared ``annealing``), by name in :data:`REGIMENS`.
   over 1 s and refined within 25 parameters (its FFT abstraction's largest harmonics, annealed
   again); turns of 45, 90 and 180 deg to each side, each over its 4 s episode, scored on the
   heading where it ends and on having settled there (the turn task's ``final_weight``).
-* ``fish_paper``: the regimen the shipped ``repertoires/fish_paper.json`` was learned by (the
-  paper's water, the point start, one turn angle).
+  The shipped ``repertoires/fish_reactive.json`` is its run's (``results/fish_basic_training``).
+* ``fish_paper``: the regimen the shipped ``repertoires/fish.json`` was learned by (the paper's
+  water, the point start, one turn angle).
 * ``dolphin``: the dolphin's 5 basic motor tasks and two arcs (the paper's water, the point
   start), which ``repertoires/dolphin.json`` was learned by.
 """
@@ -39,9 +40,8 @@ FISH_REGIMEN = [
       for angle in (45, 90, 180) for direction in ("left", "right")),
 ]
 
-# The regimens the shipped repertoires (repertoires/fish_paper.json, dolphin.json) were learned
-# by: in the paper's (resistive) water, from the point start (each episode from the task's
-# placement).
+# The regimens the shipped repertoires/fish.json and dolphin.json were learned by: in the
+# paper's (resistive) water, from the point start (each episode from the task's placement).
 _PAPER_WATER = {"model": "resistive"}
 _PAPER = {"water": _PAPER_WATER, "start_spread": "point"}
 FISH_PAPER_REGIMEN = [

@@ -9,6 +9,7 @@ import pytest
 
 from animat.envs.tasks.start import FISH_START, POINT_START
 from animat.experiments.evaluate import evaluate, load
+from animat.experiments.figures.repertoire_table import repertoire_markdown, repertoire_rows
 from animat.experiments.launch.lock import RunError
 from animat.learners.agents import OpenLoopAgent, PolicyAgent, SkillSet
 from tests.experiments.test_cli import ROOT, TINY, animat, write_config
@@ -166,6 +167,12 @@ def test_a_repertoire_run_loads_as_one_agent_per_skill(tmp_path):
     result = evaluate(folder, episodes=1)
     assert set(result["metrics"]) == {"swim_slow", "turn_left"}
     assert all(np.isfinite(m["eval/return"]) for m in result["metrics"].values())
+    rows = {r["skill"]: r for r in repertoire_rows(folder)}  # the README's table of it
+    assert rows["turn_left"]["figure"] == "eval/final_heading_error_deg"
+    assert rows["swim_slow"]["unseen"] == result["metrics"]["swim_slow"]["eval/speed_bl_per_s"]
+    assert rows["swim_slow"]["unseen_starts"] == 1
+    table = repertoire_markdown(list(rows.values())).splitlines()
+    assert len(table) == 4 and table[2].startswith("| swim_slow | ") and "over 1 |" in table[2]
 
 
 def test_only_a_finished_run_loads(tmp_path):

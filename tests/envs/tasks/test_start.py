@@ -162,3 +162,15 @@ def test_an_open_loop_turn_meets_starts_that_differ_where_the_point_start_made_n
                                 seeds)["final_heading_error_deg"]
     assert np.ptp(spread) > 3.0 * np.ptp(point) and np.ptp(spread) > 5.0, (np.ptp(point),
                                                                            np.ptp(spread))
+
+
+def test_a_state_saved_before_start_headings_restores_heading_plus_x():
+    """A PPO checkpoint of an earlier version holds an env state without ``start_yaw``: its
+    episodes started heading +x, and it restores so."""
+    env = gym.make_vec("Animat/FishSwim-v0", num_envs=2)
+    env.reset(seed=[0, 1])
+    saved = env.unwrapped.get_state()
+    assert np.all(saved["core"]["start_yaw"] != 0.0)
+    del saved["core"]["start_yaw"]
+    env.unwrapped.set_state(saved)
+    assert np.array_equal(env.unwrapped.core.state.start_yaw, np.zeros(2))

@@ -94,3 +94,23 @@ def test_a_turn_scores_its_path_by_default_and_its_end_and_settling_with_a_final
     for bad in ({"final_weight": -1.0}, {"settle_s": 11.0}, {"path_weight": float("nan")}):
         with pytest.raises(ValueError, match=next(iter(bad))):
             TurnTask(**bad)
+
+
+def test_a_half_turn_to_the_left_is_not_one_to_the_right():
+    """The turn task follows the heading through the episode: the hand MC's 180 deg left turn
+    ends near 0 deg off as a left turn and near 360 deg off as a right one (a wrapped heading
+    could not tell them apart)."""
+    from animat.envs.core.env import BodyVectorEnv
+    from animat.envs.motor.fish import to_action
+
+    errors = {}
+    for direction in ("left", "right"):
+        env = BodyVectorEnv(1, "turn", angle_deg=180.0, direction=direction, duration=5.0,
+                            start_spread="point")
+        env.reset(seed=0)
+        controller = TASKS["turn"](angle_deg=180.0, direction="left").hand_controller()
+        for k in range(env.episode_steps):
+            info = env.step(to_action(controller((k + 1) * env.dt))[None])[4]
+        errors[direction] = float(info["heading_error_deg"][0])
+    assert abs(errors["left"]) < 60.0 and errors["right"] > 300.0, errors
+    assert errors["right"] - errors["left"] == pytest.approx(360.0)
