@@ -8,7 +8,8 @@ single envs.
 
 :func:`timing` gives an id's clock (``dt`` and ``episode_steps``) from these kwargs and the
 user's, without building the env; :func:`body_of`, :func:`task_of`, :func:`water_of` and
-:func:`start_spread_of` its body, task, water and start spread.
+:func:`start_spread_of` its body, task, water and start spread, and :func:`recorded_kwargs` its
+kwargs with the water and the start spread written out.
 """
 
 from __future__ import annotations
@@ -231,6 +232,25 @@ def start_spread_of(env_id: str, env_kwargs: dict | None = None) -> StartSpread 
     named, task_kwargs = arguments
     task = make_task(named["task"], **task_kwargs)
     return task.start_spread.over(named["start_spread"])
+
+
+def recorded_kwargs(env_id: str, env_kwargs: dict | None = None,
+                    before: dict | None = None) -> dict:
+    """``env_kwargs`` with what the env of them runs in written out, so that they make the same
+    env whatever the defaults become: ``water.model`` (:func:`water_of`) and, for an id of the
+    core, ``start_spread``'s fields (:func:`start_spread_of`). ``before``: the kwargs that
+    stood for a default before it was recorded (e.g. the water of a folder made before folders
+    recorded it), used where ``env_kwargs`` names none of them."""
+    kwargs = dict(env_kwargs or {})
+    water = kwargs.get("water")
+    if not (isinstance(water, dict) and "model" in water):
+        named = (before or {}).get("water", {}).get("model") or water_of(env_id, kwargs).model
+        kwargs["water"] = {**(water if isinstance(water, dict) else {}), "model": named}
+    spread = start_spread_of(env_id, {**{k: v for k, v in (before or {}).items()
+                                         if k == "start_spread"}, **kwargs})
+    if spread is not None:
+        kwargs["start_spread"] = spread.as_dict()
+    return kwargs
 
 
 def _core_arguments(env_id: str, env_kwargs: dict | None) -> tuple[dict, dict] | None:

@@ -293,25 +293,18 @@ START_BEFORE_RECORDS = "point"
 
 def record_env(config: ExperimentConfig, before_records: bool = False) -> ExperimentConfig:
     """``config`` with what its env ran in written out, so that a run folder's config says it
-    whatever the defaults become: ``env.kwargs.water.model`` (the model it names, else the one
-    its env would take, :func:`animat.envs.registration.water_of`) and, for an env of the core,
-    ``env.kwargs.start_spread`` (its fields, :func:`animat.envs.registration.start_spread_of`).
-    ``before_records``: a config of a folder made before the records, which ran in
-    :data:`WATER_BEFORE_RECORDS` from :data:`START_BEFORE_RECORDS` where it names neither. An
-    env not of this project is left alone."""
-    from animat.envs.registration import ENVS, start_spread_of, water_of
+    whatever the defaults become (:func:`animat.envs.registration.recorded_kwargs`: the water
+    model and, for an env of the core, the start spread's fields). ``before_records``: a config
+    of a folder made before the records, which ran in :data:`WATER_BEFORE_RECORDS` from
+    :data:`START_BEFORE_RECORDS` where it names neither. An env not of this project is left
+    alone."""
+    from animat.envs.registration import ENVS, recorded_kwargs
 
-    kwargs = dict(config.env.kwargs)
     if config.env.id not in ENVS:
         return config
-    water = kwargs.get("water")
-    if not (isinstance(water, dict) and "model" in water):
-        model = WATER_BEFORE_RECORDS if before_records else water_of(config.env.id, kwargs).model
-        kwargs["water"] = {**(water if isinstance(water, dict) else {}), "model": model}
-    before = {"start_spread": START_BEFORE_RECORDS} if before_records else {}
-    spread = start_spread_of(config.env.id, {**before, **kwargs})
-    if spread is not None:
-        kwargs["start_spread"] = spread.as_dict()
+    before = {"water": {"model": WATER_BEFORE_RECORDS},
+              "start_spread": START_BEFORE_RECORDS} if before_records else None
+    kwargs = recorded_kwargs(config.env.id, config.env.kwargs, before)
     return config.model_copy(update={"env": config.env.model_copy(update={"kwargs": kwargs})})
 
 

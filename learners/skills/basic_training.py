@@ -16,6 +16,8 @@ from pathlib import Path
 
 import numpy as np
 
+from animat.envs.registration import recorded_kwargs
+
 from ..agents import OpenLoopAgent, SkillSet
 from ..base import Learner, LearnResult, episode_timing
 from ..blackbox import AnnealingLearner
@@ -43,7 +45,9 @@ def learn_skill(spec: dict, env_steps: int, seed: int, threshold: float | None,
     scored, learned = artefacts["abstraction_metrics"], artefacts["learned_metrics"]
     metadata = {
         "task": artefacts["episode"]["task"], "env_id": spec["env_id"],
-        "env_kwargs": spec.get("env_kwargs", {}), "objective": "E = -return (paper Eq. 1)",
+        # the water and the start spread it learned in, written out
+        "env_kwargs": recorded_kwargs(spec["env_id"], spec.get("env_kwargs", {})),
+        "objective": "E = -return (paper Eq. 1)",
         "duration": artefacts["episode"]["duration"],
         "learned_E": -learned["eval/return"], "abstracted_E": -scored["eval/return"],
         "parameters_learned": result.artefacts["parameters"],
