@@ -131,7 +131,12 @@ class BodyBatch:
     def set_state(self, saved: dict[str, np.ndarray]) -> None:
         """Continue from ``saved`` (:meth:`get_state`'s dict); ValueError naming the first
         entry that does not fit this batch (wrong name, dtype or shape; bodies not finite), before
-        anything is changed (:meth:`BodyState.restore`)."""
+        anything is changed (:meth:`BodyState.restore`). A state saved before its task kept an
+        episode memory (the turn's, since it follows the heading) restores with the task's
+        initial memory, from which the task reads the body as it is."""
+        memory = np.asarray(saved.get("memory", self.state.memory))
+        if memory.shape == (self.num_envs, 0) and self.task.memory_size:
+            saved = {**saved, "memory": np.tile(self.task.initial_memory(), (self.num_envs, 1))}
         self.state.restore(saved)
 
     def kinematics(self) -> Kinematics:

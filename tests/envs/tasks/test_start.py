@@ -174,3 +174,23 @@ def test_a_state_saved_before_start_headings_restores_heading_plus_x():
     del saved["core"]["start_yaw"]
     env.unwrapped.set_state(saved)
     assert np.array_equal(env.unwrapped.core.state.start_yaw, np.zeros(2))
+
+
+def test_a_turn_state_saved_before_the_turn_kept_a_memory_restores_and_goes_on_alike():
+    """A FishTurn state of an earlier version (no start heading, a memory of no columns)
+    restores: the heading is read from the body as it is, so the episode's errors go on as
+    from a state that had the memory."""
+    env = gym.make_vec("Animat/FishTurn-v0", num_envs=2, start_spread="point")
+    env.reset(seed=[0, 1])
+    actions = np.random.default_rng(0).uniform(-1, 1, (12, 2, 6)).astype(np.float32)
+    for action in actions[:6]:
+        env.step(action)
+    saved = env.unwrapped.get_state()
+    old = {**saved, "core": {k: v for k, v in saved["core"].items() if k != "start_yaw"}}
+    old["core"]["memory"] = np.zeros((2, 0))
+    again = gym.make_vec("Animat/FishTurn-v0", num_envs=2, start_spread="point")
+    again.reset(seed=[0, 1])
+    again.unwrapped.set_state(old)
+    for action in actions[6:]:
+        a, b = env.step(action)[4], again.step(action)[4]
+        np.testing.assert_allclose(a["heading_error_deg"], b["heading_error_deg"], atol=1e-9)
