@@ -29,11 +29,13 @@ With ``sensors=[...]`` of more than one, a ``Dict`` keyed by the sensors' names.
 
 ## Rewards
 ``r = -(mu1 E_u + mu2 E_v) dt`` (the paper's Eq. 1), ``E_u = (nu1 |du/dt|^2 + nu2 |d^2u/dt^2|^2)
-/ 2``. E_v: swim ``-u`` (u: velocity along the start heading +x, BL/s) or
-``(u - target)^2``; turn: squared heading
-error (rad^2); reach: distance to the goal (BL), plus ``final_weight`` times it on the last
-step. ``info`` holds ``E_u``, ``E_v``, ``reward_ctrl``, ``reward_task`` (the two summands of the
-reward), ``com`` (3,) m, ``forward`` (3,), ``linear_momentum`` (3,) kg m/s and
+/ 2``. E_v: swim ``-u`` (u: velocity along the start heading, BL/s) or
+``(u - target)^2``; turn: squared heading error (rad^2, the heading followed through the
+episode from the start heading), plus with ``final_weight`` the squared error and settling on
+the last step (:class:`~animat.envs.tasks.locomotion.TurnTask`); reach: distance to the goal
+(BL), plus ``final_weight`` times it on the last step. ``info`` holds ``E_u``, ``E_v``,
+``reward_ctrl``, ``reward_task`` (the two summands of the reward), ``com`` (3,) m, ``forward``
+(3,), ``linear_momentum`` (3,) kg m/s and
 ``angular_momentum`` (3,) kg m^2/s (world frame, about the centre of mass), ``time`` s,
 and the task's metrics (swim:
 ``speed_bl_per_s``, ``heading_deg``, ``distance_bl``; turn: ``heading_deg``,
@@ -70,7 +72,8 @@ No termination; truncation after ``duration`` simulated seconds.
 | task arguments | | | see below |
 
 Task arguments: swim ``target_speed`` (BL/s, None); turn ``angle_deg`` (90), ``direction``
-(``"left"``); reach ``distance_bl`` ((2, 4)), ``bearing_deg`` ((-180, 180)), ``final_weight``
+(``"left"``), ``path_weight`` (1), ``final_weight`` (0), ``settle_s`` (0.5 s); reach
+``distance_bl`` ((2, 4)), ``bearing_deg`` ((-180, 180)), ``final_weight``
 (20).
 
 Every argument is checked as it enters, and a bad one is a ``ValueError`` of one line naming
