@@ -241,13 +241,12 @@ def recorded_kwargs(env_id: str, env_kwargs: dict | None = None,
     core, ``start_spread``'s fields (:func:`start_spread_of`). ``before``: the kwargs that
     stood for a default before it was recorded (e.g. the water of a folder made before folders
     recorded it), used where ``env_kwargs`` names none of them."""
-    kwargs = dict(env_kwargs or {})
+    kwargs, before = dict(env_kwargs or {}), before or {}
     water = kwargs.get("water")
     if not (isinstance(water, dict) and "model" in water):
-        named = (before or {}).get("water", {}).get("model") or water_of(env_id, kwargs).model
+        named = before.get("water", {}).get("model") or water_of(env_id, kwargs).model
         kwargs["water"] = {**(water if isinstance(water, dict) else {}), "model": named}
-    spread = start_spread_of(env_id, {**{k: v for k, v in (before or {}).items()
-                                         if k == "start_spread"}, **kwargs})
+    spread = start_spread_of(env_id, {"start_spread": before.get("start_spread"), **kwargs})
     if spread is not None:
         kwargs["start_spread"] = spread.as_dict()
     return kwargs
