@@ -114,3 +114,27 @@ def test_a_half_turn_to_the_left_is_not_one_to_the_right():
         errors[direction] = float(info["heading_error_deg"][0])
     assert abs(errors["left"]) < 60.0 and errors["right"] > 300.0, errors
     assert errors["right"] - errors["left"] == pytest.approx(360.0)
+
+
+def test_a_goal_passed_within_reached_bl_counts_as_reached_wherever_the_fish_ends():
+    """The reach keeps the closest the fish has come (its memory): a fish swimming straight
+    through a goal 1 BL ahead ends beyond it, yet has reached it; one with the goal behind
+    has not."""
+    from animat.envs.core.env import BodyVectorEnv
+    from animat.envs.motor.fish import to_action
+
+    env = BodyVectorEnv(2, "reach", distance_bl=(1.0, 1.0), bearing_deg=(0.0, 0.0),
+                        duration=3.0, start_spread="point")
+    env.reset(seed=0)
+    env.core.state.targets[1] = -env.core.state.targets[1]  # the second goal behind
+    swim = TASKS["swim"]().hand_controller()
+    distances, infos = [], []
+    for k in range(env.episode_steps):
+        info = env.step(np.tile(to_action(swim((k + 1) * env.dt)), (2, 1)))[4]
+        distances.append(info["distance_bl"].copy())
+        infos.append(info)
+    distances = np.array(distances)
+    np.testing.assert_allclose(infos[-1]["closest_bl"], distances.min(axis=0))
+    summary = TASKS["reach"]().final_metrics(infos[-1])
+    assert summary["closest_bl"][0] < 0.5 < summary["final_distance_bl"][0]
+    assert summary["reached"].tolist() == [1.0, 0.0]
