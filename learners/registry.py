@@ -10,13 +10,15 @@ from .ppo.learner import PPOLearner
 from .scorers.handmc import HandMCLearner
 from .scorers.living_world import BehavioursLearner
 from .scorers.pursuit import ActiveVisionLearner
+from .scorers.steering import SteeringLearner
 from .skills.basic_training import BasicTrainingLearner
 from .stroke import StrokeCMAESLearner, StrokeLearner
 
 LEARNERS: dict[str, type[Learner]] = {
     cls.name: cls for cls in (AnnealingLearner, CMAESLearner, PPOLearner, HandMCLearner,
                               BasicTrainingLearner, MacroLearner, ActiveVisionLearner,
-                              BehavioursLearner, StrokeLearner, StrokeCMAESLearner)
+                              BehavioursLearner, StrokeLearner, StrokeCMAESLearner,
+                              SteeringLearner)
 }
 
 

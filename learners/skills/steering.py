@@ -1,0 +1,197 @@
+"""Closed-loop maneuvering over a repertoire: the skills chosen from the goal's bearing and
+range as the fish goes (the paper's "maneuvering to reach a visible target", Section 4.2),
+where the macro learner (:mod:`animat.learners.macro`) fixes one open-loop sequence per goal.
+
+Every ``interval_s`` the steering reads the goal in the body frame (``Animat/FishReach-v0``'s
+observation, BL) and picks a skill by a few hand-set rules (:class:`SteeringParams`):
+
+* within ``arrive_bl`` of the goal: rest (muscles relaxed), so the fish glides to it;
+* the goal off to one side by more than ``turn_above_deg`` (or, while a turn to that side is
+  under way, more than ``turn_below_deg``): the turn under way, or, when none is (or it has
+  played the episode it was learned over), the repertoire's turn to that side whose angle is
+  nearest the bearing;
+* otherwise a swim: the slowest within ``slow_within_bl``, the fastest beyond
+  ``fast_beyond_bl``, the one between (by their abstracted speeds) in between.
+
+A skill chosen again goes on from where it is; a new one starts from its beginning. A turn is
+played for at most the episode it was learned over (or ``turn_for_s``): then the steering
+chooses afresh, and a turn chosen again starts again (the fish rests if a decision is not yet
+due; a turn's abstraction is a mirrored series, which would play the turn backwards). A swim
+is periodic and goes on.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from animat.envs.tasks import ReachTask
+
+from .repertoire import Repertoire
+
+REST = -1  # the skill index of resting (muscles relaxed)
+
+
+@dataclass(frozen=True)
+class SteeringParams:
+    """The steering's rules (see the module docstring).
+
+    Attributes:
+        interval_s: s between decisions (rounded to whole env steps, at least one).
+        turn_above_deg: deg, |bearing| above which a turn starts.
+        turn_below_deg: deg, |bearing| below which a turn under way stops.
+        arrive_bl: BL, the range within which the fish rests.
+        slow_within_bl, fast_beyond_bl: BL, the ranges that choose the slowest and the fastest
+            swim.
+        turn_for_s: s, the longest a turn plays before the steering chooses afresh (None: the
+            episode it was learned over).
+    """
+
+    interval_s: float = 0.25
+    turn_above_deg: float = 30.0
+    turn_below_deg: float = 15.0
+    arrive_bl: float = 0.3
+    slow_within_bl: float = 1.0
+    fast_beyond_bl: float = 3.0
+    turn_for_s: float | None = None
+
+    def __post_init__(self) -> None:
+        checks = [(0 < self.interval_s < math.inf, "interval_s must be > 0 s"),
+                  (0 <= self.turn_below_deg <= self.turn_above_deg <= 180,
+                   "need 0 <= turn_below_deg <= turn_above_deg <= 180"),
+                  (0 <= self.arrive_bl <= self.slow_within_bl <= self.fast_beyond_bl < math.inf,
+                   "need 0 <= arrive_bl <= slow_within_bl <= fast_beyond_bl (BL)"),
+                  (self.turn_for_s is None or 0 < self.turn_for_s < math.inf,
+                   "turn_for_s must be > 0 s (or null: the turn's whole episode)")]
+        for ok, message in checks:
+            if not ok:
+                raise ValueError(f"steering: {message}")
+
+
+@dataclass(frozen=True)
+class Turn:
+    """A repertoire turn: its skill index, side (+1 left, -1 right) and angle, deg."""
+
+    index: int
+    side: int
+    angle: float
+
+
+def repertoire_moves(repertoire: Repertoire) -> tuple[list[int], list[Turn]]:
+    """The repertoire's swims (skill indices into ``repertoire.names``, slowest first, by
+    their abstracted speeds) and turns (from their tasks' angle and direction); a ValueError
+    naming what is missing when there is no swim or no turn to either side."""
+    swims, turns = [], []
+    for index, name in enumerate(repertoire.names):
+        meta = repertoire[name].metadata
+        if meta.get("task") == "swim":
+            speed = meta.get("abstracted_metrics", {}).get("eval/speed_bl_per_s", 0.0)
+            swims.append((float(speed), index))
+        elif meta.get("task") == "turn":
+            kwargs = meta.get("env_kwargs", {})
+            side = 1 if kwargs.get("direction", "left") == "left" else -1
+            turns.append(Turn(index, side, float(kwargs.get("angle_deg", 90.0))))
+    missing = [what for what, ok in (("a swim", swims), ("a left turn",
+                                     any(t.side > 0 for t in turns)),
+                                     ("a right turn", any(t.side < 0 for t in turns))) if not ok]
+    if missing:
+        raise ValueError(f"steering needs {', '.join(missing)} in the repertoire; it has "
+                         f"{repertoire.names}")
+    return [index for _, index in sorted(swims)], turns
+
+
+class SkillSteering:
+    """The steering of B fish at once: ``reset(B)``, then ``act(goals)`` once an env step.
+
+    Args:
+        repertoire: the skills it chooses from (:func:`repertoire_moves`).
+        params: its rules.
+        dt: s, the env step.
+    """
+
+    def __init__(self, repertoire: Repertoire, params: SteeringParams, dt: float) -> None:
+        self.params, self.dt = params, float(dt)
+        self.controllers = [repertoire[name].controller for name in repertoire.names]
+        # per skill, then resting last (REST = -1 indexes it): durations s, periodic or not
+        self.durations = np.array([repertoire[name].duration for name in repertoire.names]
+                                  + [np.inf])
+        self.swims, self.turns = repertoire_moves(repertoire)
+        self.periodic = np.ones(len(self.controllers) + 1, dtype=bool)
+        turns = [turn.index for turn in self.turns]
+        self.periodic[turns] = False
+        if params.turn_for_s is not None:
+            self.durations[turns] = np.minimum(self.durations[turns], params.turn_for_s)
+        self.every = max(1, int(round(params.interval_s / self.dt)))
+        self.reset(1)
+
+    def reset(self, batch: int) -> None:
+        """Begin B episodes: every fish resting, no step played."""
+        self.skill = np.full(batch, REST)
+        self.clock = np.zeros(batch, dtype=int)  # env steps played of the current skill
+        self.step, self.seen, self.count = 0, 0.0, 0
+
+    def act(self, goals: np.ndarray) -> np.ndarray:
+        """(B, A) env actions in [-1, 1] for the goals (B, >=2) in the body frame, BL (x
+        forward, y left)."""
+        goals = np.atleast_2d(np.asarray(goals, dtype=float))[:, :2]
+        self.seen, self.count = self.seen + goals, self.count + 1
+        if self.step % self.every == 0:  # decide on the goal seen since the last decision
+            chosen = self.choose(self.seen / self.count)
+            played = (self.clock * self.dt >= self.durations[chosen]) & ~self.periodic[chosen]
+            self.clock[(chosen != self.skill) | played] = 0
+            self.skill, self.seen, self.count = chosen, 0.0, 0
+        u = np.zeros((len(goals), len(self.controllers[0].mean)))
+        t = (self.clock + 1) * self.dt  # the activation due at the step's end (tent.play)
+        for index in np.unique(self.skill[self.skill != REST]):
+            rows = (self.skill == index) & (self.periodic[index] | (t <= self.durations[index]))
+            if rows.any():
+                u[rows] = self.controllers[index](t[rows])
+        self.clock += 1
+        self.step += 1
+        return (2.0 * np.clip(u, 0.0, 1.0) - 1.0).astype(np.float32)
+
+    def choose(self, goals: np.ndarray) -> np.ndarray:
+        """(B,) the skill index (or :data:`REST`) for each goal, by the module's rules."""
+        p = self.params
+        bearing = np.degrees(np.arctan2(goals[:, 1], goals[:, 0]))
+        distance = np.hypot(goals[:, 0], goals[:, 1])
+        side = np.where(bearing >= 0, 1, -1)
+        under_way = (self.clock * self.dt < self.durations[self.skill]) & (self.skill != REST)
+        turning_that_way = under_way & np.array(
+            [any(t.index == s and t.side == d for t in self.turns)
+             for s, d in zip(self.skill, side)], dtype=bool)
+        off = np.abs(bearing)
+        turn = (off > p.turn_above_deg) | (turning_that_way & (off > p.turn_below_deg))
+        chosen = np.full(len(goals), self.swims[len(self.swims) // 2])
+        chosen[distance < p.slow_within_bl] = self.swims[0]
+        chosen[distance > p.fast_beyond_bl] = self.swims[-1]
+        for row in np.flatnonzero(turn):
+            chosen[row] = (self.skill[row] if turning_that_way[row]
+                           else self._nearest_turn(side[row], off[row]))
+        chosen[distance < p.arrive_bl] = REST
+        return chosen
+
+    def _nearest_turn(self, side: int, angle: float) -> int:
+        """The skill index of the turn to ``side`` whose angle is nearest ``angle`` deg."""
+        return min((t for t in self.turns if t.side == side),
+                   key=lambda t: abs(t.angle - angle)).index
+
+
+class SteeringAgent:
+    """One fish's steering as an agent (SB3's ``predict``) in the reach env it steers, whose
+    observation ends with the task's entries, the goal in the body frame (``ReachTask``)."""
+
+    def __init__(self, steering: SkillSteering, env_id: str = "",
+                 env_kwargs: dict | None = None) -> None:
+        self.steering = steering
+        self.env_id, self.env_kwargs = env_id, dict(env_kwargs or {})
+        self.reset()
+
+    def reset(self) -> None:
+        self.steering.reset(1)
+
+    def predict(self, obs, state=None, episode_start=None, deterministic: bool = True):
+        goal = np.asarray(obs)[-ReachTask.obs_size:]
+        return self.steering.act(goal[None])[0], None
