@@ -188,8 +188,7 @@ class BlackBoxLearner(Learner):
         :meth:`plan`)."""
         plan = self.plan(budget_env_steps)
         self._fit_population(plan["population"])
-        evaluator = BatchEvaluator(self.env_id, self.env_kwargs, self.population, self.seed,
-                                   self.own.start_states)
+        evaluator = self._evaluator()
         path, saved = self._saved(checkpoint_dir)
         if saved is not None:
             if isinstance(saved, dict) and "phases" not in saved:  # before phases existed
@@ -213,6 +212,12 @@ class BlackBoxLearner(Learner):
         result.artefacts["budget"] = {**plan, "population": self.population,
                                       "phases_run": len(run.phases)}
         return result
+
+    def _evaluator(self) -> BatchEvaluator:
+        """What scores a round's candidates (:meth:`controller` of each): the open-loop
+        batch of the env, ``population`` candidates at a time over the start states."""
+        return BatchEvaluator(self.env_id, self.env_kwargs, self.population, self.seed,
+                              self.own.start_states)
 
     def _saved(self, checkpoint_dir: str | Path | None) -> tuple[Path | None, object]:
         """Where the run's checkpoint goes, and what is saved there

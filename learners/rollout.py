@@ -76,13 +76,17 @@ class BatchEvaluator:
         if actions.ndim != 3 or actions.shape[1:] != (self.steps, size):
             raise ValueError(f"actions must have shape (P, {self.steps}, {size}), got "
                              f"{actions.shape}")
-        rows = np.repeat(actions, self.num_starts, axis=0)  # row p * S + s: start s
+        return self.evaluate_rows(np.repeat(actions, self.num_starts, axis=0))
+
+    def evaluate_rows(self, rows: np.ndarray) -> tuple[np.ndarray, dict[str, np.ndarray]]:
+        """:meth:`evaluate` of P candidates' ``rows`` (P * S, ...), row p * S + s played
+        from start s by :meth:`_evaluate_chunk`, ``num_envs`` rows at a time."""
         returns, metrics = [], []
         for start in range(0, len(rows), self.env.num_envs):
             ret, met = self._evaluate_chunk(rows[start:start + self.env.num_envs])
             returns.append(ret)
             metrics.append(met)
-        per_start = (len(actions), self.num_starts)
+        per_start = (len(rows) // self.num_starts, self.num_starts)
         merged = {}
         for k in metrics[0]:
             values = np.concatenate([m[k] for m in metrics]).reshape(per_start)

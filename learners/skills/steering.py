@@ -13,6 +13,10 @@ observation, BL) and picks a skill by a few hand-set rules (:class:`SteeringPara
 * otherwise a swim: the slowest within ``slow_within_bl``, the fastest beyond
   ``fast_beyond_bl``, the one between (by their abstracted speeds) in between.
 
+Or a table of moves chooses (:meth:`SkillSteering.from_table`): for each cell of the goal's
+|bearing| and range, rest, a swim, or a turn toward the goal; the switching learner
+(:mod:`animat.learners.switching`) learns one.
+
 A skill chosen again goes on from where it is; a new one starts from its beginning. A turn is
 played for at most the episode it was learned over (or ``turn_for_s``): then the steering
 chooses afresh, and a turn chosen again starts again (the fish rests if a decision is not yet
@@ -102,16 +106,49 @@ def repertoire_moves(repertoire: Repertoire) -> tuple[list[int], list[Turn]]:
     return [index for _, index in sorted(swims)], turns
 
 
+# A table of moves: a move for each cell of the goal's |bearing| (BEARING_BINS equal bins over
+# [0, 180] deg) and range (bins split at RANGE_EDGES_BL, BL).
+BEARING_BINS = 6
+RANGE_EDGES_BL = (1.0, 2.0, 4.0)
+TABLE_SHAPE = (BEARING_BINS, len(RANGE_EDGES_BL) + 1)
+
+
+def table_moves(swims: list[int], turns: list[Turn]) -> list[tuple[int, int]]:
+    """The moves a table's codes name, each (skill index if the goal is to the left, to the
+    right): code 0 rests, then the swims (slowest first), then the turns toward the goal
+    (smallest angle first; as many as both sides have)."""
+    sides = [sorted((t for t in turns if t.side == side), key=lambda t: t.angle)
+             for side in (1, -1)]
+    toward = [(left.index, right.index) for left, right in zip(*sides)]
+    return [(REST, REST), *((swim, swim) for swim in swims), *toward]
+
+
+def check_table(table, moves: int) -> np.ndarray:
+    """``table`` as an int array (..., *TABLE_SHAPE) of codes in [0, moves); a ValueError in
+    one line otherwise."""
+    codes = np.asarray(table)
+    if (codes.shape[-2:] != TABLE_SHAPE or codes.ndim not in (2, 3)
+            or not np.issubdtype(codes.dtype, np.integer) or codes.min() < 0
+            or codes.max() >= moves):
+        raise ValueError(f"a table of moves must be integers in [0, {moves}) of shape "
+                         f"{TABLE_SHAPE} (|bearing| bins, range bins), got {codes.tolist()!r:.80}")
+    return codes
+
+
 class SkillSteering:
     """The steering of B fish at once: ``reset(B)``, then ``act(goals)`` once an env step.
 
     Args:
         repertoire: the skills it chooses from (:func:`repertoire_moves`).
-        params: its rules.
+        params: its rules (with a ``table``, only ``interval_s`` and ``turn_for_s`` are used).
         dt: s, the env step.
+        table: None (the rules choose), or a table of moves (*TABLE_SHAPE) of codes
+            (:func:`table_moves`) for every fish, or one per fish (B, *TABLE_SHAPE) (the
+            switching learner's, :mod:`animat.learners.switching`).
     """
 
-    def __init__(self, repertoire: Repertoire, params: SteeringParams, dt: float) -> None:
+    def __init__(self, repertoire: Repertoire, params: SteeringParams, dt: float,
+                 table: np.ndarray | None = None) -> None:
         self.params, self.dt = params, float(dt)
         self.controllers = [repertoire[name].controller for name in repertoire.names]
         # per skill, then resting last (REST = -1 indexes it): durations s, periodic or not
@@ -124,10 +161,15 @@ class SkillSteering:
         if params.turn_for_s is not None:
             self.durations[turns] = np.minimum(self.durations[turns], params.turn_for_s)
         self.every = max(1, int(round(params.interval_s / self.dt)))
-        self.reset(1)
+        self.moves = table_moves(self.swims, self.turns)
+        self.table = None if table is None else check_table(table, len(self.moves))
+        self.reset(len(self.table) if self.table is not None and self.table.ndim == 3 else 1)
 
     def reset(self, batch: int) -> None:
-        """Begin B episodes: every fish resting, no step played."""
+        """Begin B episodes: every fish resting, no step played (a table of moves per fish,
+        (B, bearing bins, range bins), must have B rows; one table is every fish's)."""
+        if self.table is not None and self.table.ndim == 3 and len(self.table) != batch:
+            raise ValueError(f"{len(self.table)} tables of moves for {batch} fish")
         self.skill = np.full(batch, REST)
         self.clock = np.zeros(batch, dtype=int)  # env steps played of the current skill
         self.step, self.seen, self.count = 0, 0.0, 0
@@ -153,7 +195,10 @@ class SkillSteering:
         return (2.0 * np.clip(u, 0.0, 1.0) - 1.0).astype(np.float32)
 
     def choose(self, goals: np.ndarray) -> np.ndarray:
-        """(B,) the skill index (or :data:`REST`) for each goal, by the module's rules."""
+        """(B,) the skill index (or :data:`REST`) for each goal, by the table of moves where
+        there is one (:meth:`from_table`), else by the module's rules."""
+        if self.table is not None:
+            return self.from_table(goals)
         p = self.params
         bearing = np.degrees(np.arctan2(goals[:, 1], goals[:, 0]))
         distance = np.hypot(goals[:, 0], goals[:, 1])
@@ -172,6 +217,19 @@ class SkillSteering:
                            else self._nearest_turn(side[row], off[row]))
         chosen[distance < p.arrive_bl] = REST
         return chosen
+
+    def from_table(self, goals: np.ndarray) -> np.ndarray:
+        """(B,) the skill index each fish's table gives for its goal's cell: |bearing| in
+        :data:`BEARING_BINS` equal bins over [0, 180] deg, range split at
+        :data:`RANGE_EDGES_BL`; a turn is toward the goal's side."""
+        bearing = np.degrees(np.arctan2(goals[:, 1], goals[:, 0]))
+        cell_b = np.minimum((np.abs(bearing) / (180.0 / BEARING_BINS)).astype(int),
+                            BEARING_BINS - 1)
+        cell_r = np.searchsorted(RANGE_EDGES_BL, np.hypot(goals[:, 0], goals[:, 1]))
+        table = self.table if self.table.ndim == 3 else self.table[None]
+        codes = table[np.arange(len(goals)) % len(table), cell_b, cell_r]
+        side = (bearing < 0).astype(int)  # 0: left, 1: right
+        return np.array([self.moves[code][side_k] for code, side_k in zip(codes, side)])
 
     def _nearest_turn(self, side: int, angle: float) -> int:
         """The skill index of the turn to ``side`` whose angle is nearest ``angle`` deg."""

@@ -10,6 +10,7 @@ import pytest
 from animat.learners.skills.repertoire import Repertoire
 from animat.learners.skills.steering import (
     REST,
+    TABLE_SHAPE,
     SkillSteering,
     SteeringAgent,
     SteeringParams,
@@ -104,3 +105,26 @@ def test_a_repertoire_without_turns_to_both_sides_is_refused_naming_what_it_lack
     swims_only = Repertoire([REPERTOIRE[n] for n in REPERTOIRE.names if "right" not in n])
     with pytest.raises(ValueError, match="needs a right turn in the repertoire"):
         repertoire_moves(swims_only)
+
+
+def test_a_table_of_moves_chooses_by_the_goals_cell_and_turns_toward_it():
+    s = steering()
+    moves = [name(left) for left, _ in s.moves]
+    assert moves == ["rest", "swim_slow", "swim_medium", "swim_fast", "turn_left_45",
+                     "turn_left_90", "turn_left_180"]
+    table = np.zeros(TABLE_SHAPE, dtype=int)
+    table[0, 3] = 3  # ahead (|bearing| < 30 deg), beyond 4 BL: swim fast
+    table[2, 1] = 5  # |bearing| 60-90 deg, 1-2 BL: the 90 deg turn toward the goal
+    s = SkillSteering(REPERTOIRE, SteeringParams(), DT, table)
+    s.reset(4)
+    goals = np.array([bearing(10, 5.0), bearing(70, 1.5), bearing(-70, 1.5), bearing(70, 3.0)])
+    assert [name(k) for k in s.choose(goals)] == [
+        "swim_fast", "turn_left_90", "turn_right_90", "rest"]
+
+
+@pytest.mark.parametrize("table", [np.zeros((6, 3), int), np.full(TABLE_SHAPE, 7),
+                                   np.full(TABLE_SHAPE, 0.5)])
+def test_a_table_that_is_not_one_is_refused_in_one_line(table):
+    with pytest.raises(ValueError, match="a table of moves must be integers in") as error:
+        SkillSteering(REPERTOIRE, SteeringParams(), DT, table)
+    assert "\n" not in str(error.value)

@@ -1,0 +1,141 @@
+"""A learned closed-loop maneuver: simulated annealing over a table of moves that the steering
+(:mod:`animat.learners.skills.steering`) plays, choosing a repertoire skill every
+``interval_s`` from the goal's |bearing| and range as the fish goes.
+
+A candidate is one gene in [0, 1] per cell of the table (``TABLE_SHAPE``: 6 bearing bins of
+30 deg by 4 range bins), read as a move code (rest, a swim, or a turn toward the goal;
+:func:`~animat.learners.skills.steering.table_moves`). Candidates are scored together, closed
+loop, on the native vector env (:class:`ClosedLoopEvaluator`), each from the same seeded
+start states, the goal drawn by the reach task: what the open-loop macro learner does for one
+goal, this does for every goal at once.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from animat.envs.registration import task_of
+from animat.envs.tasks import ReachTask
+from animat.envs.tasks.base import EpisodeSummary
+
+from .base import episode_timing
+from .blackbox import BlackBoxLearner
+from .optimizers import annealing
+from .rollout import START_STATES, BatchEvaluator
+from .skills.repertoire import Repertoire, kept_in_run
+from .skills.steering import TABLE_SHAPE, SkillSteering, SteeringAgent, SteeringParams
+
+
+@dataclass(frozen=True)
+class SwitchingParams:
+    """repertoire: path of a repertoire JSON (required); interval_s: s between decisions;
+    start_states: seeded starts each candidate is scored over; checkpoint_every: rounds."""
+
+    repertoire: str | None = None
+    interval_s: float = 0.25
+    start_states: int = START_STATES
+    checkpoint_every: int = 10
+
+    def __post_init__(self) -> None:
+        if self.repertoire is None:
+            raise ValueError("needs params.repertoire (a repertoire file)")
+        SteeringParams(interval_s=self.interval_s)  # a bad interval, in one line
+        if self.start_states < 1 or self.checkpoint_every < 1:
+            raise ValueError("start_states and checkpoint_every must be >= 1")
+
+
+class ClosedLoopEvaluator(BatchEvaluator):
+    """Scores tables of moves (P, *TABLE_SHAPE) closed loop: every row of the vector env is a
+    fish steered by its table (``steering(tables) -> SkillSteering``) toward its goal, the
+    reach task's observation entries."""
+
+    def __init__(self, steering, *args, **kwargs) -> None:
+        super().__init__(*args, **kwargs)
+        if self.task.name != ReachTask.name:
+            raise ValueError(f"a table of moves steers to a goal: it needs a reach env, not "
+                             f"task {self.task.name!r}")
+        self.steering = steering
+
+    def evaluate_players(self, players) -> tuple[np.ndarray, dict[str, np.ndarray]]:
+        """:meth:`evaluate_rows` of the tables ``players`` (P, *TABLE_SHAPE)."""
+        return self.evaluate_rows(np.repeat(np.asarray(players), self.num_starts, axis=0))
+
+    def _evaluate_chunk(self, chunk: np.ndarray):
+        count, width = len(chunk), self.env.num_envs
+        tables = np.zeros((width,) + TABLE_SHAPE, dtype=int)
+        tables[:count] = chunk
+        steering = self.steering(tables)
+        steering.reset(width)
+        obs, _ = self.env.reset(seed=[self.seed + r % self.num_starts for r in range(width)])
+        total = np.zeros(width)
+        summary = EpisodeSummary(self.task, width)
+        for _ in range(self.steps):
+            obs, reward, _, _, info = self.env.step(steering.act(obs[:, -ReachTask.obs_size:]))
+            total += reward
+            summary.update(info)
+        self.env_steps += count * self.steps
+        return total[:count], {k: v[:count] for k, v in summary.summary().items()}
+
+
+class SwitchingLearner(BlackBoxLearner):
+    """Params: ``repertoire``, ``interval_s`` (0.25 s), ``start_states``, plus the annealing
+    parameters (``mutation_rate`` is per cell: a small one, e.g. 0.1, changes a few moves at
+    a time)."""
+
+    name = "switching"
+    path_params = ("repertoire",)
+    optimizer = annealing
+    params_class = annealing.AnnealingParams
+    own_params = SwitchingParams
+
+    def _configure(self) -> None:
+        if task_of(self.env_id, self.env_kwargs).name != ReachTask.name:
+            raise ValueError(f"learner {self.name!r} steers to a goal: it needs a reach env "
+                             f"(e.g. Animat/FishReach-v0), not {self.env_id}")
+        self.repertoire = Repertoire.load(self.own.repertoire)
+        self.rules = SteeringParams(interval_s=self.own.interval_s)
+        self.moves = len(SkillSteering(self.repertoire, self.rules, 0.05).moves)
+
+    def _fit_encoding(self, opt_params: dict) -> dict:
+        return opt_params  # cells are not blocks of nodal values
+
+    def _genes(self, actuators: int) -> tuple[int, str]:
+        return int(np.prod(TABLE_SHAPE)), f"a table of {TABLE_SHAPE} moves"
+
+    def _x0(self, num_actuators: int) -> np.ndarray:
+        return np.random.default_rng(self.seed).uniform(0.0, 1.0, int(np.prod(TABLE_SHAPE)))
+
+    def _evaluator(self) -> ClosedLoopEvaluator:
+        dt = self._dt()
+        return ClosedLoopEvaluator(
+            lambda tables: SkillSteering(self.repertoire, self.rules, dt, tables),
+            self.env_id, self.env_kwargs, self.population, self.seed, self.own.start_states)
+
+    def _dt(self) -> float:
+        return float(episode_timing(self.env_id, self.env_kwargs).dt)
+
+    def controller(self, vector: np.ndarray, duration: float) -> np.ndarray:
+        """The table of move codes (*TABLE_SHAPE) of a candidate's genes."""
+        codes = np.minimum((np.asarray(vector) * self.moves).astype(int), self.moves - 1)
+        return codes.reshape(TABLE_SHAPE)
+
+    def _artefacts(self, x: np.ndarray, duration: float, evaluator) -> dict:
+        steering = SkillSteering(self.repertoire, self.rules, evaluator.dt)
+        names = [("rest" if left < 0 else self.repertoire.names[left]).replace("_left", "")
+                 for left, _ in steering.moves]
+        return {"table": self.controller(x, duration).tolist(), "moves": names,
+                "parameters": int(x.size)}
+
+    def learn(self, budget_env_steps: int, checkpoint_dir=None):
+        """As every black-box learner, steering with the run folder's own copy of the
+        repertoire (:func:`animat.learners.skills.repertoire.kept_in_run`)."""
+        self.repertoire = kept_in_run(self.repertoire, checkpoint_dir)
+        return super().learn(budget_env_steps, checkpoint_dir)
+
+    def agent(self, artefacts: dict, folder) -> SteeringAgent:
+        """The learned table, steering one fish in the run's env."""
+        steering = SkillSteering(self.repertoire, self.rules, self._dt(),
+                                 np.asarray(artefacts["table"]))
+        return SteeringAgent(steering, self.env_id, self.env_kwargs)

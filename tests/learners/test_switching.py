@@ -1,0 +1,62 @@
+"""The learned closed-loop maneuver (learner ``switching``): its closed-loop batch scores a
+table as one env steered by it would, it learns within its budget, its run's agent plays what
+it reported, and what it cannot steer is refused in one line."""
+
+from pathlib import Path
+
+import gymnasium as gym
+import numpy as np
+import pytest
+
+import animat  # noqa: F401
+from animat.learners.registry import make_learner
+from animat.learners.rollout import score_episode
+from animat.learners.skills.repertoire import Repertoire
+from animat.learners.skills.steering import (
+    TABLE_SHAPE,
+    SkillSteering,
+    SteeringAgent,
+    SteeringParams,
+)
+from animat.learners.switching import ClosedLoopEvaluator
+
+REPERTOIRE = str(Path(__file__).resolve().parents[2] / "repertoires" / "fish_reactive.json")
+REACH = {"duration": 2.0, "distance_bl": (2.0, 4.0), "bearing_deg": (-180.0, 180.0)}
+
+
+def test_the_closed_loop_batch_scores_each_table_as_one_env_steered_by_it():
+    repertoire = Repertoire.load(REPERTOIRE)
+    rules = SteeringParams()
+    tables = np.random.default_rng(0).integers(0, 7, (3,) + TABLE_SHAPE)
+    evaluator = ClosedLoopEvaluator(
+        lambda t: SkillSteering(repertoire, rules, 0.05, t), "Animat/FishReach-v0", REACH,
+        num_envs=2, seed=7, num_starts=2)
+    returns, metrics = evaluator.evaluate_players(tables)
+    assert evaluator.env_steps == 3 * 2 * 40  # a chunk's padding is not counted
+    env = gym.make("Animat/FishReach-v0", **REACH)
+    for p, table in enumerate(tables):
+        agent = SteeringAgent(SkillSteering(repertoire, rules, 0.05, table))
+        single = [score_episode(env, agent, seed) for seed in (7, 8)]
+        assert returns[p] == pytest.approx(np.mean([r["return"] for r in single]), rel=1e-9)
+        assert metrics["closest_bl"][p] == pytest.approx(
+            np.mean([r["closest_bl"] for r in single]), rel=1e-9)
+
+
+def test_the_switching_learner_learns_within_its_budget_and_its_agent_plays_its_result(
+        tmp_path):
+    learner = make_learner("switching", "Animat/FishReach-v0", REACH,
+                           {"repertoire": REPERTOIRE, "start_states": 2, "chains": 4}, seed=3)
+    result = learner.learn(4 * 2 * 40 * 3, tmp_path)
+    assert result.env_steps <= 960 and np.array(result.artefacts["table"]).shape == TABLE_SHAPE
+    assert {"eval/reached", "eval/closest_bl"} <= set(result.metrics)
+    env = gym.make("Animat/FishReach-v0", **REACH)
+    agent = learner.agent(result.artefacts, tmp_path)
+    again = [score_episode(env, agent, seed) for seed in (3, 4)]
+    assert np.mean([r["return"] for r in again]) == pytest.approx(result.metrics["eval/return"])
+
+
+def test_a_switching_learner_needs_a_reach_env_and_a_repertoire():
+    with pytest.raises(ValueError, match="needs a reach env"):
+        make_learner("switching", "Animat/FishSwim-v0", {}, {"repertoire": REPERTOIRE})
+    with pytest.raises(ValueError, match="needs params.repertoire"):
+        make_learner("switching", "Animat/FishReach-v0", REACH, {})
