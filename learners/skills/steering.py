@@ -158,6 +158,8 @@ class SkillSteering:
         self.periodic = np.ones(len(self.controllers) + 1, dtype=bool)
         turns = [turn.index for turn in self.turns]
         self.periodic[turns] = False
+        self.turn_side = np.zeros(len(self.controllers) + 1, dtype=int)  # +1 left, -1 right
+        self.turn_side[turns] = [turn.side for turn in self.turns]
         if params.turn_for_s is not None:
             self.durations[turns] = np.minimum(self.durations[turns], params.turn_for_s)
         self.every = max(1, int(round(params.interval_s / self.dt)))
@@ -204,9 +206,7 @@ class SkillSteering:
         distance = np.hypot(goals[:, 0], goals[:, 1])
         side = np.where(bearing >= 0, 1, -1)
         under_way = (self.clock * self.dt < self.durations[self.skill]) & (self.skill != REST)
-        turning_that_way = under_way & np.array(
-            [any(t.index == s and t.side == d for t in self.turns)
-             for s, d in zip(self.skill, side)], dtype=bool)
+        turning_that_way = under_way & (self.turn_side[self.skill] == side)
         off = np.abs(bearing)
         turn = (off > p.turn_above_deg) | (turning_that_way & (off > p.turn_below_deg))
         chosen = np.full(len(goals), self.swims[len(self.swims) // 2])
@@ -229,7 +229,7 @@ class SkillSteering:
         table = self.table if self.table.ndim == 3 else self.table[None]
         codes = table[np.arange(len(goals)) % len(table), cell_b, cell_r]
         side = (bearing < 0).astype(int)  # 0: left, 1: right
-        return np.array([self.moves[code][side_k] for code, side_k in zip(codes, side)])
+        return np.asarray(self.moves)[codes, side]
 
     def _nearest_turn(self, side: int, angle: float) -> int:
         """The skill index of the turn to ``side`` whose angle is nearest ``angle`` deg."""
