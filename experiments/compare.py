@@ -120,7 +120,7 @@ def summarise(runs: list[RunCurves], metric: str, threshold: float | None) -> li
         rows.append({
             "learner": learner, "runs": len(group),
             "done": sum(r.status.get("status") == "done" for r in group),
-            "result": _mean_std(results), "final": _mean_std(finals), "best": _mean_std(bests),
+            "result": mean_std(results), "final": mean_std(finals), "best": mean_std(bests),
             "steps_to_threshold": (float(np.mean(reached)) if reached else None, len(reached)),
             "wall_seconds": float(np.mean([r.status.get("wall_seconds", 0.0) for r in group])),
             "env_steps": float(np.mean([r.status.get("env_steps", 0) for r in group])),
@@ -131,7 +131,7 @@ def summarise(runs: list[RunCurves], metric: str, threshold: float | None) -> li
 BOOTSTRAP_RESAMPLES, CONFIDENCE = 10_000, 0.95
 
 
-def _mean_std(values: np.ndarray) -> tuple[float, float, float, float] | None:
+def mean_std(values: np.ndarray) -> tuple[float, float, float, float] | None:
     """(mean, std, and the bounds of a 95% percentile-bootstrap interval of the mean over
     runs), or None. The bootstrap resamples the runs (seeded, so a report is reproducible);
     with the 3-5 seeds these comparisons have it is narrow-tailed and optimistic, which is

@@ -202,3 +202,26 @@ def test_a_shipped_result_is_re_scored_against_what_it_quotes_and_never_written(
     before = (folder / "eval.json").read_bytes()
     assert evaluate(folder)["shipped"].startswith("DIFFERENT from the shipped")
     assert (folder / "eval.json").read_bytes() == before
+
+
+def test_the_unseen_table_groups_runs_by_learner_with_own_and_unseen_figures(tmp_path, capsys):
+    """``unseen_table``: one row per learner over its seeds, the own-start figure from
+    result.json and the unseen one from eval.json (a run without one is named and left out of
+    that column)."""
+    from animat.experiments.figures.unseen_table import main, run_rows
+
+    first = _run(tmp_path, "handmc")
+    second = _run(tmp_path, "cmaes")
+    evaluate(first, episodes=2)
+    rows = run_rows([first, second], "eval/speed_bl_per_s")
+    unseen = json.loads((first / "eval.json").read_text())["metrics"]["eval/speed_bl_per_s"]
+    own = json.loads((first / "result.json").read_text())["metrics"]["eval/speed_bl_per_s"]
+    assert rows[0]["learner"] == "handmc" and rows[0]["unseen"] == unseen
+    assert rows[0]["own"] == own and rows[1]["unseen"] is None
+    assert main([str(first), str(second), "--metric", "eval/speed_bl_per_s"]) == 0
+    out = capsys.readouterr()
+    table = out.out.splitlines()
+    assert table[2].startswith("| cmaes | 0 | ") and "| n/a | n/a |" in table[2]
+    assert table[3].startswith(f"| handmc | 0 | {own:.2f} ± 0.00")
+    assert f"| {unseen:.2f} ± 0.00" in table[3]
+    assert "has no eval.json" in out.err
