@@ -168,18 +168,21 @@ FAR_BL = 1.0e6  # the reach's closest distance before its first step, BL
 class ReachTask(Task):
     """Reach a goal point. Each episode's goal lies ``distance_bl`` body lengths from the start,
     at a bearing from the start heading drawn uniformly from ``bearing_deg`` (0: straight ahead,
-    180: behind, positive: left), at the start depth. E_v = distance to the goal (BL) at every
-    step, plus ``final_weight`` times the distance on the episode's last step. Observation: the
+    180: behind, positive: left), at the start depth. E_v = ``path_weight`` times the distance to
+    the goal (BL) at every step, plus, on the episode's last step, ``final_weight`` times the
+    distance there and ``closest_weight`` times the closest the fish came. Observation: the
     goal in the body frame, BL. The goal counts as reached when the fish comes within
     ``reached_bl`` of it at any step (its memory: the closest it has been): the ``reached``
     metric, 1 or 0 (over episodes, the share reached), beside ``closest_bl`` and
     ``final_distance_bl``. Ranges: ``distance_bl`` within [0, 1000] BL, ``bearing_deg`` within
-    [-360, 360] deg (each low <= high), ``final_weight`` in [0, 1000], ``reached_bl`` in
-    [0, 1000] BL."""
+    [-360, 360] deg (each low <= high), the weights in [0, 1000], ``reached_bl`` in [0, 1000]
+    BL."""
 
     distance_bl: tuple[float, float] = (2.0, 4.0)
     bearing_deg: tuple[float, float] = (-180.0, 180.0)
     final_weight: float = 20.0
+    path_weight: float = 1.0
+    closest_weight: float = 0.0
     reached_bl: float = 0.5
     name = "reach"
     start_spread = FISH_START
@@ -191,7 +194,8 @@ class ReachTask(Task):
     def __post_init__(self) -> None:
         check_range("distance_bl", self.distance_bl, 0.0, 1000.0, "BL")
         check_range("bearing_deg", self.bearing_deg, -360.0, 360.0, "deg")
-        check_number("final_weight", self.final_weight, 0.0, 1000.0)
+        for name in ("final_weight", "path_weight", "closest_weight"):
+            check_number(name, getattr(self, name), 0.0, 1000.0)
         check_number("reached_bl", self.reached_bl, 0.0, 1000.0, "BL")
 
     def initial_memory(self) -> np.ndarray:
@@ -214,8 +218,9 @@ class ReachTask(Task):
 
     def terms(self, world: World, last: np.ndarray) -> Terms:
         distance = np.linalg.norm(self._to_goal(world), axis=1) / world.length
-        e_v = distance + np.where(last, float(self.final_weight) * distance, 0.0)
         closest = np.minimum(world.memory[:, 0], distance)
+        end = float(self.final_weight) * distance + float(self.closest_weight) * closest
+        e_v = float(self.path_weight) * distance + np.where(last, end, 0.0)
         return e_v, {"distance_bl": distance, "closest_bl": closest}, closest[:, None]
 
     def final_metrics(self, last):

@@ -138,3 +138,20 @@ def test_a_goal_passed_within_reached_bl_counts_as_reached_wherever_the_fish_end
     summary = TASKS["reach"]().final_metrics(infos[-1])
     assert summary["closest_bl"][0] < 0.5 < summary["final_distance_bl"][0]
     assert summary["reached"].tolist() == [1.0, 0.0]
+
+
+def test_the_reach_objective_weighs_the_path_the_end_and_the_closest_approach():
+    """E_v = path_weight d every step + (final_weight d + closest_weight closest) on the last:
+    with only the closest approach weighed, E_v is zero until the last step, then the
+    closest distance; the info's E_v is what the weights say at every step."""
+    from animat.envs.core.env import BodyVectorEnv
+
+    weights = {"path_weight": 0.5, "final_weight": 2.0, "closest_weight": 3.0}
+    env = BodyVectorEnv(1, "reach", duration=1.0, start_spread="point", **weights)
+    env.reset(seed=0)
+    for k in range(env.episode_steps):
+        info = env.step(np.full((1, 6), -1.0))[4]
+        last = k == env.episode_steps - 1
+        d, closest = info["distance_bl"][0], info["closest_bl"][0]
+        expected = 0.5 * d + (2.0 * d + 3.0 * closest if last else 0.0)
+        assert info["E_v"][0] == pytest.approx(expected, rel=1e-12)
