@@ -141,9 +141,8 @@ def test_a_goal_passed_within_reached_bl_counts_as_reached_wherever_the_fish_end
 
 
 def test_the_reach_objective_weighs_the_path_the_end_and_the_closest_approach():
-    """E_v = path_weight d every step + (final_weight d + closest_weight closest) on the last:
-    with only the closest approach weighed, E_v is zero until the last step, then the
-    closest distance; the info's E_v is what the weights say at every step."""
+    """E_v = path_weight d every step + (final_weight d + closest_weight closest) on the last,
+    d the distance to the goal and closest the closest the fish has come, at every step."""
     from animat.envs.core.env import BodyVectorEnv
 
     weights = {"path_weight": 0.5, "final_weight": 2.0, "closest_weight": 3.0}
