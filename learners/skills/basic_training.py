@@ -3,8 +3,8 @@ repertoire.
 
 A regimen of primitive skills (:mod:`animat.learners.skills.regimens`: swims at several
 speeds, turns of several angles left and right; the dolphin's turn-down, turn-up, turn-left,
-turn-right, move-forward) is learned one skill at a time by annealing, each learned controller
-abstracted by FFT (and, where its params ask, the abstraction refined), and the abstractions
+turn-right, move-forward) is learned one skill at a time by annealing (or, where a skill names
+``learner: cmaes``, by CMA-ES over the same encoding), each learned controller abstracted by FFT (and, where its params ask, the abstraction refined), and the abstractions
 kept in a repertoire file (:mod:`animat.learners.skills.repertoire`).
 """
 
@@ -20,7 +20,7 @@ from animat.envs.registration import recorded_kwargs
 
 from ..agents import OpenLoopAgent, SkillSet
 from ..base import Learner, LearnResult, episode_timing
-from ..blackbox import AnnealingLearner
+from ..blackbox import AnnealingLearner, CMAESLearner
 from ..controllers.abstraction import AbstractController
 from ..logger import Logger
 from ..validation import typed_params
@@ -28,16 +28,35 @@ from .regimens import REGIMENS
 from .repertoire import Repertoire, Skill
 
 
+# the learners a regimen's skill may name (``learner``; default the paper's annealing)
+SKILL_LEARNERS = {"annealing": AnnealingLearner, "cmaes": CMAESLearner}
+
+
+def skill_learner(spec: dict, annealing: dict, seed: int, threshold: float | None = None,
+                  logger: Logger | None = None) -> AnnealingLearner | CMAESLearner:
+    """The learner of one regimen skill: its ``learner`` (annealing, with the run's shared
+    ``annealing`` params under the skill's own, or CMA-ES with the skill's own), on the skill's
+    env; ``threshold`` the FFT abstraction's."""
+    name = spec.get("learner", "annealing")
+    if name not in SKILL_LEARNERS:
+        raise ValueError(f"regimen skill {spec['name']!r}: learner {name!r} is not one of "
+                         f"{sorted(SKILL_LEARNERS)}")
+    shared = annealing if name == "annealing" else {}
+    params = {**shared, **spec.get("params", {})}
+    if threshold is not None:
+        params["abstraction_threshold"] = threshold
+    return SKILL_LEARNERS[name](spec["env_id"], spec.get("env_kwargs", {}), params, seed,
+                                logger)
+
+
 def learn_skill(spec: dict, env_steps: int, seed: int, threshold: float | None,
                 annealing: dict, logger: Logger, checkpoint_dir: Path | None,
                 trust_pickles: bool = False) -> Skill:
-    """Anneal one skill's controller, abstract it, and measure what abstraction cost
-    (``trust_pickles``: resume from an older version's pickled checkpoint too)."""
-    params = {**annealing, **spec.get("params", {})}
-    if threshold is not None:
-        params["abstraction_threshold"] = threshold
-    learner = AnnealingLearner(spec["env_id"], spec.get("env_kwargs", {}), params, seed,
-                               Logger([_Prefixed(logger, f"skill/{spec['name']}/")]))
+    """Learn one skill's controller (:func:`skill_learner`), abstract it, and measure what
+    abstraction cost (``trust_pickles``: resume from an older version's pickled checkpoint
+    too)."""
+    learner = skill_learner(spec, annealing, seed, threshold,
+                            Logger([_Prefixed(logger, f"skill/{spec['name']}/")]))
     learner.trust_pickles = trust_pickles
     result = learner.learn(env_steps, checkpoint_dir)
     artefacts = result.artefacts
@@ -48,6 +67,7 @@ def learn_skill(spec: dict, env_steps: int, seed: int, threshold: float | None,
         # the water and the start spread it learned in, written out
         "env_kwargs": recorded_kwargs(spec["env_id"], spec.get("env_kwargs", {})),
         "objective": "E = -return (paper Eq. 1)",
+        "learner": spec.get("learner", "annealing"),
         "duration": artefacts["episode"]["duration"],
         "learned_E": -learned["eval/return"], "abstracted_E": -scored["eval/return"],
         "parameters_learned": result.artefacts["parameters"],
@@ -109,6 +129,9 @@ def _check_regimen(regimen: list, owner: str) -> None:
         if spec["name"] in names:
             raise ValueError(f"{owner}: regimen names skill {spec['name']!r} twice; a "
                              f"repertoire keeps one skill a name")
+        if not isinstance(spec.get("learner", "annealing"), str):
+            raise ValueError(f"{owner}: regimen skill {spec['name']!r}: learner must be a "
+                             f"name, got {spec['learner']!r:.60}")
         for key in ("env_kwargs", "params"):
             if not isinstance(spec.get(key, {}), dict):
                 raise ValueError(f"{owner}: regimen skill {spec['name']!r}: {key} must be a "
@@ -144,9 +167,8 @@ class BasicTrainingLearner(Learner):
         self.annealing = dict(own.annealing)
         self.output, self.force = own.output, bool(own.force)
         # every skill's settings are checked before any learning
-        self._skill_learners = [AnnealingLearner(spec["env_id"], spec.get("env_kwargs", {}),
-                                                 {**self.annealing, **spec.get("params", {})},
-                                                 self.seed) for spec in self.regimen]
+        self._skill_learners = [skill_learner(spec, self.annealing, self.seed)
+                                for spec in self.regimen]
 
     def agent(self, artefacts: dict, folder: Path) -> SkillSet:
         """Each skill of the repertoire the run wrote (its run folder's copy, which a later

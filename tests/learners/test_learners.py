@@ -36,8 +36,11 @@ TINY = {
     "stroke": ({"chains": 8, "prefix": [{"skill": "move_forward", "duration": 0.2}]}, 960),
     "stroke_cmaes": ({"popsize": 8, "prefix": [{"skill": "move_forward", "duration": 0.2}]},
                      960),
+    "steering": ({"episodes": 2}, 20),
+    "switching": ({"chains": 4, "start_states": 2}, 160),
 }
 DOLPHIN_REPERTOIRE = str(Path(__file__).resolve().parents[2] / "repertoires" / "dolphin.json")
+FISH_REPERTOIRE = str(Path(__file__).resolve().parents[2] / "repertoires" / "fish_reactive.json")
 
 
 @pytest.fixture(scope="module")
@@ -63,6 +66,9 @@ def test_learner_runs_on_a_tiny_budget_and_logs_the_shared_tags(name, tmp_path,
         env_id, tags = "Animat/FishReach-v0", ("eval/return", "eval/final_distance_bl")
     if name == "basic_training":
         tags = ("eval/return",)
+    if name in ("steering", "switching"):  # they need turns to both sides
+        params = {**params, "repertoire": FISH_REPERTOIRE}
+        env_id, tags = "Animat/FishReach-v0", ("eval/return", "eval/reached")
     if name.startswith("stroke"):
         params = {**params, "repertoire": DOLPHIN_REPERTOIRE}
         env_id, tags = "Animat/DolphinSomersault-v0", ("eval/return",
@@ -305,6 +311,9 @@ def test_candidates_are_scored_over_several_start_states():
     ("ppo", {"normalize": "yes"}, "learner 'ppo': normalize: use true, false or a mapping"),
     ("macro", {}, "learner 'macro': needs params.repertoire"),
     ("basic_training", {"annealing": 3}, "learner 'basic_training': annealing must be a mapping"),
+    ("basic_training", {"regimen": [{"name": "t", "env_id": "Animat/FishTurn-v0",
+                                     "learner": "ppo"}]},
+     "regimen skill 't': learner 'ppo' is not one of ['annealing', 'cmaes']"),
 ])
 def test_every_learner_checks_its_typed_params_in_one_line(name, params, message):
     with pytest.raises(ValueError) as error:
@@ -391,3 +400,21 @@ def test_the_hand_mc_plays_back_without_building_the_env(tmp_path, monkeypatch):
     assert agent.actions.shape == (steps, 6)
     expected = play(task.hand_controller(speed=0.5), dt, steps)
     np.testing.assert_array_equal(agent.actions, expected)
+
+
+def test_a_regimen_skill_may_be_learned_by_cmaes_and_says_so(tmp_path):
+    """A skill naming ``learner: cmaes`` is learned by CMA-ES with its own params (the run's
+    shared annealing params are not its), and its repertoire entry records the learner."""
+    from animat.learners.skills.repertoire import Repertoire
+
+    regimen = [{"name": "turn", "env_id": "Animat/FishTurn-v0", "env_kwargs": TINY_ENV,
+                "learner": "cmaes", "params": {"nodes": 4, "period": None, "popsize": 8}},
+               {"name": "swim", "env_id": "Animat/FishSwim-v0", "env_kwargs": TINY_ENV,
+                "params": {"nodes": 4, "period": 0.5}}]
+    learner = make_learner("basic_training", ENV, TINY_ENV,
+                           {"regimen": regimen, "annealing": {"chains": 8}})
+    learner.learn(1920, tmp_path)
+    skills = Repertoire.load(tmp_path / "repertoire.json").skills
+    assert skills["turn"].metadata["learner"] == "cmaes"
+    assert skills["swim"].metadata["learner"] == "annealing"
+    assert skills["turn"].metadata["env_steps"] == 960 - 960 % (8 * 40)
