@@ -221,13 +221,17 @@ def latest(checkpoint_dir: Path) -> Path | None:
     return folder
 
 
-def restore(model, venv, folder: Path) -> dict:
+def restore(model, venv, folder: Path, with_optimizer: bool = True) -> dict:
     """Give a freshly built ``model`` (and its ``venv``) a checkpoint's numbers; returns the
-    checkpoint's state (``wall``, ``metrics``, ...)."""
+    checkpoint's state (``wall``, ``metrics``, ...). ``with_optimizer`` False: the policy's
+    weights and the statistics only, all that playing the policy back needs (a shipped run
+    folder keeps no ``optimizer.pt`` or ``resume.json``)."""
     import torch
 
-    for name, target in (("policy.pt", model.policy),
-                         ("optimizer.pt", model.policy.optimizer)):
+    targets = [("policy.pt", model.policy)]
+    if with_optimizer:
+        targets.append(("optimizer.pt", model.policy.optimizer))
+    for name, target in targets:
         try:
             target.load_state_dict(torch.load(folder / name, map_location="cpu",
                                               weights_only=True))

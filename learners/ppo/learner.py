@@ -68,7 +68,7 @@ class PPOLearner(Learner):
             raise FileNotFoundError(f"{checkpoints}: the run saved no model")
         venv = self._venv()
         model = self._model(venv)
-        ppo_checkpoint.restore(model, venv, saved)
+        ppo_checkpoint.restore(model, venv, saved, with_optimizer=False)
         normalize = None
         if hasattr(venv, "normalize_obs"):
             venv.training, venv.norm_reward = False, False

@@ -210,3 +210,18 @@ def test_a_checkpoint_without_its_resume_state_goes_on_and_says_so(tmp_path, cap
     assert len(warning) == 1 and f"{saved}: no resume.json" in warning[0]
     assert read_json(ppo_checkpoint.latest(tmp_path) / "state.json")["num_timesteps"] == 256
     assert result.metrics
+
+
+def test_a_run_plays_back_from_its_policy_and_statistics_alone(tmp_path):
+    """What a shipped run folder keeps of a PPO checkpoint (the policy's weights, the
+    observation statistics, the state; no optimiser, no resume state) plays the same episodes
+    as the whole checkpoint."""
+    from animat.experiments.evaluate import evaluate
+
+    folder = tmp_path / "run"
+    animat("run", write_config(tmp_path / "ppo.yaml", CONFIG), "--out", folder, "--quiet")
+    whole = evaluate(folder, episodes=2)["metrics"]
+    saved = ppo_checkpoint.latest(folder / "checkpoints")
+    for name in ("optimizer.pt", "resume.json"):
+        (saved / name).unlink()
+    assert evaluate(folder, episodes=2)["metrics"] == whole
