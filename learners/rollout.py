@@ -99,18 +99,27 @@ class BatchEvaluator:
         return self.evaluate(np.stack([p.actions(self.dt, self.steps) for p in players]))
 
     def _evaluate_chunk(self, chunk: np.ndarray):
+        """Play up to ``num_envs`` rows (padded to the batch) from their start states: (rows,)
+        returns and the task's summary metrics (rows,) each."""
         count, width = len(chunk), self.env.num_envs
-        padded = np.zeros((width,) + chunk.shape[1:], dtype=np.float32)
+        padded = np.zeros((width,) + chunk.shape[1:], dtype=chunk.dtype)
         padded[:count] = chunk
-        self.env.reset(seed=[self.seed + r % self.num_starts for r in range(width)])
+        act = self._player(padded)
+        obs, _ = self.env.reset(seed=[self.seed + r % self.num_starts for r in range(width)])
         total = np.zeros(width)
         summary = EpisodeSummary(self.task, width)
         for k in range(self.steps):
-            _, reward, _, _, info = self.env.step(padded[:, k])
+            obs, reward, _, _, info = self.env.step(act(k, obs))
             total += reward
             summary.update(info)
         self.env_steps += count * self.steps
         return total[:count], {k: v[:count] for k, v in summary.summary().items()}
+
+    def _player(self, rows: np.ndarray):
+        """``act(k, obs) -> (num_envs, A)`` actions of env step k for the batch's rows: here
+        their action sequences (num_envs, T, A), played open loop."""
+        actions = rows.astype(np.float32)
+        return lambda k, obs: actions[:, k]
 
 
 def score_episode(env: gym.Env, policy, seed: int) -> dict[str, float]:

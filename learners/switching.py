@@ -18,7 +18,6 @@ import numpy as np
 
 from animat.envs.registration import task_of
 from animat.envs.tasks import ReachTask
-from animat.envs.tasks.base import EpisodeSummary
 
 from .base import episode_timing
 from .blackbox import BlackBoxLearner
@@ -62,21 +61,13 @@ class ClosedLoopEvaluator(BatchEvaluator):
         """:meth:`evaluate_rows` of the tables ``players`` (P, *TABLE_SHAPE)."""
         return self.evaluate_rows(np.repeat(np.asarray(players), self.num_starts, axis=0))
 
-    def _evaluate_chunk(self, chunk: np.ndarray):
-        count, width = len(chunk), self.env.num_envs
-        tables = np.zeros((width,) + TABLE_SHAPE, dtype=int)
-        tables[:count] = chunk
-        steering = self.steering(tables)
-        steering.reset(width)
-        obs, _ = self.env.reset(seed=[self.seed + r % self.num_starts for r in range(width)])
-        total = np.zeros(width)
-        summary = EpisodeSummary(self.task, width)
-        for _ in range(self.steps):
-            obs, reward, _, _, info = self.env.step(steering.act(obs[:, -ReachTask.obs_size:]))
-            total += reward
-            summary.update(info)
-        self.env_steps += count * self.steps
-        return total[:count], {k: v[:count] for k, v in summary.summary().items()}
+    def _player(self, rows: np.ndarray):
+        """``act(k, obs)``: each row's fish steered by its table (``rows`` (num_envs,
+        *TABLE_SHAPE), padding rows all rest) toward its goal, the observation's task
+        entries."""
+        steering = self.steering(rows.astype(int))
+        steering.reset(len(rows))
+        return lambda k, obs: steering.act(obs[:, -ReachTask.obs_size:])
 
 
 class SwitchingLearner(BlackBoxLearner):
