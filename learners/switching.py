@@ -16,7 +16,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from animat.envs.registration import task_of
 from animat.envs.tasks import ReachTask
 
 from .base import episode_timing
@@ -24,7 +23,15 @@ from .blackbox import BlackBoxLearner
 from .optimizers import annealing
 from .rollout import START_STATES, BatchEvaluator
 from .skills.repertoire import Repertoire, kept_in_run
-from .skills.steering import TABLE_SHAPE, SkillSteering, SteeringAgent, SteeringParams
+from .skills.steering import (
+    TABLE_SHAPE,
+    SkillSteering,
+    SteeringAgent,
+    SteeringParams,
+    check_reach,
+    repertoire_moves,
+    table_moves,
+)
 
 
 @dataclass(frozen=True)
@@ -50,11 +57,10 @@ class ClosedLoopEvaluator(BatchEvaluator):
     fish steered by its table (``steering(tables) -> SkillSteering``) toward its goal, the
     reach task's observation entries."""
 
-    def __init__(self, steering, *args, **kwargs) -> None:
-        super().__init__(*args, **kwargs)
-        if self.task.name != ReachTask.name:
-            raise ValueError(f"a table of moves steers to a goal: it needs a reach env, not "
-                             f"task {self.task.name!r}")
+    def __init__(self, steering, env_id: str, env_kwargs: dict | None = None, *args,
+                 **kwargs) -> None:
+        check_reach(env_id, env_kwargs, "a table of moves")
+        super().__init__(env_id, env_kwargs, *args, **kwargs)
         self.steering = steering
 
     def evaluate_players(self, players) -> tuple[np.ndarray, dict[str, np.ndarray]]:
@@ -82,12 +88,11 @@ class SwitchingLearner(BlackBoxLearner):
     own_params = SwitchingParams
 
     def _configure(self) -> None:
-        if task_of(self.env_id, self.env_kwargs).name != ReachTask.name:
-            raise ValueError(f"learner {self.name!r} steers to a goal: it needs a reach env "
-                             f"(e.g. Animat/FishReach-v0), not {self.env_id}")
+        check_reach(self.env_id, self.env_kwargs, f"learner {self.name!r}")
         self.repertoire = Repertoire.load(self.own.repertoire)
         self.rules = SteeringParams(interval_s=self.own.interval_s)
-        self.moves = len(SkillSteering(self.repertoire, self.rules, 0.05).moves)
+        self.move_skills = table_moves(*repertoire_moves(self.repertoire))
+        self.moves = len(self.move_skills)
 
     def _fit_encoding(self, opt_params: dict) -> dict:
         return opt_params  # cells are not blocks of nodal values
@@ -113,9 +118,8 @@ class SwitchingLearner(BlackBoxLearner):
         return codes.reshape(TABLE_SHAPE)
 
     def _artefacts(self, x: np.ndarray, duration: float, evaluator) -> dict:
-        steering = SkillSteering(self.repertoire, self.rules, evaluator.dt)
         names = [("rest" if left < 0 else self.repertoire.names[left]).replace("_left", "")
-                 for left, _ in steering.moves]
+                 for left, _ in self.move_skills]
         return {"table": self.controller(x, duration).tolist(), "moves": names,
                 "parameters": int(x.size)}
 

@@ -11,14 +11,13 @@ from pathlib import Path
 import gymnasium as gym
 
 import animat  # noqa: F401
+from animat.envs.registration import timing
 
 from ..base import LearnResult, Scorer
 from ..rollout import score_policy
 from ..skills.repertoire import Repertoire, kept_in_run
-from ..skills.steering import SkillSteering, SteeringAgent, SteeringParams
+from ..skills.steering import SkillSteering, SteeringAgent, SteeringParams, check_reach
 from ..validation import typed_params
-
-REACH_TASK = "reach"
 
 
 @dataclass(frozen=True)
@@ -50,16 +49,9 @@ class SteeringLearner(Scorer):
         owner = f"learner {self.name!r}"
         self.own = typed_params(SteeringEvalParams, self.params, owner)
         self.rules = typed_params(SteeringParams, self.own.steering or {}, f"{owner}.steering")
+        check_reach(self.env_id, self.env_kwargs, f"learner {self.name!r}")
         self.repertoire = Repertoire.load(self.own.repertoire)
-        env = gym.make(self.env_id, **self.env_kwargs)
-        try:
-            task = env.unwrapped.task
-            if task.name != REACH_TASK:
-                raise ValueError(f"learner {self.name!r} steers to a goal: it needs a reach env "
-                                 f"(e.g. Animat/FishReach-v0), not {self.env_id}")
-            self.dt = float(env.unwrapped.dt)
-        finally:
-            env.close()
+        self.dt = float(timing(self.env_id, self.env_kwargs).dt)
         SkillSteering(self.repertoire, self.rules, self.dt)  # a repertoire it cannot use
 
     def scored_episodes(self) -> int:

@@ -4,8 +4,9 @@ repertoire.
 A regimen of primitive skills (:mod:`animat.learners.skills.regimens`: swims at several
 speeds, turns of several angles left and right; the dolphin's turn-down, turn-up, turn-left,
 turn-right, move-forward) is learned one skill at a time by annealing (or, where a skill names
-``learner: cmaes``, by CMA-ES over the same encoding), each learned controller abstracted by FFT (and, where its params ask, the abstraction refined), and the abstractions
-kept in a repertoire file (:mod:`animat.learners.skills.repertoire`).
+``learner: cmaes``, by CMA-ES over the same encoding), each learned controller abstracted by
+FFT (and, where its params ask, the abstraction refined), and the abstractions kept in a
+repertoire file (:mod:`animat.learners.skills.repertoire`).
 """
 
 from __future__ import annotations
@@ -26,7 +27,6 @@ from ..logger import Logger
 from ..validation import typed_params
 from .regimens import REGIMENS
 from .repertoire import Repertoire, Skill
-
 
 # the learners a regimen's skill may name (``learner``; default the paper's annealing)
 SKILL_LEARNERS = {"annealing": AnnealingLearner, "cmaes": CMAESLearner}

@@ -31,6 +31,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from animat.envs.registration import task_of
 from animat.envs.tasks import ReachTask
 
 from .repertoire import Repertoire
@@ -81,6 +82,14 @@ class Turn:
     index: int
     side: int
     angle: float
+
+
+def check_reach(env_id: str, env_kwargs: dict | None, owner: str) -> None:
+    """ValueError in one line naming ``owner`` unless the env's task is a reach (the steering
+    reads its goal from the reach task's observation entries)."""
+    if task_of(env_id, env_kwargs).name != ReachTask.name:
+        raise ValueError(f"{owner} steers to a goal: it needs a reach env (e.g. "
+                         f"Animat/FishReach-v0), not {env_id}")
 
 
 def repertoire_moves(repertoire: Repertoire) -> tuple[list[int], list[Turn]]:
