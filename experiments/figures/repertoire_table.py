@@ -6,7 +6,8 @@ repertoire (``checkpoints/repertoire.json``: each skill's learned and abstracted
 run's own starts, and its parameter counts) and its ``eval.json`` (``animat eval RUN_DIR
 --episodes N``: the repertoire's abstractions played from N unseen starts), and prints a
 Markdown table: for a swim its speed (BL/s) and the abstraction's share of the learned speed,
-for a turn its final heading error (deg). The README's basic-training table is this command's
+for a turn its final heading error (deg); the dolphin's
+skills likewise (an arc's speed round it, a spin's pitch rate). The README's basic-training table is this command's
 output for ``results/fish_basic_training``.
 """
 
@@ -18,7 +19,12 @@ from pathlib import Path
 from animat.learners.storage.files import read_json
 
 FIGURES = {"swim": ("eval/speed_bl_per_s", "BL/s"),
-           "turn": ("eval/final_heading_error_deg", "deg off")}
+           "turn": ("eval/final_heading_error_deg", "deg off"),
+           "dolphin_forward": ("eval/speed_bl_per_s", "BL/s"),
+           "dolphin_turn": ("eval/final_turn_error_deg", "deg off"),
+           "dolphin_arc": ("eval/arc_speed_bl_per_s", "BL/s round the arc"),
+           "dolphin_spin": ("eval/spin_deg_per_s", "deg/s")}
+SPEEDS = ("swim", "dolphin_forward", "dolphin_arc", "dolphin_spin")  # an abstraction's share
 
 
 def repertoire_rows(folder: Path) -> list[dict]:
@@ -50,7 +56,7 @@ def repertoire_markdown(rows: list[dict]) -> str:
              "| parameters | abstraction, unseen starts |", "|---|---|---|---|---|---|"]
     for r in rows:
         share = (f" ({r['abstracted'] / r['learned']:.0%})"
-                 if r["task"] == "swim" and r["learned"] else "")
+                 if r["task"] in SPEEDS and r["learned"] else "")
         unseen = (f"{r['unseen']:.2f} ± {r['unseen_std']:.2f} over {r['unseen_starts']}"
                   if r["unseen"] is not None else "not scored")
         lines.append(f"| {r['skill']} | {r['learned']:.2f} ± {r['learned_std']:.2f} {r['unit']} "

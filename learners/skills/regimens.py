@@ -14,8 +14,11 @@ params the annealing learner's, over the run's shared ``annealing``; or, where a
   (a skill's ``learner``; the swims by annealing as above).
 * ``fish_paper``: the regimen the shipped ``repertoires/fish.json`` was learned by (the paper's
   water, the point start, one turn angle).
-* ``dolphin``: the dolphin's 5 basic motor tasks and two arcs (the paper's water, the point
-  start), which ``repertoires/dolphin.json`` was learned by.
+* ``dolphin``: the dolphin's 5 basic motor tasks (move-forward; turns down, up, left and right,
+  taken while swimming and learned by CMA-ES), two arcs and two pitch spins at speed, in the
+  default (reactive) water from the start spread.
+* ``dolphin_paper``: the dolphin's 5 basic motor tasks and two arcs (the paper's water, the
+  point start), which ``repertoires/dolphin.json`` was learned by.
 """
 
 from __future__ import annotations
@@ -82,7 +85,7 @@ FISH_PAPER_REGIMEN = [
 # seeds (seed + index) and budgets (the run's budget over the regimen) as they were when the
 # run's budget grows by theirs.
 _DOLPHIN_TURN = {"period": None, "nodes": 21}
-DOLPHIN_REGIMEN = [
+DOLPHIN_PAPER_REGIMEN = [
     {"name": "move_forward", "env_id": "Animat/DolphinForward-v0",
      "env_kwargs": {"duration": 4.0, **_PAPER},
      "params": {"period": 0.2, "nodes": 6}},
@@ -97,5 +100,35 @@ DOLPHIN_REGIMEN = [
        "params": {"period": 0.2, "nodes": 6}} for direction in ("down", "up")),
 ]
 
+# The dolphin's regimen in the default (reactive) water, from the tasks' start spreads
+# (envs/tasks/dolphin.py: DOLPHIN_START): move-forward from rest 3 m down, periodic over one
+# 5 Hz fluke beat and refined within 25 parameters as the fish's swims; the four turns (45 deg
+# down and up, 90 deg left and right) taken while swimming, from a glide at 3 m/s (1.2 BL/s)
+# 8 m down, learned by CMA-ES over 21 nodes and scored where they end, as the fish's; a
+# dolphin at rest yaws slowly (the hand turn-MC: 43 deg in 4 s from rest, 91 deg from the
+# glide). Then the two arcs of 2 BL radius (as the paper's-water regimen), and two pitch spins
+# at speed (the somersault's skill): from a 5 m/s glide pitched 45 deg toward the spin's
+# opposite, 8 m down, E_v = -the pitch rate over 1 s, a periodic beat (the spin a somersault
+# needs is made at speed, in the flow of the exit: docs/dolphin_stunts.md).
+_GLIDE = {"start_speed": 3.0, "start_depth": 8.0}
+_DOLPHIN_BEAT = {"period": 0.2, "nodes": 6}
+DOLPHIN_REGIMEN = [
+    {"name": "move_forward", "env_id": "Animat/DolphinForward-v0",
+     "env_kwargs": {"duration": 4.0}, "params": {**_DOLPHIN_BEAT, "refine": _SWIM["refine"]}},
+    *({"name": f"turn_{direction}", "env_id": "Animat/DolphinTurn-v0",
+       "env_kwargs": {**_TURN_OBJECTIVE, **_GLIDE, "direction": direction, "angle_deg": angle},
+       "learner": "cmaes", "params": _CMAES_TURN}
+      for direction, angle in (("down", 45.0), ("up", 45.0), ("left", 90.0), ("right", 90.0))),
+    *({"name": f"arc_{direction}", "env_id": "Animat/DolphinArc-v0",
+       "env_kwargs": {"duration": 4.0, "direction": direction, "radius_bl": 2.0,
+                      "start_depth": 8.0},
+       "params": _DOLPHIN_BEAT} for direction in ("down", "up")),
+    *({"name": f"spin_{direction}", "env_id": "Animat/DolphinSpin-v0",
+       "env_kwargs": {"duration": 1.0, "direction": direction, "start_speed": 5.0,
+                      "start_depth": 8.0, "start_pitch_deg": pitch},
+       "params": _DOLPHIN_BEAT} for direction, pitch in (("down", 45.0), ("up", -45.0))),
+]
+
 REGIMENS = {"fish": FISH_REGIMEN, "fish_cmaes_turns": FISH_CMAES_TURNS_REGIMEN,
-            "fish_paper": FISH_PAPER_REGIMEN, "dolphin": DOLPHIN_REGIMEN}
+            "fish_paper": FISH_PAPER_REGIMEN, "dolphin": DOLPHIN_REGIMEN,
+            "dolphin_paper": DOLPHIN_PAPER_REGIMEN}
