@@ -102,7 +102,7 @@ class _Prefixed:
 class BasicTrainingParams:
     """regimen: [{name, env_id, env_kwargs, params}], or the name of a shipped one
     (:data:`~animat.learners.skills.regimens.REGIMENS`: ``fish``, ``fish_paper``,
-    ``dolphin``; None: the fish's); threshold: the FFT
+    ``dolphin``, ``dolphin_paper``, ...; None: the fish's); threshold: the FFT
     threshold (None: the most compact abstraction within 10%); annealing: annealing params
     shared by all skills; output: a path the repertoire is also written to (None: only the
     run folder's ``checkpoints/repertoire.json``), refused if it exists unless ``force``."""
@@ -145,7 +145,7 @@ class BasicTrainingLearner(Learner):
     ``output``: never over a file that exists unless ``force``).
 
     Params: ``regimen`` (list of {name, env_id, env_kwargs, params}, or ``"fish"``,
-    ``"fish_paper"`` or ``"dolphin"``, :mod:`animat.learners.skills.regimens`), ``threshold`` (FFT;
+    or a name in :data:`~animat.learners.skills.regimens.REGIMENS`), ``threshold`` (FFT;
     default: the most compact abstraction within 10% of the learned objective),
     ``annealing`` (annealing parameters shared by all skills), ``output`` (a second copy's
     path, relative to the config's folder), ``force`` (let ``output`` replace a file).

@@ -85,10 +85,11 @@ FISH_PAPER_REGIMEN = [
 # seeds (seed + index) and budgets (the run's budget over the regimen) as they were when the
 # run's budget grows by theirs.
 _DOLPHIN_TURN = {"period": None, "nodes": 21}
+_DOLPHIN_BEAT = {"period": 0.2, "nodes": 6}  # one 5 Hz fluke beat
 DOLPHIN_PAPER_REGIMEN = [
     {"name": "move_forward", "env_id": "Animat/DolphinForward-v0",
      "env_kwargs": {"duration": 4.0, **_PAPER},
-     "params": {"period": 0.2, "nodes": 6}},
+     "params": _DOLPHIN_BEAT},
     *({"name": f"turn_{direction}", "env_id": "Animat/DolphinTurn-v0",
        "env_kwargs": {"duration": 4.0, "direction": direction, "angle_deg": angle,
                       **_PAPER},
@@ -97,7 +98,7 @@ DOLPHIN_PAPER_REGIMEN = [
     *({"name": f"arc_{direction}", "env_id": "Animat/DolphinArc-v0",
        "env_kwargs": {"duration": 4.0, "direction": direction, "radius_bl": 2.0,
                       **_PAPER},
-       "params": {"period": 0.2, "nodes": 6}} for direction in ("down", "up")),
+       "params": _DOLPHIN_BEAT} for direction in ("down", "up")),
 ]
 
 # The dolphin's regimen in the default (reactive) water, from the tasks' start spreads
@@ -111,7 +112,6 @@ DOLPHIN_PAPER_REGIMEN = [
 # opposite, 8 m down, E_v = -the pitch rate over 1 s, a periodic beat (the spin a somersault
 # needs is made at speed, in the flow of the exit: docs/dolphin_stunts.md).
 _GLIDE = {"start_speed": 3.0, "start_depth": 8.0}
-_DOLPHIN_BEAT = {"period": 0.2, "nodes": 6}
 DOLPHIN_REGIMEN = [
     {"name": "move_forward", "env_id": "Animat/DolphinForward-v0",
      "env_kwargs": {"duration": 4.0}, "params": {**_DOLPHIN_BEAT, "refine": _SWIM["refine"]}},
