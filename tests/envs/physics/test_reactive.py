@@ -20,7 +20,6 @@ import numpy as np
 import pytest
 
 import animat  # noqa: F401  (registers Animat/*)
-
 from animat.envs.bodies.dolphin import dolphin_body
 from animat.envs.bodies.fish import fish_body
 from animat.envs.motor.fish import (
