@@ -207,7 +207,12 @@ class SkillSteering:
 
     def choose(self, goals: np.ndarray) -> np.ndarray:
         """(B,) the skill index (or :data:`REST`) for each goal, by the table of moves where
-        there is one (:meth:`from_table`), else by the module's rules."""
+        there is one (:meth:`from_table`), else by the module's rules; a fish whose goal is
+        not finite (its body diverged) rests."""
+        lost = ~np.isfinite(goals).all(axis=1)
+        if lost.any():
+            chosen = self.choose(np.where(lost[:, None], 1.0, goals))
+            return np.where(lost, REST, chosen)
         if self.table is not None:
             return self.from_table(goals)
         p = self.params

@@ -128,3 +128,12 @@ def test_a_table_that_is_not_one_is_refused_in_one_line(table):
     with pytest.raises(ValueError, match="a table of moves must be integers in") as error:
         SkillSteering(REPERTOIRE, SteeringParams(), DT, table)
     assert "\n" not in str(error.value)
+
+
+@pytest.mark.parametrize("table", [None, np.full(TABLE_SHAPE, 3)])
+def test_a_fish_whose_goal_is_not_finite_rests_and_the_others_steer_on(table):
+    s = SkillSteering(REPERTOIRE, SteeringParams(), DT, table)
+    s.reset(3)
+    goals = np.array([bearing(0, 5.0), [np.nan, np.nan, np.nan], [np.inf, 0.0, 0.0]])
+    assert [name(k) for k in s.choose(goals)] == ["swim_fast", "rest", "rest"]
+    assert np.isfinite(s.act(goals)).all()
