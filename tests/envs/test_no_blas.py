@@ -10,6 +10,8 @@ import os
 import subprocess
 import sys
 
+import pytest
+
 SCRIPT = """
 import sys
 sys.modules["scipy"] = None  # any import of scipy now raises ImportError
@@ -37,6 +39,7 @@ print(frame.shape, obs.shape, eyes["left_eye"].shape, int(eyes["left_eye"].std()
 """
 
 
+@pytest.mark.slow  # a fresh process compiles every kernel: 97 s
 def test_physics_and_rendering_run_with_scipy_unimportable(tmp_path):
     env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "numba")}
     done = subprocess.run([sys.executable, "-c", SCRIPT], cwd=tmp_path, env=env,

@@ -5,6 +5,7 @@ discovering a leap."""
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 from animat.learners.macro import MacroLearner
 from animat.learners.rollout import BatchEvaluator
@@ -37,6 +38,7 @@ def test_shipped_dolphin_skills_turn_and_swim_and_keep_their_score_at_half_the_s
         assert abs(finer - default) <= 0.2 * default, (name, default, finer)
 
 
+@pytest.mark.slow  # 1 M env steps of learning: 57 s
 def test_the_macro_learner_discovers_a_leap_from_the_repertoire():
     """configs/dolphin_leap_macro.yaml at a quarter of its budget (1 M env steps, its water): the
     learned sequence turns up and drives forward, and its centre of mass clears the surface
