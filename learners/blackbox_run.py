@@ -73,7 +73,10 @@ class Phase:
 
     def track(self, candidates, returns: np.ndarray, metrics: dict) -> None:
         """The one place the best candidate is kept: its vector, return and metrics."""
-        k = int(np.argmax(returns))
+        finite = np.isfinite(returns)
+        if not finite.any():
+            return
+        k = int(np.argmax(np.where(finite, returns, -np.inf)))
         if self.best is None or returns[k] > self.best["return"]:
             self.best = {"x": np.array(candidates[k]), "return": float(returns[k]),
                          "metrics": {name: float(v[k]) for name, v in metrics.items()}}
@@ -110,14 +113,20 @@ def log_round(logger: Logger, run: Run, returns: np.ndarray, metrics: dict,
     """Like every learner, ``eval/*``: the current incumbent (the best candidate of this
     round, scored over the evaluation start states), as PPO logs its current policy;
     ``best/*``: the best so far (of either phase), which is what the run returns; and the
-    optimiser's own ``train/*`` scalars (``train``)."""
-    k, best, step = int(np.argmax(returns)), run.overall_best(), run.env_steps
-    logger.scalar("eval/return", float(returns[k]), step)
-    for name, values in metrics.items():
-        logger.scalar(f"eval/{name}", float(values[k]), step)
-    logger.scalar("best/return", best["return"], step)
-    for name, value in best["metrics"].items():
-        logger.scalar(f"best/{name}", value, step)
+    optimiser's own ``train/*`` scalars (``train``), with ``train/diverged``, the round's
+    candidates whose return is not finite (a body that blew up: never the incumbent, and the
+    optimisers never keep them)."""
+    finite, best, step = np.isfinite(returns), run.overall_best(), run.env_steps
+    if finite.any():
+        k = int(np.argmax(np.where(finite, returns, -np.inf)))
+        logger.scalar("eval/return", float(returns[k]), step)
+        for name, values in metrics.items():
+            logger.scalar(f"eval/{name}", float(values[k]), step)
+    if best is not None:
+        logger.scalar("best/return", best["return"], step)
+        for name, value in best["metrics"].items():
+            logger.scalar(f"best/{name}", value, step)
+    logger.scalar("train/diverged", float((~finite).sum()), step)
     for name, value in train.items():
         logger.scalar(f"train/{name}", value, step)
 

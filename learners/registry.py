@@ -13,13 +13,14 @@ from .scorers.pursuit import ActiveVisionLearner
 from .scorers.steering import SteeringLearner
 from .skills.basic_training import BasicTrainingLearner
 from .stroke import StrokeCMAESLearner, StrokeLearner
-from .switching import SwitchingLearner
+from .switching import CoordinateSwitchingLearner, SwitchingLearner
 
 LEARNERS: dict[str, type[Learner]] = {
     cls.name: cls for cls in (AnnealingLearner, CMAESLearner, PPOLearner, HandMCLearner,
                               BasicTrainingLearner, MacroLearner, ActiveVisionLearner,
                               BehavioursLearner, StrokeLearner, StrokeCMAESLearner,
-                              SteeringLearner, SwitchingLearner)
+                              SteeringLearner, SwitchingLearner,
+                              CoordinateSwitchingLearner)
 }
 
 

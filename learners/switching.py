@@ -8,6 +8,11 @@ A candidate is one gene in [0, 1] per cell of the table (``TABLE_SHAPE``: 6 bear
 loop, on the native vector env (:class:`ClosedLoopEvaluator`), each from the same seeded
 start states, the goal drawn by the reach task: what the open-loop macro learner does for one
 goal, this does for every goal at once.
+
+Two searches over the same table: ``switching``, the paper's simulated annealing; and
+``switching_coordinate``, a coordinate search (:mod:`animat.learners.optimizers.coordinate`):
+one cell at a time, every other move tried on the same starts and the best kept, until a
+sweep over all cells changes none.
 """
 
 from __future__ import annotations
@@ -20,7 +25,7 @@ from animat.envs.tasks import ReachTask
 
 from .base import episode_timing
 from .blackbox import BlackBoxLearner
-from .optimizers import annealing
+from .optimizers import annealing, coordinate
 from .rollout import START_STATES, BatchEvaluator
 from .skills.repertoire import Repertoire, kept_in_run
 from .skills.steering import (
@@ -134,3 +139,21 @@ class SwitchingLearner(BlackBoxLearner):
         steering = SkillSteering(self.repertoire, self.rules, self._dt(),
                                  np.asarray(artefacts["table"]))
         return SteeringAgent(steering, self.env_id, self.env_kwargs)
+
+
+class CoordinateSwitchingLearner(SwitchingLearner):
+    """The same table, searched a cell at a time (:mod:`~animat.learners.optimizers.coordinate`:
+    every other move of one cell per round, on the same ``start_states``; the best kept if it
+    beats the table so far) until a sweep changes no cell or the budget ends. Params:
+    ``repertoire``, ``interval_s``, ``start_states``; ``candidates`` (moves tried a round)
+    follows the budget."""
+
+    name = "switching_coordinate"
+    optimizer = coordinate
+    params_class = coordinate.CoordinateParams
+
+    def _fit_encoding(self, opt_params: dict) -> dict:
+        if "levels" in opt_params:
+            raise ValueError(f"learner {self.name!r}: levels is the repertoire's moves "
+                             f"({self.moves}), not a parameter")
+        return {**opt_params, "levels": self.moves}

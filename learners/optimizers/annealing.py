@@ -242,16 +242,18 @@ def smooth_blocks(steps: np.ndarray, width: float, block: int) -> np.ndarray:
 
 def tell(params: AnnealingParams, state: AnnealingState, proposals: np.ndarray,
          energies: np.ndarray) -> AnnealingState:
-    """Metropolis acceptance per chain and the cooling schedule."""
+    """Metropolis acceptance per chain and the cooling schedule. A move whose energy is not
+    finite (a body that diverged) is rejected; the starting points' energies must be finite."""
     energies = np.asarray(energies, dtype=float)
-    if not np.all(np.isfinite(energies)):
-        raise ValueError("energies must be finite")
     if not np.all(np.isfinite(state.energy)):  # first evaluation of the starting points
+        if not np.all(np.isfinite(energies)):
+            raise ValueError("the starting points' energies must be finite")
         x, energy = proposals.copy(), energies.copy()
         rng_state, told = state.rng, state.round
     else:
         rng = np.random.Generator(np.random.PCG64())
         rng.bit_generator.state = state.rng
+        energies = np.where(np.isfinite(energies), energies, np.inf)
         delta = energies - state.energy
         accept = (delta <= 0) | (rng.random(len(delta)) < np.exp(
             -np.maximum(delta, 0) / current_temperature(params, state)))

@@ -29,11 +29,13 @@ BEFORE_FIELDS = {"AnnealingParams": {"schedule": "stages"}}
 
 def _types() -> dict[str, type]:
     from .. import blackbox_run
-    from ..optimizers import annealing, cmaes
+    from ..optimizers import annealing, cmaes, coordinate
 
     return {cls.__name__: cls for cls in (blackbox_run.Run, blackbox_run.Phase,
                                           annealing.AnnealingParams, annealing.AnnealingState,
-                                          cmaes.CMAESParams, cmaes.CMAESState)}
+                                          cmaes.CMAESParams, cmaes.CMAESState,
+                                          coordinate.CoordinateParams,
+                                          coordinate.CoordinateState)}
 
 
 def to_data(value: Any) -> Any:

@@ -38,6 +38,7 @@ TINY = {
                      960),
     "steering": ({"episodes": 2}, 20),
     "switching": ({"chains": 4, "start_states": 2}, 160),
+    "switching_coordinate": ({"start_states": 2}, 160),
 }
 DOLPHIN_REPERTOIRE = str(Path(__file__).resolve().parents[2] / "repertoires" / "dolphin.json")
 FISH_REPERTOIRE = str(Path(__file__).resolve().parents[2] / "repertoires" / "fish_reactive.json")
@@ -66,7 +67,7 @@ def test_learner_runs_on_a_tiny_budget_and_logs_the_shared_tags(name, tmp_path,
         env_id, tags = "Animat/FishReach-v0", ("eval/return", "eval/final_distance_bl")
     if name == "basic_training":
         tags = ("eval/return",)
-    if name in ("steering", "switching"):  # they need turns to both sides
+    if name in ("steering", "switching", "switching_coordinate"):  # they need turns to both sides
         params = {**params, "repertoire": FISH_REPERTOIRE}
         env_id, tags = "Animat/FishReach-v0", ("eval/return", "eval/reached")
     if name.startswith("stroke"):
@@ -235,6 +236,41 @@ def test_annealing_accepts_downhill_and_cools():
     assert np.all(told.energy == 0.0) and told.temperature == pytest.approx(
         0.5 * params.initial_temperature)
 
+
+
+def test_annealing_rejects_a_diverged_move_and_refuses_a_diverged_start():
+    params = annealing.AnnealingParams(chains=3)
+    state = annealing.init(params, np.full(2, 0.5), seed=0)
+    x, state = annealing.ask(params, state)
+    with pytest.raises(ValueError, match="starting points' energies must be finite"):
+        annealing.tell(params, state, x, np.array([1.0, np.nan, 1.0]))
+    state = annealing.tell(params, state, x, np.ones(3))
+    proposals, state = annealing.ask(params, state)
+    told = annealing.tell(params, state, proposals, np.array([np.nan, np.inf, 0.0]))
+    np.testing.assert_array_equal(told.x[:2], x[:2])
+    np.testing.assert_array_equal(told.x[2], proposals[2])
+    assert told.energy.tolist() == [1.0, 1.0, 0.0]
+
+
+def test_a_round_with_a_diverged_candidate_logs_the_finite_best_and_counts_the_diverged():
+    from animat.learners.blackbox_run import Phase, Run, log_round
+
+    sink = MemorySink()
+    run = Run([Phase(params=None, state=None)], env_steps=100)
+    returns = np.array([np.nan, -2.0, -1.0])
+    metrics = {"reached": np.array([np.nan, 0.0, 1.0])}
+    run.phases[0].track(np.eye(3), returns, metrics)
+    log_round(Logger([sink]), run, returns, metrics, {})
+    assert run.phases[0].best["return"] == -1.0
+    assert sink.series("eval/return") == [(100, -1.0)]
+    assert sink.series("eval/reached") == [(100, 1.0)]
+    assert sink.series("train/diverged") == [(100, 1.0)]
+    every = Run([Phase(params=None, state=None)], env_steps=200)
+    every.phases[0].track(np.eye(1), np.array([np.nan]), {"reached": np.array([np.nan])})
+    assert every.phases[0].best is None
+    log_round(Logger([sink]), every, np.array([np.nan]), {"reached": np.array([np.nan])}, {})
+    assert sink.series("train/diverged")[-1] == (200, 1.0)
+    assert sink.series("eval/return") == [(100, -1.0)]
 
 @pytest.mark.parametrize("budget", [960, 4800])
 def test_annealing_cools_to_its_stop_temperature_as_the_budget_ends(budget):

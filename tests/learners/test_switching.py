@@ -60,3 +60,30 @@ def test_a_switching_learner_needs_a_reach_env_and_a_repertoire():
         make_learner("switching", "Animat/FishSwim-v0", {}, {"repertoire": REPERTOIRE})
     with pytest.raises(ValueError, match="needs params.repertoire"):
         make_learner("switching", "Animat/FishReach-v0", REACH, {})
+
+
+def test_the_coordinate_search_keeps_a_move_only_where_it_scores_better_and_plays_its_result(
+        tmp_path):
+    learner = make_learner("switching_coordinate", "Animat/FishReach-v0", REACH,
+                           {"repertoire": REPERTOIRE, "start_states": 2}, seed=3)
+    cost = 2 * 40  # an episode from each start
+    result = learner.learn(cost * (1 + 6 * 3), tmp_path)  # the start, then three cells
+    assert result.env_steps == cost * (1 + 6 * 3)
+    start = learner.controller(np.random.default_rng(3).uniform(0.0, 1.0, 24), 2.0)
+    changed = np.array(result.artefacts["table"]) != start
+    assert changed.sum() <= 3
+    env = gym.make("Animat/FishReach-v0", **REACH)
+    again = [score_episode(env, learner.agent(result.artefacts, tmp_path), seed)
+             for seed in (3, 4)]
+    first = [score_episode(env, SteeringAgent(SkillSteering(
+        Repertoire.load(REPERTOIRE), SteeringParams(), 0.05, start)), seed) for seed in (3, 4)]
+    assert np.mean([r["return"] for r in again]) == pytest.approx(result.metrics["eval/return"])
+    assert result.metrics["eval/return"] >= np.mean([r["return"] for r in first]) - 1e-9
+    assert (result.metrics["eval/return"] > np.mean([r["return"] for r in first])) == \
+        bool(changed.any())
+
+
+def test_the_coordinate_search_takes_its_levels_from_the_repertoire():
+    with pytest.raises(ValueError, match="levels is the repertoire's moves"):
+        make_learner("switching_coordinate", "Animat/FishReach-v0", REACH,
+                     {"repertoire": REPERTOIRE, "levels": 3})
