@@ -137,7 +137,10 @@ def ask(params: CMAESParams, state: CMAESState) -> tuple[np.ndarray, CMAESState]
 
 def tell(params: CMAESParams, state: CMAESState, candidates: np.ndarray,
          energies: np.ndarray) -> CMAESState:
+    """Rank the round's candidates by energy; one whose energy is not finite (a body that
+    diverged) ranks last."""
     energies = np.asarray(energies, dtype=float)
+    energies = np.where(np.isfinite(energies), energies, np.inf)
     strategy(state).tell(list(candidates), list(energies))
     if hasattr(state, "told"):  # an older version's pickled state has only ``es``
         state.told.append(energies.copy())

@@ -13,7 +13,7 @@ from animat.learners.storage.files import read_json
 RESULTS = Path(__file__).resolve().parents[2] / "results"
 # one of each kind in the default suite (about 40 s on 2 cores); the others, the second seeds
 # and the learner comparisons' runs (results/compare/TASK/...), among the slow checks
-DEFAULT = {"fish_basic_training", "fish_reach_behind", "fish_reach_switching"}
+DEFAULT = {"fish_basic_training", "fish_reach_behind", "fish_reach_switching_coordinate"}
 FOLDERS = [pytest.param(p.parent, id=p.parent.relative_to(RESULTS).as_posix(),
                         marks=[] if p.parent.relative_to(RESULTS).as_posix() in DEFAULT
                         else [pytest.mark.slow])
