@@ -1,6 +1,7 @@
 """The paper's vision-guided pursuit controller (:class:`ActiveVisionPolicy`,
 :mod:`animat.envs.world.pursuit.policy`) as a learner that learns nothing (like ``handmc``), so
-that it stands in comparisons on ``Animat/FishPursuit-v0``."""
+that it stands in comparisons on ``Animat/FishPursuit-v0``; with ``blind``, the same policy
+with both retinas blanked (every pixel 0), the baseline that shows what sight adds."""
 
 from __future__ import annotations
 
@@ -8,6 +9,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import gymnasium as gym
+import numpy as np
 
 import animat  # noqa: F401
 from animat.envs.world.pursuit.policy import ActiveVisionParams, ActiveVisionPolicy
@@ -21,10 +23,18 @@ from ..validation import typed_params
 @dataclass(frozen=True)
 class PursuitEvalParams:
     """episodes: seeded pursuit episodes scored (seeds seed .. seed + episodes - 1);
-    policy: the ActiveVisionPolicy's params."""
+    policy: the ActiveVisionPolicy's params; blind: blank both retinas before the policy
+    sees them."""
 
     episodes: int = 5
     policy: dict | None = None
+    blind: bool = False
+
+
+def blindfolded(obs: dict) -> dict:
+    """The observation with both eyes' images black (their shape and dtype kept)."""
+    return {**obs, "left_eye": np.zeros_like(obs["left_eye"]),
+            "right_eye": np.zeros_like(obs["right_eye"])}
 
 
 class ActiveVisionLearner(Scorer):
@@ -41,7 +51,8 @@ class ActiveVisionLearner(Scorer):
                                           f"learner {self.name!r}.policy")
 
     def agent(self, artefacts: dict, folder) -> PolicyAgent:
-        return PolicyAgent(ActiveVisionPolicy(self.policy_params), self.env_id, self.env_kwargs)
+        return PolicyAgent(ActiveVisionPolicy(self.policy_params), self.env_id, self.env_kwargs,
+                           normalize=blindfolded if self.own.blind else None)
 
     def scored_episodes(self) -> int:
         return int(self.own.episodes)
@@ -50,5 +61,4 @@ class ActiveVisionLearner(Scorer):
               ) -> LearnResult:
         self.check_budget(budget_env_steps)
         env = gym.make(self.env_id, **self.env_kwargs)
-        policy = ActiveVisionPolicy(self.policy_params)
-        return score_policy(self, env, policy, self.own.episodes)
+        return score_policy(self, env, self.agent({}, None), self.own.episodes)

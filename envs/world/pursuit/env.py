@@ -43,15 +43,17 @@ food particles floating, over 6 m x 6 m ahead of the start. The fish wear textur
 (:func:`animat.envs.render.camera.fish_skin`): countershading, bands and a checker.
 
 ## Starting State
-The observer at the origin heading +x; the prey ``start_distance_bl`` ahead at a bearing
-within +-20 deg, heading away within +-60 deg; the passer 3 BL to the side of the line of
-sight, 2 BL beyond the prey, heading across it.
+The observer at the origin heading +x; the prey ``start_distance_bl`` away at a bearing
+drawn from ``bearing_deg`` (default within +-20 deg; (-60, 60) puts it anywhere in the eyes'
+120 deg field), heading away from the observer within +-60 deg; the passer 3 BL to the side
+of the line of sight, 2 BL beyond the prey, heading across it.
 
 ## Episode End
 No termination; truncation after ``duration`` s (default 20).
 
 ## Arguments
 ``duration`` (s, 20; in (0, 86400]), ``start_distance_bl`` ((3, 5); within [1, 100]),
+``bearing_deg`` (the prey's start bearing, deg, positive left: (-20, 20); within [-180, 180]),
 ``flee_distance_bl`` (2.5; in (0, 100]), ``prey_speed`` (0.5; the swim-MC's speed, in [0, 1]),
 ``sensors`` (a list of sensors that read the observer's view, their entries' names unique;
 default :func:`~animat.envs.world.pursuit.senses.default_sensors`: the retina, the gaze and
@@ -102,6 +104,7 @@ class FishPursuitEnv(gym.Env):
 
     def __init__(self, render_mode: str | None = None, duration: float = 20.0,
                  start_distance_bl: tuple[float, float] = (3.0, 5.0),
+                 bearing_deg: tuple[float, float] = (-20.0, 20.0),
                  flee_distance_bl: float = 2.5, prey_speed: float = 0.5,
                  sensors: list | None = None, water: dict | None = None) -> None:
         if render_mode not in (None, "rgb_array", "retina"):
@@ -113,6 +116,7 @@ class FishPursuitEnv(gym.Env):
         self.dt, self.body_length = self.core.dt, self.core.body.length
         self.start_distance_bl = check_range("start_distance_bl", start_distance_bl, 1.0,
                                              MAX_DISTANCE_BL, "BL")
+        self.bearing_deg = check_range("bearing_deg", bearing_deg, -180.0, 180.0, "deg")
         self.flee_distance_bl = check_number("flee_distance_bl", flee_distance_bl, 0.0,
                                              MAX_DISTANCE_BL, "BL", low_open=True)
         self.prey_speed = check_number("prey_speed", prey_speed, 0.0, 1.0)
@@ -132,7 +136,7 @@ class FishPursuitEnv(gym.Env):
 
     def episode_summary(self) -> PursuitSummary:
         """A summary for the episode that :meth:`reset` just began."""
-        return PursuitSummary(self.body_length, self._distance)
+        return PursuitSummary(self.body_length, self._distance, self.dt)
 
     @property
     def episode_steps(self) -> int:
@@ -150,7 +154,7 @@ class FishPursuitEnv(gym.Env):
         rng, length = self.np_random, self.body_length
         self.core.reset_rows(np.arange(3), [rng, rng, rng])
         distance = rng.uniform(*self.start_distance_bl) * length
-        bearing = np.radians(rng.uniform(-20.0, 20.0))
+        bearing = np.radians(rng.uniform(*self.bearing_deg))
         prey_at = distance * np.array([np.cos(bearing), np.sin(bearing), 0.0])
         self._place(PREY, prey_at, bearing + np.radians(rng.uniform(-60.0, 60.0)))
         side = rng.choice([-1.0, 1.0])

@@ -9,11 +9,14 @@ import numpy as np
 class PursuitSummary:
     """Episode metrics of a pursuit from each step's info (the same interface as
     :class:`animat.envs.tasks.base.EpisodeSummary`, one episode): ``fovea_fraction`` (share of the
-    frames
-    after the first foveation with the prey in both foveas), ``fovea_fraction_150`` (the same
-    over the ``WINDOW`` = 150 frames after it, or as many as the episode has),
-    ``distance_closed_bl``,
-    ``passer_fraction`` (frames after it with the passer in both foveas and the prey not: the
+    frames after the first foveation with the prey in both foveas), ``fovea_fraction_episode``
+    (share of all the episode's frames), ``first_foveation_s`` (s to the first frame with the
+    prey in both foveas; the episode's length when there is none), ``captured`` (1 when the
+    observer's head came within ``CAPTURE_BL`` of the prey's centre of mass, else 0),
+    ``fovea_fraction_150`` (the same as ``fovea_fraction`` over the ``WINDOW`` = 150 frames
+    after the first foveation, or as many as the episode has), ``distance_closed_bl``,
+    ``passer_fraction`` (frames after the first foveation with the passer in both foveas and
+    the prey not: the
     gaze taken by the passer), ``first_foveation_frame`` (-1: never), and over the frames
     with the prey in both foveas: ``vergence_first_deg`` and ``vergence_last_deg`` (means of
     the first and last ``ENDS`` = 40 of them) and ``range_error`` (the median of
@@ -21,9 +24,11 @@ class PursuitSummary:
     the range is finite; NaN when there are none)."""
 
     WINDOW, ENDS = 150, 40
+    CAPTURE_BL = 0.5  # BL, head to the prey's centre of mass: the head at the prey's flank
 
-    def __init__(self, body_length: float, start_distance: float) -> None:
-        self.length, self.start = body_length, start_distance
+    def __init__(self, body_length: float, start_distance: float, dt: float) -> None:
+        self.length, self.start, self.dt = body_length, start_distance, dt
+        self.closest = start_distance
         self.frames, self.first, self.held, self.passer, self.held_window = 0, None, 0, 0, 0
         self.vergence: list[float] = []
         self.range_errors: list[float] = []
@@ -42,6 +47,7 @@ class PursuitSummary:
             if np.isfinite(info["range_estimate"]):  # the eyes converge
                 self.range_errors.append(abs(info["range_estimate"] / info["target_distance"]
                                              - 1))
+        self.closest = min(self.closest, float(info["target_distance"]))
         self.frames += 1
         self.last = info
 
@@ -49,6 +55,9 @@ class PursuitSummary:
         after = max(self.frames - (self.first if self.first is not None else self.frames), 1)
         seen = self.first is not None
         return {"fovea_fraction": self.held / after if seen else 0.0,
+                "fovea_fraction_episode": self.held / max(self.frames, 1),
+                "first_foveation_s": (self.first if seen else self.frames) * self.dt,
+                "captured": float(self.closest <= self.CAPTURE_BL * self.length),
                 "fovea_fraction_150": self.held_window / min(after, self.WINDOW) if seen else 0.0,
                 "passer_fraction": self.passer / after,
                 "distance_closed_bl": (self.start - self.last["target_distance"]) / self.length,

@@ -62,7 +62,7 @@ def test_a_left_turn_command_turns_the_fish_left_then_it_swims_on(model):
 
 
 def test_the_pursuit_summary_counts_after_the_first_foveation():
-    summary = PursuitSummary(body_length=0.3, start_distance=0.9)
+    summary = PursuitSummary(body_length=0.3, start_distance=0.9, dt=0.05)
     for frame in range(400):
         held = 10 <= frame < 300  # first foveation at frame 10, lost for good at 300
         summary.update({"target_in_fovea": held, "passer_in_fovea": False,
@@ -73,13 +73,28 @@ def test_the_pursuit_summary_counts_after_the_first_foveation():
     assert out["first_foveation_frame"] == 10
     assert out["fovea_fraction"] == pytest.approx(290 / 390)
     assert out["fovea_fraction_150"] == 1.0
+    assert out["fovea_fraction_episode"] == pytest.approx(290 / 400)
+    assert out["first_foveation_s"] == pytest.approx(0.5)
+    assert out["captured"] == 0.0  # it came within 0.501 m, 1.67 BL
     assert out["distance_closed_bl"] == pytest.approx(0.399 / 0.3)
     assert out["vergence_first_deg"] == pytest.approx(2.0)
     assert out["range_error"] == pytest.approx(0.05)  # the one infinite range is left out
-    never = PursuitSummary(0.3, 0.9)
-    never.update({"target_in_fovea": False, "passer_in_fovea": True, "target_distance": 0.9,
-                  "vergence": 0.0, "range_estimate": np.inf})
-    assert never.summary()["fovea_fraction"] == 0.0 and np.isnan(never.summary()["range_error"])
+    never = PursuitSummary(0.3, 0.9, 0.05)
+    for distance in (0.9, 0.14, 0.6):  # within 0.5 BL (0.15 m) once: captured
+        never.update({"target_in_fovea": False, "passer_in_fovea": True,
+                      "target_distance": distance, "vergence": 0.0, "range_estimate": np.inf})
+    out = never.summary()
+    assert out["fovea_fraction"] == 0.0 and np.isnan(out["range_error"])
+    assert out["fovea_fraction_episode"] == 0.0 and out["first_foveation_s"] == pytest.approx(0.15)
+    assert out["captured"] == 1.0
+
+
+@pytest.mark.parametrize("bearing", [(-60.0, -60.0), (45.0, 45.0)])
+def test_the_prey_starts_at_the_bearing_drawn_from_bearing_deg(bearing):
+    env = gym.make("Animat/FishPursuit-v0", duration=1.0, bearing_deg=bearing).unwrapped
+    env.reset(seed=3)
+    to_prey = env.core.state.x[1, 0] - env.core.state.x[OBSERVER, 0]  # head to head
+    assert np.degrees(np.arctan2(to_prey[1], to_prey[0])) == pytest.approx(bearing[0], abs=1.0)
 
 
 def _stepped(env, steps: int = 4):

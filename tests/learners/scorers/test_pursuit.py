@@ -83,3 +83,22 @@ def test_the_visual_memory_knows_the_prey_from_behind_where_one_broadside_view_d
         level, x, _ = detect(levels, memory, params)
         assert level >= 0 and x < 32
         assert detect(levels, broadside, params)[0] == -1
+
+
+def test_the_blind_baseline_is_the_same_policy_seeing_black_retinas():
+    from animat.learners.scorers.pursuit import blindfolded
+
+    env = gym.make("Animat/FishPursuit-v0", duration=1.0)
+    obs, _ = env.reset(seed=0)
+    blind = blindfolded(obs)
+    assert obs["left_eye"].any() and not blind["left_eye"].any() and not blind["right_eye"].any()
+    assert blind["left_eye"].shape == obs["left_eye"].shape and blind["left_eye"].dtype == np.uint8
+    np.testing.assert_array_equal(blind["proprioception"], obs["proprioception"])
+    learner = make_learner("active_vision", "Animat/FishPursuit-v0", {"duration": 1.0},
+                           {"episodes": 1, "blind": True})
+    agent = learner.agent({}, None)
+    agent.reset()
+    sighted = ActiveVisionPolicy()
+    sighted.reset()
+    # the blind agent acts as the sighted policy does on the blanked observation
+    np.testing.assert_array_equal(agent.predict(obs)[0], sighted.predict(blind)[0])
