@@ -16,10 +16,10 @@ class PursuitSummary:
     ``fovea_fraction_150`` (the same as ``fovea_fraction`` over the ``WINDOW`` = 150 frames
     after the first foveation, or as many as the episode has), ``distance_closed_bl``,
     ``passer_fraction`` (frames after the first foveation with the passer in both foveas and
-    the prey not: the
-    gaze taken by the passer), ``first_foveation_frame`` (-1: never), and over the frames
-    with the prey in both foveas: ``vergence_first_deg`` and ``vergence_last_deg`` (means of
-    the first and last ``ENDS`` = 40 of them) and ``range_error`` (the median of
+    the prey not: the gaze taken by the passer), ``first_foveation_frame`` (-1: never), and
+    over the frames with the prey in both foveas: ``vergence_first_deg`` and
+    ``vergence_last_deg`` (means of the first and last ``ENDS`` = 40 of them) and
+    ``range_error`` (the median of
     ``|range_estimate / target_distance - 1|`` over those where the eyes converge, so that
     the range is finite; NaN when there are none)."""
 
