@@ -44,16 +44,17 @@ from ...vision.retina import RetinaParams, eye_positions, gaze_rotation, render_
 from .env import COLOURS, PREY, SEABED_Z
 from .senses import PHI_RANGE, THETA_RANGE
 
-MODEL_VIEWS = tuple((distance, np.radians(yaw)) for distance in (0.7, 1.2)
+MODEL_VIEWS = tuple((distance, np.radians(yaw)) for distance in (0.7, 1.2, 2.0, 3.0, 4.0)
                     for yaw in range(0, 360, 45))  # (m, rad): the prey's poses in memory
 
 
 def prey_model_histogram(retina: RetinaParams = RetinaParams()) -> np.ndarray:
     """The visual memory of the prey: (V, B, B, B) the colour histograms of its model images,
     the prey in open water seen through the 30 deg level from all round (every 45 deg of its
-    heading) at two distances (only what differs from the empty water), so that it is known
-    from behind as well as broadside, by its lit side and its shaded one, near and through
-    some haze."""
+    heading) at five distances, 0.7-4 m (only what differs from the empty water), so that it
+    is known from behind as well as broadside, by its lit side and its shaded one, near and
+    through the haze of up to 4 m (with views at 0.7 and 1.2 m only, a prey 2.5 m away gave no
+    evidence at any level: its hazed colours were not in the memory)."""
     body, level = fish_body(), retina.levels - 2  # the whole fish fits at 30 deg
     skin, eye = fish_skin(body, COLOURS[PREY]), np.zeros(3)
     rotation = gaze_rotation(np.eye(3), 0.0, 0.0)
@@ -97,7 +98,9 @@ class ActiveVisionParams:
     then keeps its distance rather than overshooting the prey (0: always ``speed``);
     search_after: frames: with the target out of both eyes' view this long, the fish turns
     (a full turn command, 90 deg) toward the side where it saw the target last, and again
-    each time the turn ends (0: no search; it swims straight on)."""
+    each time the turn ends (0: no search; it swims straight on); search_side: the side a
+    fish that has not seen the target yet searches toward (+1 left, -1 right; 0: it swims
+    straight on until it sees it)."""
 
     turn_threshold: float = 20.0
     turn_gain: float = 1.0
@@ -111,6 +114,7 @@ class ActiveVisionParams:
     hold_range_bl: float = 1.0
     range_ramp_bl: float = 2.0
     search_after: int = 20
+    search_side: float = 1.0
 
 
 class ActiveVisionPolicy:
@@ -133,7 +137,8 @@ class ActiveVisionPolicy:
         self._at: list[tuple[float, float] | None] = [None, None]  # target there, pixels
         self.flow_frames = 0  # eye-frames located by optical flow since the reset
         self.unseen = 0  # frames since either eye last saw the target
-        self.last_side = 0.0  # +1 left, -1 right: where the target was last seen
+        self.last_side = float(self.params.search_side)  # +1 left, -1 right: where the
+        # target was last seen (before it is seen: the side searched first)
 
     def _locate(self, k: int, levels: np.ndarray) -> tuple[int, float, float]:
         """(level, x, y) of the target in eye ``k``: by the optical flow from its last foveal
