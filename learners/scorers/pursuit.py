@@ -1,7 +1,9 @@
 """The paper's vision-guided pursuit controller (:class:`ActiveVisionPolicy`,
 :mod:`animat.envs.world.pursuit.policy`) as a learner that learns nothing (like ``handmc``), so
 that it stands in comparisons on ``Animat/FishPursuit-v0``; with ``blind``, the same policy
-with both retinas blanked (every pixel 0), the baseline that shows what sight adds."""
+with both retinas blanked (every pixel 0), the baseline that shows what sight adds; with
+``oracle``, :class:`OraclePolicy`, its navigation steered by the prey's true position (the env
+must give it: ``oracle: true`` in its kwargs), the baseline of what sight could give."""
 
 from __future__ import annotations
 
@@ -12,7 +14,7 @@ import gymnasium as gym
 import numpy as np
 
 import animat  # noqa: F401
-from animat.envs.world.pursuit.policy import ActiveVisionParams, ActiveVisionPolicy
+from animat.envs.world.pursuit.policy import ActiveVisionParams, ActiveVisionPolicy, OraclePolicy
 
 from ..agents import PolicyAgent
 from ..base import LearnResult, Scorer
@@ -24,11 +26,12 @@ from ..validation import typed_params
 class PursuitEvalParams:
     """episodes: seeded pursuit episodes scored (seeds seed .. seed + episodes - 1);
     policy: the ActiveVisionPolicy's params; blind: blank both retinas before the policy
-    sees them."""
+    sees them; oracle: steer by the prey's true position (:class:`OraclePolicy`)."""
 
     episodes: int = 5
     policy: dict | None = None
     blind: bool = False
+    oracle: bool = False
 
 
 def blindfolded(obs: dict) -> dict:
@@ -49,8 +52,13 @@ class ActiveVisionLearner(Scorer):
         self.own = typed_params(PursuitEvalParams, self.params, f"learner {self.name!r}")
         self.policy_params = typed_params(ActiveVisionParams, self.own.policy or {},
                                           f"learner {self.name!r}.policy")
+        if self.own.oracle and (self.own.blind or not self.env_kwargs.get("oracle")):
+            raise ValueError(f"learner {self.name!r}: oracle needs env.kwargs.oracle: true "
+                             f"(the prey's true position) and is not blind")
 
     def agent(self, artefacts: dict, folder) -> PolicyAgent:
+        if self.own.oracle:
+            return PolicyAgent(OraclePolicy(self.policy_params), self.env_id, self.env_kwargs)
         return PolicyAgent(ActiveVisionPolicy(self.policy_params), self.env_id, self.env_kwargs,
                            normalize=blindfolded if self.own.blind else None)
 

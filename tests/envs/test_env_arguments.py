@@ -76,6 +76,8 @@ TASK_CASES = [
      (0.0, 0.0)),
     ("Animat/FishPursuit-v0", {"flee_distance_bl": NAN}, "flee_distance_bl", NAN),
     ("Animat/FishPursuit-v0", {"prey_speed": 5.0}, "prey_speed", 5.0),
+    ("Animat/FishPursuit-v0", {"bearing_deg": (30.0, -30.0)}, "bearing_deg", (30.0, -30.0)),
+    ("Animat/FishPursuit-v0", {"oracle": "yes"}, "oracle", "yes"),
     ("Animat/FishPursuit-v0", {"duration": INF}, "duration", INF),
     ("Animat/MarineWorld-v0", {"agent": True}, "agent", True),
     ("Animat/MarineWorld-v0", {"species": {"minnow": 2.5}}, "species.minnow", 2.5),

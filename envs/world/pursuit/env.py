@@ -57,7 +57,10 @@ No termination; truncation after ``duration`` s (default 20).
 ``flee_distance_bl`` (2.5; in (0, 100]), ``prey_speed`` (0.5; the swim-MC's speed, in [0, 1]),
 ``sensors`` (a list of sensors that read the observer's view, their entries' names unique;
 default :func:`~animat.envs.world.pursuit.senses.default_sensors`: the retina, the gaze and
-proprioception), ``water`` (the water's fields, ``Water.from_dict``, e.g. ``{"model":
+proprioception), ``oracle`` (False; True adds the privileged entry ``prey``, the prey's centre
+of mass from the observer's nose in its body frame, BL
+(:class:`~animat.envs.world.pursuit.senses.PreyPosition`), for the oracle baseline and
+state-based learners), ``water`` (the water's fields, ``Water.from_dict``, e.g. ``{"model":
 "resistive"}``, the paper's; default the reactive water; the fishes' motor controllers
 calibrated for its model), ``render_mode``
 (``"rgb_array"``: third person, 480x360; ``"retina"``: the two eyes' composites side by side,
@@ -86,7 +89,7 @@ from ..life import Lives
 from ..mind import MentalState, MindParams
 from ..oracle import Obstacles, OracleParams
 from ..percepts import AvoidParams, Tank, perceive
-from .senses import ObserverView, PursuitObserver, default_sensors
+from .senses import ObserverView, PreyPosition, PursuitObserver, default_sensors
 from .summary import PursuitSummary
 
 OBSERVER, PREY, PASSER = 0, 1, 2
@@ -106,7 +109,8 @@ class FishPursuitEnv(gym.Env):
                  start_distance_bl: tuple[float, float] = (3.0, 5.0),
                  bearing_deg: tuple[float, float] = (-20.0, 20.0),
                  flee_distance_bl: float = 2.5, prey_speed: float = 0.5,
-                 sensors: list | None = None, water: dict | None = None) -> None:
+                 sensors: list | None = None, water: dict | None = None,
+                 oracle: bool = False) -> None:
         if render_mode not in (None, "rgb_array", "retina"):
             raise ValueError(f"render_mode must be None, 'rgb_array' or 'retina', got "
                              f"{render_mode!r}")
@@ -126,8 +130,12 @@ class FishPursuitEnv(gym.Env):
         self.gaze = np.zeros(4)
         self.view = ObserverView(self.core, OBSERVER, self.scene, self.gaze, self.retina)
         self.eyes = Retina(self.retina)  # what render() and retina_images() show
-        self.observer = PursuitObserver(self.view, default_sensors(self.retina)
-                                        if sensors is None else sensors)
+        if not isinstance(oracle, bool):
+            raise ValueError(f"oracle must be true or false, got {oracle!r}")
+        sensors = default_sensors(self.retina) if sensors is None else sensors
+        if oracle:
+            sensors = [*sensors, PreyPosition(PREY)]
+        self.observer = PursuitObserver(self.view, sensors)
         self.observation_space = self.observer.single_space
         self.action_space = gym.spaces.Box(-1.0, 1.0, (7,), np.float32)
         self.skins = [fish_skin(self.core.body, colour) for colour in COLOURS]

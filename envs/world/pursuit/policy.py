@@ -202,3 +202,44 @@ class ActiveVisionPolicy:
             return p.speed
         distance = triangulate(gaze[0, 0], gaze[1, 0], self.baseline) / self.body.length
         return p.speed * float(np.clip((distance - p.hold_range_bl) / p.range_ramp_bl, 0.0, 1.0))
+
+
+class OraclePolicy:
+    """The pursuit's oracle baseline: the active-vision policy's navigation (its turn
+    threshold and gain, speed and range keeping), steered by the prey's true position (the
+    env's privileged ``prey`` entry, ``oracle=True``) instead of sight, with each eye aimed
+    straight at the prey (within the gaze's range). What sight could give at best, with the
+    same body and motor controllers: ``predict(obs) -> (action, None)``."""
+
+    def __init__(self, params: ActiveVisionParams = ActiveVisionParams(),
+                 retina: RetinaParams = RetinaParams()) -> None:
+        self.params, self.body = params, fish_body()
+        # the eyes in the head frame, BL from the nose (forward, left, up)
+        self.eyes = eye_positions(np.eye(3), np.zeros(3), 1.0, retina)
+
+    def reset(self) -> None:
+        """Nothing to forget."""
+
+    def predict(self, obs: dict, state=None, episode_start=None, deterministic: bool = True):
+        if "prey" not in obs:
+            raise ValueError("the oracle needs the env's privileged prey entry "
+                             "(Animat/FishPursuit-v0 with oracle=True)")
+        prey = np.asarray(obs["prey"], float)
+        look = prey - self.eyes  # (2, 3) BL, from each eye
+        theta = np.arctan2(look[:, 1], look[:, 0])
+        phi = np.arctan2(look[:, 2], np.hypot(look[:, 0], look[:, 1]))
+        gaze = np.clip(np.stack([theta, phi], axis=1), [-THETA_RANGE, -PHI_RANGE],
+                       [THETA_RANGE, PHI_RANGE])
+        bearing = float(np.arctan2(prey[1], prey[0]))
+        p = self.params
+        turn = 0.0
+        if abs(np.degrees(bearing)) > p.turn_threshold:
+            turn = float(np.clip(p.turn_gain * bearing / (np.pi / 2), -1.0, 1.0))
+        pitch = float(np.clip(p.pitch_gain * phi.mean() / PHI_RANGE, -1.0, 1.0))
+        speed = p.speed
+        if p.hold_range_bl > 0.0:
+            distance = float(np.linalg.norm(prey))
+            speed *= float(np.clip((distance - p.hold_range_bl) / p.range_ramp_bl, 0.0, 1.0))
+        gaze_action = (gaze / [THETA_RANGE, PHI_RANGE]).reshape(-1)
+        return np.concatenate([[2.0 * speed - 1.0, turn, pitch], gaze_action]).astype(
+            np.float32), None

@@ -97,6 +97,28 @@ class Gaze:
         return view.gaze[None].astype(np.float32)
 
 
+class PreyPosition:
+    """Privileged, for baselines only (the oracle, a state-based learner): the centre of mass
+    of the fish in row ``target`` of the core (the pursuit's prey) relative to the observer's
+    head (its nose), in the observer's body frame (forward, left, up), BL:
+    ``Box(-LIMIT, LIMIT, (3,), float32)``, clipped."""
+
+    name = "prey"
+    LIMIT = 1000.0  # BL
+
+    def __init__(self, target: int) -> None:
+        self.target = int(target)
+
+    def space(self, view: ObserverView) -> gym.spaces.Box:
+        return gym.spaces.Box(-self.LIMIT, self.LIMIT, (3,), np.float32)
+
+    def read(self, view: ObserverView, kinematics: Kinematics) -> np.ndarray:
+        """(1, 3) float32."""
+        offset = kinematics.com[self.target] - view.core.state.x[view.row, 0]
+        local = kinematics.frames[view.row] @ offset / view.core.body.length
+        return np.clip(local, -self.LIMIT, self.LIMIT)[None].astype(np.float32)
+
+
 def default_sensors(retina: RetinaParams = RetinaParams()) -> list:
     """The pursuit's sensors: the eyes (``left_eye``, ``right_eye``), the gaze and
     proprioception."""

@@ -102,3 +102,25 @@ def test_the_blind_baseline_is_the_same_policy_seeing_black_retinas():
     sighted.reset()
     # the blind agent acts as the sighted policy does on the blanked observation
     np.testing.assert_array_equal(agent.predict(obs)[0], sighted.predict(blind)[0])
+
+
+def test_the_oracle_sees_the_prey_where_it_is_and_holds_it_in_both_foveas():
+    from animat.envs.world.pursuit.policy import OraclePolicy
+
+    env = gym.make("Animat/FishPursuit-v0", duration=6.0, oracle=True, bearing_deg=(-60.0, 60.0),
+                   start_distance_bl=(3.33, 13.33))
+    obs, info = env.reset(seed=100)
+    assert np.linalg.norm(obs["prey"]) * 0.3 == pytest.approx(info["target_distance"], rel=1e-5)
+    assert "prey" not in gym.make("Animat/FishPursuit-v0").observation_space.spaces
+    metrics = score_episode(env, OraclePolicy(), 100)
+    assert metrics["first_foveation_s"] == 0.0 and metrics["fovea_fraction_episode"] >= 0.9
+    with pytest.raises(ValueError, match="needs the env's privileged prey entry"):
+        OraclePolicy().predict(gym.make("Animat/FishPursuit-v0").reset(seed=0)[0])
+
+
+@pytest.mark.parametrize("env_kwargs, params", [
+    ({}, {"oracle": True}), ({"oracle": True}, {"oracle": True, "blind": True})])
+def test_an_oracle_without_the_prey_entry_or_blind_is_refused_in_one_line(env_kwargs, params):
+    with pytest.raises(ValueError, match="oracle needs env.kwargs.oracle: true") as error:
+        make_learner("active_vision", "Animat/FishPursuit-v0", env_kwargs, params)
+    assert "\n" not in str(error.value)
