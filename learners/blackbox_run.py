@@ -59,6 +59,13 @@ def refine_settings(refine: dict | None, learner: str, optimizer: ModuleType,
             "params": params}
 
 
+def round_best(returns: np.ndarray) -> int | None:
+    """The index of the round's highest finite return (None when every candidate's body
+    diverged)."""
+    finite = np.isfinite(returns)
+    return int(np.argmax(np.where(finite, returns, -np.inf))) if finite.any() else None
+
+
 @dataclass
 class Phase:
     """One optimisation: its optimiser params and state, the best candidate so far
@@ -73,10 +80,9 @@ class Phase:
 
     def track(self, candidates, returns: np.ndarray, metrics: dict) -> None:
         """The one place the best candidate is kept: its vector, return and metrics."""
-        finite = np.isfinite(returns)
-        if not finite.any():
+        k = round_best(returns)
+        if k is None:
             return
-        k = int(np.argmax(np.where(finite, returns, -np.inf)))
         if self.best is None or returns[k] > self.best["return"]:
             self.best = {"x": np.array(candidates[k]), "return": float(returns[k]),
                          "metrics": {name: float(v[k]) for name, v in metrics.items()}}
@@ -116,9 +122,8 @@ def log_round(logger: Logger, run: Run, returns: np.ndarray, metrics: dict,
     optimiser's own ``train/*`` scalars (``train``), with ``train/diverged``, the round's
     candidates whose return is not finite (a body that blew up: never the incumbent, and the
     optimisers never keep them)."""
-    finite, best, step = np.isfinite(returns), run.overall_best(), run.env_steps
-    if finite.any():
-        k = int(np.argmax(np.where(finite, returns, -np.inf)))
+    k, best, step = round_best(returns), run.overall_best(), run.env_steps
+    if k is not None:
         logger.scalar("eval/return", float(returns[k]), step)
         for name, values in metrics.items():
             logger.scalar(f"eval/{name}", float(values[k]), step)
@@ -126,7 +131,7 @@ def log_round(logger: Logger, run: Run, returns: np.ndarray, metrics: dict,
         logger.scalar("best/return", best["return"], step)
         for name, value in best["metrics"].items():
             logger.scalar(f"best/{name}", value, step)
-    logger.scalar("train/diverged", float((~finite).sum()), step)
+    logger.scalar("train/diverged", float((~np.isfinite(returns)).sum()), step)
     for name, value in train.items():
         logger.scalar(f"train/{name}", value, step)
 

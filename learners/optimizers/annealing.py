@@ -29,6 +29,8 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from .energies import worst_if_diverged
+
 SCHEDULES = ("budget", "stages")
 
 
@@ -253,7 +255,7 @@ def tell(params: AnnealingParams, state: AnnealingState, proposals: np.ndarray,
     else:
         rng = np.random.Generator(np.random.PCG64())
         rng.bit_generator.state = state.rng
-        energies = np.where(np.isfinite(energies), energies, np.inf)
+        energies = worst_if_diverged(energies)
         delta = energies - state.energy
         accept = (delta <= 0) | (rng.random(len(delta)) < np.exp(
             -np.maximum(delta, 0) / current_temperature(params, state)))

@@ -11,6 +11,8 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from .energies import worst_if_diverged
+
 
 @dataclass(frozen=True)
 class CMAESParams:
@@ -139,8 +141,7 @@ def tell(params: CMAESParams, state: CMAESState, candidates: np.ndarray,
          energies: np.ndarray) -> CMAESState:
     """Rank the round's candidates by energy; one whose energy is not finite (a body that
     diverged) ranks last."""
-    energies = np.asarray(energies, dtype=float)
-    energies = np.where(np.isfinite(energies), energies, np.inf)
+    energies = worst_if_diverged(energies)
     strategy(state).tell(list(candidates), list(energies))
     if hasattr(state, "told"):  # an older version's pickled state has only ``es``
         state.told.append(energies.copy())

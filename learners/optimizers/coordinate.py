@@ -22,6 +22,8 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from .energies import worst_if_diverged
+
 
 @dataclass(frozen=True)
 class CoordinateParams:
@@ -145,7 +147,7 @@ def tell(params: CoordinateParams, state: CoordinateState, proposals: np.ndarray
          energies: np.ndarray) -> CoordinateState:
     """Keep the best proposal if it beats the incumbent; after the sweep's last gene, begin
     another in a new order (or stop: :func:`finished`)."""
-    energies = np.where(np.isfinite(energies), np.asarray(energies, dtype=float), np.inf)
+    energies = worst_if_diverged(energies)
     if not np.isfinite(state.energy):  # the starting point's score
         if not np.isfinite(energies[0]):
             raise ValueError("the starting point's energy is not finite")
