@@ -117,6 +117,33 @@ class ActiveVisionParams:
     search_side: float = 1.0
 
 
+def steering_commands(params: ActiveVisionParams, theta: float, phi: float
+                      ) -> tuple[float, float]:
+    """(turn, pitch) commands toward a target at bearing ``theta`` and elevation ``phi`` (rad,
+    relative to the head): a turn in proportion beyond ``turn_threshold`` (else 0), the fins
+    in proportion to ``phi``."""
+    turn = 0.0
+    if abs(np.degrees(theta)) > params.turn_threshold:
+        turn = float(np.clip(params.turn_gain * theta / (np.pi / 2), -1.0, 1.0))
+    return turn, float(np.clip(params.pitch_gain * phi / PHI_RANGE, -1.0, 1.0))
+
+
+def held_speed(params: ActiveVisionParams, distance_bl: float) -> float:
+    """The swim-MC's speed in [0, 1] at ``distance_bl`` from the target: ``speed`` eased off
+    as the distance nears ``hold_range_bl`` (``speed`` throughout when that is 0)."""
+    if params.hold_range_bl <= 0.0:
+        return params.speed
+    return params.speed * float(np.clip((distance_bl - params.hold_range_bl)
+                                        / params.range_ramp_bl, 0.0, 1.0))
+
+
+def pursuit_action(speed: float, turn: float, pitch: float, gaze: np.ndarray) -> np.ndarray:
+    """The pursuit env's action (7,) float32: speed in [0, 1], the turn and pitch commands,
+    and the gaze (2, 2) rad in the action's units."""
+    gaze_action = (gaze / [THETA_RANGE, PHI_RANGE]).reshape(-1)
+    return np.concatenate([[2.0 * speed - 1.0, turn, pitch], gaze_action]).astype(np.float32)
+
+
 class ActiveVisionPolicy:
     """``predict(obs) -> (action, None)`` like an SB3 policy, for one pursuit env."""
 
@@ -176,13 +203,10 @@ class ActiveVisionPolicy:
         new[:, 0] -= self.params.stabilise * yaw
         new = np.clip(new, [-THETA_RANGE, -PHI_RANGE], [THETA_RANGE, PHI_RANGE])
         theta_p, phi_p = new[seen, 0].mean() if seen else 0.0, new[seen, 1].mean() if seen else 0.0
-        turn = self._search(seen, theta_p)
-        if seen and abs(np.degrees(theta_p)) > self.params.turn_threshold:
-            turn = float(np.clip(self.params.turn_gain * theta_p / (np.pi / 2), -1.0, 1.0))
-        pitch = float(np.clip(self.params.pitch_gain * phi_p / PHI_RANGE, -1.0, 1.0))
-        gaze_action = (new / [THETA_RANGE, PHI_RANGE]).reshape(-1)
-        speed = 2.0 * self._speed(new, len(seen) == 2) - 1.0  # the action's entry is in [-1, 1]
-        return np.concatenate([[speed, turn, pitch], gaze_action]).astype(np.float32), None
+        searching = self._search(seen, theta_p)  # 0 while the target is seen
+        turn, pitch = steering_commands(self.params, theta_p, phi_p)
+        turn = turn if seen else searching
+        return pursuit_action(self._speed(new, len(seen) == 2), turn, pitch, new), None
 
     def _search(self, seen: list[int], theta_p: float) -> float:
         """The turn command of the search: a full turn toward the side the target was last
@@ -197,11 +221,10 @@ class ActiveVisionPolicy:
     def _speed(self, gaze: np.ndarray, both: bool) -> float:
         """The swim-MC's speed in [0, 1]: ``speed``, eased off as the range triangulated from
         the gaze (2, 2) rad of both eyes on the target nears ``hold_range_bl``."""
-        p = self.params
-        if p.hold_range_bl <= 0.0 or not both:
-            return p.speed
+        if self.params.hold_range_bl <= 0.0 or not both:
+            return self.params.speed
         distance = triangulate(gaze[0, 0], gaze[1, 0], self.baseline) / self.body.length
-        return p.speed * float(np.clip((distance - p.hold_range_bl) / p.range_ramp_bl, 0.0, 1.0))
+        return held_speed(self.params, distance)
 
 
 class OraclePolicy:
@@ -213,7 +236,7 @@ class OraclePolicy:
 
     def __init__(self, params: ActiveVisionParams = ActiveVisionParams(),
                  retina: RetinaParams = RetinaParams()) -> None:
-        self.params, self.body = params, fish_body()
+        self.params = params
         # the eyes in the head frame, BL from the nose (forward, left, up)
         self.eyes = eye_positions(np.eye(3), np.zeros(3), 1.0, retina)
 
@@ -230,16 +253,7 @@ class OraclePolicy:
         phi = np.arctan2(look[:, 2], np.hypot(look[:, 0], look[:, 1]))
         gaze = np.clip(np.stack([theta, phi], axis=1), [-THETA_RANGE, -PHI_RANGE],
                        [THETA_RANGE, PHI_RANGE])
-        bearing = float(np.arctan2(prey[1], prey[0]))
-        p = self.params
-        turn = 0.0
-        if abs(np.degrees(bearing)) > p.turn_threshold:
-            turn = float(np.clip(p.turn_gain * bearing / (np.pi / 2), -1.0, 1.0))
-        pitch = float(np.clip(p.pitch_gain * phi.mean() / PHI_RANGE, -1.0, 1.0))
-        speed = p.speed
-        if p.hold_range_bl > 0.0:
-            distance = float(np.linalg.norm(prey))
-            speed *= float(np.clip((distance - p.hold_range_bl) / p.range_ramp_bl, 0.0, 1.0))
-        gaze_action = (gaze / [THETA_RANGE, PHI_RANGE]).reshape(-1)
-        return np.concatenate([[2.0 * speed - 1.0, turn, pitch], gaze_action]).astype(
-            np.float32), None
+        turn, pitch = steering_commands(self.params, float(np.arctan2(prey[1], prey[0])),
+                                        float(phi.mean()))
+        speed = held_speed(self.params, float(np.linalg.norm(prey)))
+        return pursuit_action(speed, turn, pitch, gaze), None
