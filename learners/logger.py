@@ -163,7 +163,10 @@ class TensorBoardSink:
 
     def hparams(self, params: dict[str, object], metrics: dict[str, float]) -> None:
         """Into the same log folder (TensorBoard's HParams tab); the metrics are written under
-        ``hparams/`` so that they do not mix with the run's curves."""
+        ``hparams/`` so that they do not mix with the run's curves; once per log folder (a
+        resumed run's second call writes nothing)."""
+        if not self._new("_hparams_/experiment", 0):  # the tag add_hparams writes
+            return
         self._writer.add_hparams(params, {f"hparams/{k}": v for k, v in metrics.items()},
                                  run_name=".")
 

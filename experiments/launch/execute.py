@@ -138,15 +138,15 @@ def _execute_locked(folder: Path, progress, threads: int | None, trust_pickles: 
         _failed(folder, error, threads)
         raise
     write_json(folder / "artefacts.json", dict(result.artefacts))
-    final = make_status("done", folder, result, threads=threads)
-    write_json(folder / "result.json", final)
-    try:  # extras after the result is safe: a failure here loses nothing
+    try:  # before "done", so a run killed in between writes them on resume (each sink once)
         logger.hparams(flat_hparams(config), {k: float(v) for k, v in result.metrics.items()})
-    except Exception as error:
+    except Exception as error:  # an extra: a failure here loses nothing
         print(f"animat: warning: {folder}: hyperparameters not written to TensorBoard: {error}",
               file=sys.stderr)
     finally:
         logger.close()
+    final = make_status("done", folder, result, threads=threads)
+    write_json(folder / "result.json", final)
     return final
 
 

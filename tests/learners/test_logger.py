@@ -56,3 +56,16 @@ def test_a_reopened_tensorboard_sink_writes_each_tag_and_step_once(tmp_path):
     assert sorted(written) == [("eval/return", 10), ("eval/return", 20),
                                ("hparams/text_summary", 0)]
     assert _events_held(tmp_path) == set(written)
+
+
+def test_a_resumed_run_writes_its_hyperparameters_once(tmp_path):
+    for _ in range(2):  # the run, then its resume after a kill before it said "done"
+        sink = TensorBoardSink(tmp_path)
+        sink.hparams({"seed": 0}, {"eval/return": 1.5})
+        sink.close()
+    from tensorboard.backend.event_processing.event_file_loader import EventFileLoader
+
+    written = [value.tag for path in sorted(tmp_path.glob("events.*"))
+               for event in EventFileLoader(str(path)).Load() for value in event.summary.value]
+    assert sorted(written) == ["_hparams_/experiment", "_hparams_/session_end_info",
+                               "_hparams_/session_start_info", "hparams/eval/return"]
