@@ -58,8 +58,8 @@ def food(centre, size: float = 0.012) -> tuple[np.ndarray, np.ndarray]:
 @dataclass(frozen=True)
 class SceneryParams:
     """How much of each, over the rectangle ``low`` .. ``high`` (x, y) m: ``rocks`` standing on
-    the seabed (up to ``rock_height`` m tall), ``plants`` (up to ``plant_height`` m), ``food``
-    particles floating within ``food_depth`` m of z = 0."""
+    the seabed (up to ``rock_height`` m tall), ``plants`` (up to ``plant_height`` m tall,
+    ``plant_width`` m wide), ``food`` particles floating within ``food_depth`` m of z = 0."""
 
     rocks: int = 5
     plants: int = 12
@@ -68,6 +68,7 @@ class SceneryParams:
     high: tuple[float, float] = (1.5, 1.5)
     rock_height: float = 0.25
     plant_height: float = 0.35
+    plant_width: float = 0.04
     food_depth: float = 0.3
 
 
@@ -81,7 +82,8 @@ def scatter(rng: np.random.Generator, seabed_z: float, params: SceneryParams = S
         things.append(rock([*rng.uniform(low, high), seabed_z], size, rng))
     for _ in range(params.plants):
         height = rng.uniform(0.5, 1.0) * params.plant_height
-        things.append(plant([*rng.uniform(low, high), seabed_z], height, rng))
+        things.append(plant([*rng.uniform(low, high), seabed_z], height, rng,
+                            width=params.plant_width))
     for _ in range(params.food):
         depth = rng.uniform(-params.food_depth, params.food_depth)
         things.append(food([*rng.uniform(low, high), depth]))

@@ -20,10 +20,12 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass
 
+import cv2
 import numpy as np
 
 from .perception import (
     backproject,
+    colour_bins,
     colour_histogram,
     intersection,
     scaled,
@@ -38,7 +40,9 @@ class VisionParams:
     """detect_threshold: histogram intersection for a detection; model_level: the level the
     model image was taken at (its size there); saccades: gaze moves per foveation at most;
     centred: pixels from the fovea's centre that count as foveated; radius: the backprojection
-    disk, pixels; min_evidence: the backprojection's peak below which a level sees nothing."""
+    disk, pixels; min_evidence: the backprojection's peak below which a level sees nothing;
+    size_ratio: with a background (:func:`detect`), how far a thing's size may be from a
+    view's for the two to be matched."""
 
     detect_threshold: float = 0.3
     model_level: int = 3
@@ -46,6 +50,7 @@ class VisionParams:
     centred: float = 2.0
     radius: int = 1
     min_evidence: float = 0.5
+    size_ratio: float = 2.0
 
 
 @dataclass
@@ -67,8 +72,8 @@ def model_histogram(model_image: np.ndarray, background: np.ndarray | None = Non
     return colour_histogram(model_image, mask)
 
 
-def detect(levels: np.ndarray, model: np.ndarray, params: VisionParams = VisionParams()
-           ) -> tuple[int, float, float]:
+def detect(levels: np.ndarray, model: np.ndarray, params: VisionParams = VisionParams(),
+           background: np.ndarray | None = None) -> tuple[int, float, float]:
     """(level, x, y): the finest level that sees the whole target, and where the target is
     there (pixels: the centre of the extent of its evidence), or (-1, nan, nan).
 
@@ -81,7 +86,14 @@ def detect(levels: np.ndarray, model: np.ndarray, params: VisionParams = VisionP
     region with a view's histogram scaled to the level passes ``detect_threshold`` for some
     view: scaled by the area ratio 4^(level - model_level), or to the region's own size if
     the target looks smaller than that (farther away). A finer level whose region touches
-    the image border sees only part of the target, and the next coarser one is used."""
+    the image border sees only part of the target, and the next coarser one is used.
+
+    ``background``: a bool mask of the histogram's bins (``BINS``), the colours known as the
+    world's background. Given it, the region matched is the whole thing around the candidate:
+    every pixel of another colour within ``params.radius`` + 1 pixels of the candidate's box,
+    so that a thing that shares some colours with the target but has colours of its own as
+    well (a fish of a similar hue) matches less than the target does; and it is matched
+    against the views of about its size only (:func:`_match`)."""
     views = model.reshape((-1,) + model.shape[-3:])
     counts = views.reshape(len(views), -1).sum(axis=1)
     if np.any(counts <= 0):
@@ -93,12 +105,10 @@ def detect(levels: np.ndarray, model: np.ndarray, params: VisionParams = VisionP
         peak = float(evidence.max())
         if peak < params.min_evidence:
             continue
-        target = evidence >= 0.5 * peak
-        region, pixels = colour_histogram(levels[level], target), float(target.sum())
-        expected = np.minimum(counts * 4.0 ** (level - params.model_level), pixels)
-        match = max(intersection(region, scaled(view, max(size, 1.0)))
-                    for view, size in zip(views, expected))
-        if match < params.detect_threshold:
+        sizes = counts * 4.0 ** (level - params.model_level)
+        score, target = max(_candidates(levels[level], evidence >= 0.5 * peak, evidence, views,
+                                        sizes, background, params), key=lambda c: c[0])
+        if score < params.detect_threshold:
             continue
         edge = target[0].any() or target[-1].any() or target[:, 0].any() or target[:, -1].any()
         if edge and level > 0:
@@ -106,6 +116,58 @@ def detect(levels: np.ndarray, model: np.ndarray, params: VisionParams = VisionP
         ys, xs = np.nonzero(target)  # the centre of the target's extent in the image
         return level, 0.5 * (xs.min() + xs.max()) + 0.5, 0.5 * (ys.min() + ys.max()) + 0.5
     return -1, float("nan"), float("nan")
+
+
+def _candidates(image: np.ndarray, mask: np.ndarray, evidence: np.ndarray, views: np.ndarray,
+                sizes: np.ndarray, background: np.ndarray | None, params: VisionParams
+                ) -> list[tuple[float, np.ndarray]]:
+    """[(match, region (S, S) bool)]: without a ``background``, the connected part of ``mask``
+    (8-neighbours) that holds the evidence's peak, so that evidence elsewhere in the image
+    neither joins the target's region nor moves its centre; with one, every connected part
+    whose evidence reaches ``min_evidence``, each matched as the whole thing around it, so that
+    a thing of similar colours with more evidence does not hide the target beside it."""
+    count, labels = cv2.connectedComponents(mask.astype(np.uint8), connectivity=8)
+    if background is None:
+        peak = np.unravel_index(int(np.argmax(evidence)), evidence.shape)
+        parts = [labels == labels[peak]]
+    else:
+        parts = [part for part in (labels == k for k in range(1, count))
+                 if evidence[part].max() >= params.min_evidence]
+    out = []
+    for part in parts:
+        matched = part if background is None else _thing_around(part, image, background,
+                                                                params.radius + 1)
+        pixels = float(matched.sum())
+        score = _match(colour_histogram(image, matched), pixels, views, sizes,
+                       params.size_ratio if background is not None else None)
+        out.append((score, part))
+    return out
+
+
+def _match(region: np.ndarray, pixels: float, views: np.ndarray, sizes: np.ndarray,
+           size_ratio: float | None) -> float:
+    """The best histogram intersection of ``region`` (``pixels`` of them) with the ``views``,
+    each of ``sizes`` pixels at this level: with ``size_ratio``, among the views whose size
+    is within that factor of the region's, each scaled to the region's size (0 when there is
+    none); without, each scaled to its size or to the region's if that is smaller (a target
+    farther away than the view)."""
+    if size_ratio is None:
+        return max(intersection(region, scaled(view, max(min(size, pixels), 1.0)))
+                   for view, size in zip(views, sizes))
+    near = [view for view, size in zip(views, sizes)
+            if size / size_ratio <= pixels <= size * size_ratio]
+    return max((intersection(region, scaled(view, pixels)) for view in near), default=0.0)
+
+
+def _thing_around(target: np.ndarray, image: np.ndarray, background: np.ndarray,
+                  margin: int) -> np.ndarray:
+    """(S, S) bool: the pixels not of a ``background`` colour within ``margin`` pixels of
+    ``target``'s bounding box (``target`` itself always)."""
+    ys, xs = np.nonzero(target)
+    box = np.zeros_like(target)
+    box[max(ys.min() - margin, 0):ys.max() + margin + 1,
+        max(xs.min() - margin, 0):xs.max() + margin + 1] = True
+    return target | (box & ~background[colour_bins(image)])
 
 
 def saccade(theta: float, phi: float, level: int, x: float, y: float,

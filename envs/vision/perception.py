@@ -1,8 +1,10 @@
 """The active-vision algorithms of the paper's Section 3.2, as pure functions on images.
 
-* Colour histograms (OpenCV, ``BINS`` per channel) and Swain & Ballard's histogram
-  intersection ``sum min(I, M) / sum M`` (1 for an image against its own histogram), with the
-  model histogram scaled to the number of pixels a target covers at a retina level.
+* Colour histograms on Swain & Ballard's opponent colour axes (``rg = r - g``,
+  ``by = 2b - r - g``, ``wb = r + g + b``; ``BINS`` = 16, 16 and 8 bins: fine in colour,
+  coarse in brightness), and their histogram intersection ``sum min(I, M) / sum M`` (1 for an
+  image against its own histogram), with the model histogram scaled to the number of pixels a
+  target covers at a retina level.
 * Localisation by histogram backprojection: each pixel gets the ratio ``min(M / I, 1)`` of its
   colour bin, the result is blurred with a disk of the target's size, and its peak is where
   the target is.
@@ -18,14 +20,27 @@ from __future__ import annotations
 import cv2
 import numpy as np
 
-BINS = 8  # histogram bins per colour channel
+BINS = (16, 16, 8)  # histogram bins on the rg, by and wb axes
+
+
+def opponent(image: np.ndarray) -> np.ndarray:
+    """(H, W, 3) uint8: an RGB image's colours on Swain & Ballard's opponent axes, each mapped
+    onto 0..255: ``(r - g + 255) / 2``, ``(2b - r - g + 510) / 4``, ``(r + g + b) / 3``."""
+    r, g, b = (np.asarray(image[..., k], np.int32) for k in range(3))
+    return np.stack([(r - g + 255) // 2, (2 * b - r - g + 510) // 4, (r + g + b) // 3],
+                    axis=-1).astype(np.uint8)
+
+
+def colour_bins(image: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Each pixel's histogram bin, (H, W) ints per axis (:data:`BINS`)."""
+    axes = opponent(image).astype(np.intp)
+    return tuple(axes[..., k] * BINS[k] // 256 for k in range(3))  # type: ignore[return-value]
 
 
 def colour_histogram(image: np.ndarray, mask: np.ndarray | None = None) -> np.ndarray:
-    """(BINS, BINS, BINS) float32 counts of the image's colours (optionally where ``mask``)."""
+    """``BINS`` float32 counts of the image's colours (optionally where ``mask``)."""
     mask8 = None if mask is None else mask.astype(np.uint8)
-    return cv2.calcHist([np.ascontiguousarray(image)], [0, 1, 2], mask8, [BINS] * 3,
-                        [0, 256] * 3)
+    return cv2.calcHist([opponent(image)], [0, 1, 2], mask8, list(BINS), [0, 256] * 3)
 
 
 def intersection(image_hist: np.ndarray, model_hist: np.ndarray) -> float:
@@ -47,8 +62,9 @@ def backproject(image: np.ndarray, model_hist: np.ndarray, radius: int) -> np.nd
     ``min(M / I, 1)`` of each pixel's colour, blurred by a disk of ``radius`` pixels."""
     image_hist = colour_histogram(image)
     ratio = np.minimum(model_hist / np.maximum(image_hist, 1e-6), 1.0).astype(np.float32)
-    evidence = cv2.calcBackProject([np.ascontiguousarray(image)], [0, 1, 2], ratio,
-                                   [0, 256] * 3, 255.0) / 255.0  # uint8 output: scale up
+    # each pixel's bin looked up directly: cv2.calcBackProject reads a three-dimensional
+    # NumPy histogram as a two-dimensional image of many channels, and got every bin wrong
+    evidence = ratio[colour_bins(image)]
     size = 2 * int(radius) + 1
     disk = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (size, size)).astype(np.float32)
     return cv2.filter2D(evidence.astype(np.float32), -1, disk / disk.sum(),

@@ -2,8 +2,8 @@
 
 ``python -m animat.experiments.bench.vision``: in the same rounds, on one core,
 
-* the physics alone (three fish's batched step, as the pursuit's: a ``BodyBatch`` of three
-  swimming fish with fins, driven through the pursuit's navigator);
+* the physics alone (the pursuit's fish in one batched step: a ``BodyBatch`` of as many
+  swimming fish with fins, six by default, driven through the pursuit's navigator);
 * an env step (physics, then both retinas rendered: 8 cameras over the scene with its
   scenery), with a fixed action;
 * a full step with the vision: the :class:`~animat.envs.world.pursuit.policy.ActiveVisionPolicy`
@@ -42,12 +42,13 @@ def main(argv: list[str] | None = None) -> None:
     args = parser.parse_args(argv)
     env, obs = _pursuit()
     policy, still = ActiveVisionPolicy(), np.zeros(7, np.float32)
-    moves = env.navigator.actions(np.array([[0.6, 0.0, 0.0]] * 3), 0.0).astype(np.float64)
+    n = env.fish
+    moves = env.navigator.actions(np.array([[0.6, 0.0, 0.0]] * n), 0.0).astype(np.float64)
     scene, retina = paper_scene(), RetinaParams()
     state = {"obs": obs}
-    fish = BodyBatch(3, make_task("swim"), duration=10_000.0, fins=True,
+    fish = BodyBatch(n, make_task("swim"), duration=10_000.0, fins=True,
                      start_spread="point")  # as the pursuit's
-    fish.reset_rows(np.arange(3), [np.random.default_rng(seed) for seed in range(3)])
+    fish.reset_rows(np.arange(n), [np.random.default_rng(seed) for seed in range(n)])
 
     def physics() -> None:
         fish.step(moves)
@@ -59,7 +60,8 @@ def main(argv: list[str] | None = None) -> None:
         action, _ = policy.predict(state["obs"])
         state["obs"] = env.step(action)[0]
 
-    tasks = {"physics of 3 fish (one env step)": physics,
+    physics_name = f"physics of {n} fish (one env step)"
+    tasks = {physics_name: physics,
              "env step: physics + both retinas": env_step,
              "full step: + active vision policy": full_step,
              "both retinas, 10-fish scene": lambda: eyes_once(scene, retina)}
@@ -69,7 +71,7 @@ def main(argv: list[str] | None = None) -> None:
         for name, fn in tasks.items():
             rates[name].append(rate(fn, share))
     medians = {name: float(np.median(values)) for name, values in rates.items()}
-    reference = medians["physics of 3 fish (one env step)"]
+    reference = medians[physics_name]
     for name, value in medians.items():
         unit = "frame-sets/s" if "10-fish" in name else "steps/s"
         print(f"{name:38s} {value:8.1f} {unit:12s} ({value / reference:.2f} x the physics)")

@@ -1,14 +1,18 @@
 """``Animat/FishPursuit-v0``: an observer fish with eyes pursues a reddish prey fish.
 
 ## Description
-Three fish of :mod:`animat.envs.bodies.fish` share the water (one batched simulation): the observer
-(orange), whose two eyes (:mod:`animat.envs.vision.retina`) are the only way it sees; a reddish prey
-and a yellow passer that live by the living world's mind and behaviours
-(:mod:`animat.envs.world`): the prey swims on at ``prey_speed`` and flees the observer, which
-it fears as a predator (its fear is 0.5, the threshold of flight, with the observer
-``flee_distance_bl`` away, and decays once it is far), and the passer, of the same size,
-swims straight across, passing behind the prey a few seconds in. Every fish moves only
-through its motor controllers (:mod:`animat.envs.motor.navigation`).
+Fish of :mod:`animat.envs.bodies.fish` share the water (one batched simulation): the observer
+(orange), whose two eyes (:mod:`animat.envs.vision.retina`) are the only way it sees; a red prey;
+``distractors`` salmon fish of the prey's size and colour family (a colour histogram of their
+own); and ``passers`` fish of other colours (yellow, blue, silver). All but the observer live by
+the living world's mind and behaviours (:mod:`animat.envs.world`): the prey swims on at
+``prey_speed`` and flees the observer, which it fears as a predator (its fear is 0.5, the
+threshold of flight, with the observer ``flee_distance_bl`` away, and decays once it is far); a
+distractor swims on at the prey's speed; the passers swim across the line of sight at full
+speed. Every fish moves only through its motor controllers
+(:mod:`animat.envs.motor.navigation`). The benchmark is the default: the prey anywhere in the
+eyes' 120 deg field, 1-4 m away; ``bearing_deg=(60, 300)`` is its search variant (the prey
+outside the field, behind or to a side).
 
 ## Action Space
 ``Box(-1, 1, (7,), float32)``: swim speed (mapped to [0, 1]), turn (positive: left; above
@@ -31,30 +35,37 @@ stable-baselines3's ``MultiInputPolicy`` as it is.
 
 ## Info (ground truth, for evaluation only)
 ``target_in_fovea`` (the prey's centre within both foveas' 7.5 deg half-angle),
-``target_distance`` (m, head to the prey's centre of mass), ``passer_in_fovea``, ``gaze``
+``target_distance`` (m, head to the prey's centre of mass), ``distractor_in_fovea`` and
+``passer_in_fovea`` (any of them within both foveas), ``gaze``
 (rad: theta_L, phi_L, theta_R, phi_R), ``vergence`` (theta_R - theta_L, rad),
 ``range_estimate`` (m, triangulated from the gaze), ``time`` (s).
 
 ## Scene
 A sand-tiled seabed 0.5 m below, water with depth haze, and a seeded scenery per episode
-(:mod:`animat.envs.render.scenery`): 5 rocks and 12 plants on the seabed (below the swimming layer)
-and 15
-food particles floating, over 6 m x 6 m ahead of the start. The fish wear textured skins
-(:func:`animat.envs.render.camera.fish_skin`): countershading, bands and a checker.
+(:mod:`animat.envs.world.pursuit.start`, :mod:`animat.envs.render.scenery`): 5 rocks and 12
+plants on the seabed and 15 food particles floating, over 8 m x 10 m round the start; with
+``occluders``, 3 boulders up to 0.9 m and 8 kelp fronds up to 1.1 m tall that rise through the
+swimming layer and hide what is behind them (they do not stop a fish: there are no collisions
+here). The fish wear textured skins (:func:`animat.envs.render.camera.fish_skin`):
+countershading, bands and a checker.
 
 ## Starting State
-The observer at the origin heading +x; the prey ``start_distance_bl`` away at a bearing
-drawn from ``bearing_deg`` (default within +-20 deg; (-60, 60) puts it anywhere in the eyes'
-120 deg field), heading away from the observer within +-60 deg; the passer 3 BL to the side
-of the line of sight, 2 BL beyond the prey, heading across it.
+The observer at the origin heading +x; the prey ``start_distance_bl`` away (default 1-4 m)
+at a bearing drawn from ``bearing_deg`` (default +-60 deg: anywhere in the eyes' 120 deg
+field), heading away from the observer within +-60 deg; each distractor at its own distance
+and bearing from the same ranges, heading anywhere; the first passer 3 BL to the side of the
+line of sight, 2 BL beyond the prey, heading across it, the others 2-4 BL to a side at
+0.3-1.5 of the prey's distance (:func:`animat.envs.world.pursuit.start.place`).
 
 ## Episode End
 No termination; truncation after ``duration`` s (default 20).
 
 ## Arguments
-``duration`` (s, 20; in (0, 86400]), ``start_distance_bl`` ((3, 5); within [1, 100]),
-``bearing_deg`` (the prey's start bearing, deg, positive left: (-20, 20); within [-180, 180]),
-``flee_distance_bl`` (2.5; in (0, 100]), ``prey_speed`` (0.5; the swim-MC's speed, in [0, 1]),
+``duration`` (s, 20; in (0, 86400]), ``start_distance_bl`` (default 1-4 m: (1 / L, 4 / L)
+with L = 0.3 m; within [1, 100]), ``bearing_deg`` (the prey's start bearing, deg, positive
+left: (-60, 60); within [-360, 360], spanning at most 360), ``flee_distance_bl`` (2.5; in
+(0, 100]), ``prey_speed`` (0.5; the swim-MC's speed, in [0, 1]), ``distractors`` (1) and
+``passers`` (3) (integers in [0, 8]), ``occluders`` (True),
 ``sensors`` (a list of sensors that read the observer's view, their entries' names unique;
 default :func:`~animat.envs.world.pursuit.senses.default_sensors`: the retina, the gaze and
 proprioception), ``oracle`` (False; True adds the privileged entry ``prey``, the prey's centre
@@ -75,11 +86,11 @@ from __future__ import annotations
 import gymnasium as gym
 import numpy as np
 
-from ...checks import check_number, check_range
+from ...checks import check_flag, check_integer, check_number, check_range, shown
 from ...core.batch import BodyBatch
 from ...motor.navigation import Navigator, forward_speeds, navigation_for
 from ...render.camera import Camera, Scene, fish_skin, look_at, yaw_matrix
-from ...render.scenery import SceneryParams, furnish, scatter
+from ...render.scenery import furnish
 from ...tasks.locomotion import SwimTask
 from ...vision.perception import triangulate
 from ...vision.retina import Retina, RetinaParams, composite
@@ -90,14 +101,13 @@ from ..mind import MentalState, MindParams
 from ..oracle import Obstacles, OracleParams
 from ..percepts import AvoidParams, Tank, perceive
 from .senses import ObserverView, PreyPosition, PursuitObserver, default_sensors
+from .start import SEABED_Z, colours, place, scenery
 from .summary import PursuitSummary
 
-OBSERVER, PREY, PASSER = 0, 1, 2
-COLOURS = ((250, 140, 60), (220, 50, 40), (230, 210, 40))
+OBSERVER, PREY, DISTRACTOR = 0, 1, 2  # rows; the distractors from DISTRACTOR on, then passers
 FOVEA_HALF_ANGLE = np.radians(7.5)
-SEABED_Z = -0.5  # m
 MAX_DISTANCE_BL = 100.0  # the farthest start and flight distance, BL
-SCENERY = SceneryParams(rocks=5, plants=12, food=15, low=(-1.5, -3.0), high=(4.5, 3.0))
+MAX_OTHERS = 8  # distractors and passers at most, each
 
 
 class FishPursuitEnv(gym.Env):
@@ -106,39 +116,47 @@ class FishPursuitEnv(gym.Env):
     metadata = {"render_modes": ["rgb_array", "retina"], "render_fps": 20}
 
     def __init__(self, render_mode: str | None = None, duration: float = 20.0,
-                 start_distance_bl: tuple[float, float] = (3.0, 5.0),
-                 bearing_deg: tuple[float, float] = (-20.0, 20.0),
+                 start_distance_bl: tuple[float, float] | None = None,
+                 bearing_deg: tuple[float, float] = (-60.0, 60.0),
                  flee_distance_bl: float = 2.5, prey_speed: float = 0.5,
+                 distractors: int = 1, passers: int = 3, occluders: bool = True,
                  sensors: list | None = None, water: dict | None = None,
                  oracle: bool = False) -> None:
         if render_mode not in (None, "rgb_array", "retina"):
             raise ValueError(f"render_mode must be None, 'rgb_array' or 'retina', got "
                              f"{render_mode!r}")
         self.render_mode = render_mode
-        self.core = BodyBatch(3, SwimTask(), duration=duration, fins=True, water=water,
+        self.distractors = check_integer("distractors", distractors, 0, MAX_OTHERS)
+        self.passers = check_integer("passers", passers, 0, MAX_OTHERS)
+        self.occluders = check_flag("occluders", occluders)
+        self.fish = 2 + self.distractors + self.passers
+        self.core = BodyBatch(self.fish, SwimTask(), duration=duration, fins=True, water=water,
                               start_spread="point")  # placed by the pursuit
         self.dt, self.body_length = self.core.dt, self.core.body.length
-        self.start_distance_bl = check_range("start_distance_bl", start_distance_bl, 1.0,
-                                             MAX_DISTANCE_BL, "BL")
-        self.bearing_deg = check_range("bearing_deg", bearing_deg, -180.0, 180.0, "deg")
+        metres = (1.0 / self.body_length, 4.0 / self.body_length)  # 1-4 m, BL
+        self.start_distance_bl = check_range(
+            "start_distance_bl", metres if start_distance_bl is None else start_distance_bl,
+            1.0, MAX_DISTANCE_BL, "BL")
+        self.bearing_deg = check_range("bearing_deg", bearing_deg, -360.0, 360.0, "deg")
+        if self.bearing_deg[1] - self.bearing_deg[0] > 360.0:
+            raise ValueError(f"bearing_deg must span at most 360 deg, got {shown(bearing_deg)}")
         self.flee_distance_bl = check_number("flee_distance_bl", flee_distance_bl, 0.0,
                                              MAX_DISTANCE_BL, "BL", low_open=True)
         self.prey_speed = check_number("prey_speed", prey_speed, 0.0, 1.0)
         self.retina = RetinaParams()
-        self.navigator = Navigator(3, navigation_for(self.core.system.water))
+        self.navigator = Navigator(self.fish, navigation_for(self.core.system.water))
         self._live_init()
         self.gaze = np.zeros(4)
         self.view = ObserverView(self.core, OBSERVER, self.scene, self.gaze, self.retina)
         self.eyes = Retina(self.retina)  # what render() and retina_images() show
-        if not isinstance(oracle, bool):
-            raise ValueError(f"oracle must be true or false, got {oracle!r}")
         sensors = default_sensors(self.retina) if sensors is None else sensors
-        if oracle:
+        if check_flag("oracle", oracle):
             sensors = [*sensors, PreyPosition(PREY)]
         self.observer = PursuitObserver(self.view, sensors)
         self.observation_space = self.observer.single_space
         self.action_space = gym.spaces.Box(-1.0, 1.0, (7,), np.float32)
-        self.skins = [fish_skin(self.core.body, colour) for colour in COLOURS]
+        self.skins = [fish_skin(self.core.body, colour)
+                      for colour in colours(self.distractors, self.passers)]
         self._scenery: list = []
         self._started = False
 
@@ -159,20 +177,15 @@ class FishPursuitEnv(gym.Env):
 
     def reset(self, *, seed: int | None = None, options: dict | None = None):
         super().reset(seed=seed)
-        rng, length = self.np_random, self.body_length
-        self.core.reset_rows(np.arange(3), [rng, rng, rng])
-        distance = rng.uniform(*self.start_distance_bl) * length
-        bearing = np.radians(rng.uniform(*self.bearing_deg))
-        prey_at = distance * np.array([np.cos(bearing), np.sin(bearing), 0.0])
-        self._place(PREY, prey_at, bearing + np.radians(rng.uniform(-60.0, 60.0)))
-        side = rng.choice([-1.0, 1.0])
-        across = np.array([-np.sin(bearing), np.cos(bearing), 0.0])
-        beyond = prey_at + 2.0 * length * prey_at / np.linalg.norm(prey_at)
-        self._place(PASSER, beyond + side * 3.0 * length * across,
-                    bearing + (-side) * np.pi / 2)
+        rng, rows = self.np_random, np.arange(self.fish)
+        self.core.reset_rows(rows, [rng] * self.fish)
+        starts = place(rng, self.body_length, self.start_distance_bl, self.bearing_deg,
+                       self.distractors, self.passers)
+        for row, start in enumerate(starts, start=PREY):
+            self._place(row, start.position, start.yaw)
         self.core.state.origin[:] = self.core.kinematics().com
-        self._scenery = scatter(rng, SEABED_Z, SCENERY)
-        self.navigator.reset(np.arange(3))
+        self._scenery = scenery(rng, self.occluders)
+        self.navigator.reset(rows)
         self._live_reset()
         self.gaze[:] = 0.0
         self._time = 0.0
@@ -182,39 +195,45 @@ class FishPursuitEnv(gym.Env):
 
     # --- the prey and the passer: the living world's mind and behaviours ----------------
     def _live_init(self) -> None:
-        """Minds for the three fish (only the prey's and the passer's are used): the prey
-        fears the observer; no hunger or libido; open water (no walls) round z = 0."""
+        """Minds for every fish (all but the observer's are used): the prey fears the
+        observer; the distractors cruise at the prey's speed, the passers at full speed; no
+        hunger or libido; open water (no walls) round z = 0."""
         self.tank = Tank(half_size=1e3, seabed_z=SEABED_Z, top_z=-SEABED_Z)
         self.mind_params = MindParams(fear_distance=0.5 * self.flee_distance_bl
                                       * self.body_length)
-        fears = np.zeros((3, 3), bool)
+        fish = self.fish
+        fears = np.zeros((fish, fish), bool)
         fears[PREY, OBSERVER] = True
-        none = np.zeros((3, 3), bool)
+        none = np.zeros((fish, fish), bool)
         self.relations = {"fears": fears, "hunts": none, "schools_with": none, "courts": none}
-        self.habit_arrays = {name: np.zeros(3, bool)
+        self.habit_arrays = {name: np.zeros(fish, bool)
                              for name in ("eats_food", "predator", "schooling", "mates")}
-        self.cruise = np.array([0.0, self.prey_speed, 1.0])
-        self.intentions = IntentionGenerator(3)
+        self.cruise = np.array([0.0, *[self.prey_speed] * (1 + self.distractors),
+                                *[1.0] * self.passers])
+        self.intentions = IntentionGenerator(fish)
         self.oracle = OracleParams(field_deg=360.0)  # it feels the observer even right behind
 
     def _live_reset(self) -> None:
         wander = self.core.kinematics().frames[:, 0].copy()  # straight on
         wander[:, 2] = 0.0
         self.intentions.reset()
-        self.lives = Lives(MentalState.start(np.zeros(3), np.zeros(3)), self.intentions, wander,
-                           np.full(3, np.inf), self.habit_arrays, self.cruise, self.cruise,
+        none = np.zeros(self.fish)
+        self.lives = Lives(MentalState.start(none, none), self.intentions, wander,
+                           np.full(self.fish, np.inf), self.habit_arrays, self.cruise, self.cruise,
                            self.mind_params, BehaviourParams(), self.tank)
 
     def _behaviours(self, kinematics) -> np.ndarray:
-        """(2, 3) commands of the prey and the passer, from their minds and behaviours."""
+        """(F - 1, 3) commands of every fish but the observer, from their minds and
+        behaviours."""
         heads, headings = self.core.state.x[:, 0], kinematics.frames[:, 0]
         percepts = perceive(heads, headings, kinematics.com, kinematics.com_vel,
                             np.zeros((0, 3)), self.relations,
                             Obstacles.none(), self.tank, self.oracle, AvoidParams())
-        no_focus = np.full((3, 3), np.nan)
+        fish = self.fish
+        no_focus = np.full((fish, 3), np.nan)
         return self.lives.commands(percepts, heads, headings, kinematics.com, self._time,
-                                   self.dt, np.zeros(3), np.zeros(3, bool), self.np_random,
-                                   lambda intention: no_focus)[[PREY, PASSER]]
+                                   self.dt, np.zeros(fish), np.zeros(fish, bool),
+                                   self.np_random, lambda intention: no_focus)[PREY:]
 
     def step(self, action):
         if not self._started:
@@ -242,7 +261,7 @@ class FishPursuitEnv(gym.Env):
     def scene(self) -> Scene:
         """What there is to see now: the three fish in their skins, and the scenery."""
         scene = furnish(Scene(seabed_z=SEABED_Z), self._scenery)
-        for row in range(3):
+        for row in range(self.fish):
             scene.add(self.core.body, self.core.state.x[row], self.skins[row])
         return scene
 
@@ -270,9 +289,13 @@ class FishPursuitEnv(gym.Env):
         positions, rotations = (poses[0] for poses in self.view.eye_poses(kinematics))
         angles = self.view.gaze_angles()
         baseline = float(np.linalg.norm(positions[0] - positions[1]))
-        return {"target_in_fovea": self._in_foveas(kinematics.com[PREY], positions, rotations),
-                "passer_in_fovea": self._in_foveas(kinematics.com[PASSER], positions,
-                                                   rotations),
+        def seen(rows) -> bool:
+            return any(self._in_foveas(kinematics.com[row], positions, rotations) for row in rows)
+
+        others = DISTRACTOR + self.distractors
+        return {"target_in_fovea": seen([PREY]),
+                "distractor_in_fovea": seen(range(DISTRACTOR, others)),
+                "passer_in_fovea": seen(range(others, self.fish)),
                 "target_distance": self._target_distance(kinematics),
                 "gaze": angles.reshape(-1).copy(),
                 "vergence": float(angles[1, 0] - angles[0, 0]),

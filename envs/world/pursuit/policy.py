@@ -3,12 +3,14 @@ it, :mod:`animat.learners.scorers.pursuit`; the living world's eye-driven hunter
 
 :class:`ActiveVisionPolicy` sees only the observation (the two eyes' levels, the gaze, the
 proprioception), never ``info`` or the simulator. Each frame, each eye detects the target by
-its model histogram (:func:`animat.envs.vision.active_vision.detect`, the finest level that sees
-all of it)
-and saccades onto it; an eye that has lost the target sweeps its gaze back toward straight
-ahead. Between frames the head yaws with every tail beat, so the eyes counter-rotate by the
-head's yaw over the next frame, read off proprioception (a vestibulo-ocular reflex; the
-paper stabilises by optical flow instead, which is not used here). Navigation follows the
+its visual memory (:mod:`animat.envs.world.pursuit.memory`;
+:func:`animat.envs.vision.active_vision.detect`, the finest level that sees all of it, the
+candidate matched as a whole thing against the background it knows) and saccades onto it. An
+eye that does not find it looks where the other eye found it; when neither does, the eyes scan
+(``scan_deg``: each to its side every other frame, so that the 60 deg level sweeps the whole
+120 deg field). Between frames the head yaws with every tail beat, so the eyes counter-rotate
+by the head's yaw over the next frame, read off proprioception (a vestibulo-ocular reflex; the
+paper stabilises by optical flow, here ``flow_limit``, off by default). Navigation follows the
 paper: the turn angle theta_P is the mean of the eyes' theta; above ``turn_threshold`` it goes
 to the turn-MCs (left or right, in proportion), otherwise the fish swims at ``speed``; the
 mean phi goes to the fins for up and down. Two additions of ours, for the faster fish of the
@@ -17,12 +19,18 @@ its own two eyes' gaze nears ``hold_range_bl`` (at full pace it reached the prey
 it and lost it), and a fish that has lost sight of the target for ``search_after`` frames turns
 toward where it saw it last (it swam straight on, away from it).
 
+The scan and the detection threshold (0.4) were chosen on seeds 100-127 of the default
+benchmark, never on the evaluation seeds: the prey in both foveas on 0.85 of all the frames
+with the threshold at 0.4 or 0.3, 0.77 at 0.5; on 100-111, 0.91 with the scan against 0.73
+without it.
+
 The body's head yaws by about +-11 deg with each tail beat at full speed, more than the
 fovea's half-width in one 50 ms frame, and how far it yaws in the next frame is poorly
 predicted from this frame's proprioception (measured: a least-squares predictor leaves
 2.6-3.3 deg rms). The defaults therefore swim at 0.6 of full speed (still faster than the
-prey) and turn only beyond 20 deg: chosen on seeds 100-109, never on the evaluation seeds
-0-4 (on 100-109, in the resistive water: 0.95 of the frames after the first foveation at
+prey) and turn only beyond 20 deg: chosen on seeds 100-109 of the earlier benchmark (the prey
+within +-20 deg at 3-5 BL, before the backprojection was mended), never on the evaluation
+seeds 0-4 (on 100-109, in the resistive water: 0.95 of the frames after the first foveation at
 (0.6, 15 deg), 0.98 at (0.6, 20 deg), 0.99 at (0.5, 20 deg), with ``stabilise`` 0.75). The
 range kept and the search were chosen on seeds 100-109 too (reactive water, seeds 100-104:
 holding 1 BL over a ramp of 2 BL, 0.999 of the frames against 0.601 with no range keeping,
@@ -37,34 +45,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...bodies.fish import fish_body
-from ...render.camera import Scene, fish_skin, posed
-from ...vision.active_vision import VisionParams, detect, model_histogram, saccade
+from ...vision.active_vision import VisionParams, detect, saccade
 from ...vision.perception import translational_flow, triangulate
-from ...vision.retina import RetinaParams, eye_positions, gaze_rotation, render_eye
-from .env import COLOURS, PREY, SEABED_Z
+from ...vision.retina import RetinaParams, eye_positions
+from .memory import background_colours, prey_model_histogram
 from .senses import PHI_RANGE, THETA_RANGE
-
-MODEL_VIEWS = tuple((distance, np.radians(yaw)) for distance in (0.7, 1.2, 2.0, 3.0, 4.0)
-                    for yaw in range(0, 360, 45))  # (m, rad): the prey's poses in memory
-
-
-def prey_model_histogram(retina: RetinaParams = RetinaParams()) -> np.ndarray:
-    """The visual memory of the prey: (V, B, B, B) the colour histograms of its model images,
-    the prey in open water seen through the 30 deg level from all round (every 45 deg of its
-    heading) at five distances, 0.7-4 m (only what differs from the empty water), so that it
-    is known from behind as well as broadside, by its lit side and its shaded one, near and
-    through the haze of up to 4 m (with views at 0.7 and 1.2 m only, a prey 2.5 m away gave no
-    evidence at any level: its hazed colours were not in the memory)."""
-    body, level = fish_body(), retina.levels - 2  # the whole fish fits at 30 deg
-    skin, eye = fish_skin(body, COLOURS[PREY]), np.zeros(3)
-    rotation = gaze_rotation(np.eye(3), 0.0, 0.0)
-    empty = render_eye(Scene(seabed_z=SEABED_Z), eye, rotation, retina)[level]
-    views = []
-    for distance, yaw in MODEL_VIEWS:
-        scene = Scene(seabed_z=SEABED_Z).add(body, posed(body, [distance, 0.0, 0.0], yaw), skin)
-        seen = render_eye(scene, eye, rotation, retina)[level]
-        views.append(model_histogram(seen, background=np.all(seen == empty, -1)))
-    return np.stack(views)
 
 
 def head_yaw_rate(proprioception: np.ndarray, body) -> float:
@@ -81,32 +66,34 @@ def head_yaw_rate(proprioception: np.ndarray, body) -> float:
 
 @dataclass(frozen=True)
 class ActiveVisionParams:
-    """turn_threshold: deg of theta_P above which the fish turns; turn_gain: turn command per
-    90 deg of theta_P; pitch_gain: fin command per 30 deg of phi_P; search_decay: the share of
-    its angle a lost eye keeps per frame; detect_threshold: histogram intersection; stabilise:
-    the share of the head's yaw over the next frame (``frame_dt`` s) that the eyes
+    """turn_threshold: deg of theta_P above which the fish turns; turn_gain: turn command per 90
+    deg of theta_P; pitch_gain: fin command per 30 deg of phi_P; scan_deg: how far an eye that
+    sees nothing looks to its side every other frame (0: no scan); search_decay: without a scan,
+    the share of its angle a lost eye keeps per frame; detect_threshold: histogram intersection;
+    stabilise: the share of the head's yaw over the next frame (``frame_dt`` s) that the eyes
     counter-rotate (the least-squares gain of the measured yaw on the predicted one is 0.6-0.7);
-    speed: the swim-MC's speed in [0, 1] while not turning; flow_limit: pixels: an eye that
-    had the target in its fovea last frame follows it by the optical flow between the two
-    foveal images (the paper's stabilisation) when the flow is at most this, and re-detects
-    otherwise (0: always re-detect; measured on seeds 100-104: 0 holds the prey on 0.985 of
-    the frames, 2 px on 0.979, 4 px on 0.898, 8 px on 0.595: each flow estimate builds on the
-    last one, and the errors add up until a re-detection); hold_range_bl, range_ramp_bl: BL,
-    range keeping: with both eyes on the target the fish swims at ``speed`` times
-    ``(range - hold_range_bl) / range_ramp_bl`` clipped to [0, 1], the range triangulated from
-    its own gaze (:func:`~animat.envs.vision.perception.triangulate`), so that it closes in and
-    then keeps its distance rather than overshooting the prey (0: always ``speed``);
-    search_after: frames: with the target out of both eyes' view this long, the fish turns
-    (a full turn command, 90 deg) toward the side where it saw the target last, and again
-    each time the turn ends (0: no search; it swims straight on); search_side: the side a
-    fish that has not seen the target yet searches toward (+1 left, -1 right; 0: it swims
-    straight on until it sees it)."""
+    speed: the swim-MC's speed in [0, 1] while not turning; flow_limit: pixels: an eye that had
+    the target in its fovea last frame follows it by the optical flow between the two foveal
+    images (the paper's stabilisation) when the flow is at most this, and re-detects otherwise
+    (0: always re-detect; measured on seeds 100-104 of the earlier benchmark: 0 holds the prey
+    on 0.985 of the frames, 2 px on 0.979, 4 px on 0.898, 8 px on 0.595: each flow estimate
+    builds on the last one, and the errors add up until a re-detection); hold_range_bl,
+    range_ramp_bl: BL, range keeping: with both eyes on the target the fish swims at ``speed``
+    times ``(range - hold_range_bl) / range_ramp_bl`` clipped to [0, 1], the range triangulated
+    from its own gaze (:func:`~animat.envs.vision.perception.triangulate`), so that it closes in
+    and then keeps its distance rather than overshooting the prey (0: always ``speed``);
+    search_after: frames: with the target out of both eyes' view this long, the fish turns (a
+    full turn command, 90 deg) toward the side where it saw the target last, and again each time
+    the turn ends (0: no search; it swims straight on); search_side: the side a fish that has
+    not seen the target yet searches toward (+1 left, -1 right; 0: it swims straight on until it
+    sees it)."""
 
     turn_threshold: float = 20.0
     turn_gain: float = 1.0
     pitch_gain: float = 1.0
     search_decay: float = 0.8
-    detect_threshold: float = 0.3
+    scan_deg: float = 40.0
+    detect_threshold: float = 0.4
     stabilise: float = 0.75
     frame_dt: float = 0.05
     speed: float = 0.6
@@ -153,6 +140,7 @@ class ActiveVisionPolicy:
         self.vision = VisionParams(detect_threshold=params.detect_threshold,
                                    model_level=retina.levels - 2)
         self.model = prey_model_histogram(retina)
+        self.background = background_colours(retina)
         self.body = fish_body()  # the observer's body: which nodes define its head frame
         eyes = eye_positions(np.eye(3), np.zeros(3), self.body.length, retina)
         self.baseline = float(np.linalg.norm(eyes[0] - eyes[1]))  # m, between the eyes
@@ -164,6 +152,7 @@ class ActiveVisionPolicy:
         self._at: list[tuple[float, float] | None] = [None, None]  # target there, pixels
         self.flow_frames = 0  # eye-frames located by optical flow since the reset
         self.unseen = 0  # frames since either eye last saw the target
+        self.scan = 0  # frames of the eyes' scan
         self.last_side = float(self.params.search_side)  # +1 left, -1 right: where the
         # target was last seen (before it is seen: the side searched first)
 
@@ -179,7 +168,7 @@ class ActiveVisionPolicy:
                 found = (len(levels) - 1, at[0] + dx, at[1] + dy)
                 self.flow_frames += 1
         if found is None:
-            found = detect(levels, self.model, self.vision)
+            found = detect(levels, self.model, self.vision, self.background)
         in_fovea = found[0] == len(levels) - 1
         self._fovea[k], self._at[k] = fovea, (found[1], found[2]) if in_fovea else None
         return found
@@ -197,8 +186,7 @@ class ActiveVisionPolicy:
             if level >= 0:
                 new[k] = saccade(gaze[k, 0], gaze[k, 1], level, x, y, self.retina)
                 seen.append(k)
-            else:
-                new[k] = self.params.search_decay * gaze[k]
+        self._unseen_eyes(gaze, new, seen)
         yaw = head_yaw_rate(obs["proprioception"], self.body) * self.params.frame_dt
         new[:, 0] -= self.params.stabilise * yaw
         new = np.clip(new, [-THETA_RANGE, -PHI_RANGE], [THETA_RANGE, PHI_RANGE])
@@ -207,6 +195,22 @@ class ActiveVisionPolicy:
         turn, pitch = steering_commands(self.params, theta_p, phi_p)
         turn = turn if seen else searching
         return pursuit_action(self._speed(new, len(seen) == 2), turn, pitch, new), None
+
+    def _unseen_eyes(self, gaze: np.ndarray, new: np.ndarray, seen: list[int]) -> None:
+        """The gaze (rad, in ``new``) of each eye that did not find the target this frame:
+        onto the other eye's target when that one found it; else, with ``scan_deg``, the
+        next of its scan (the left eye between straight ahead and ``scan_deg`` left, the
+        right eye the same to the right, so that the 60 deg level sweeps the whole field every
+        two frames); without, back toward straight ahead (``search_decay``)."""
+        self.scan += 1
+        for k in {0, 1} - set(seen):
+            if seen:
+                new[k] = new[seen[0]]
+            elif self.params.scan_deg > 0:
+                side = 1.0 if k == 0 else -1.0
+                new[k] = (np.radians(self.params.scan_deg) * side * (self.scan % 2), 0.0)
+            else:
+                new[k] = self.params.search_decay * gaze[k]
 
     def _search(self, seen: list[int], theta_p: float) -> float:
         """The turn command of the search: a full turn toward the side the target was last

@@ -8,15 +8,17 @@ import numpy as np
 
 class PursuitSummary:
     """Episode metrics of a pursuit from each step's info (the same interface as
-    :class:`animat.envs.tasks.base.EpisodeSummary`, one episode): ``fovea_fraction`` (share of the
-    frames after the first foveation with the prey in both foveas), ``fovea_fraction_episode``
-    (share of all the episode's frames), ``first_foveation_s`` (s to the first frame with the
+    :class:`animat.envs.tasks.base.EpisodeSummary`, one episode): ``fovea_fraction`` (the share
+    of all the episode's frames with the prey in both foveas, the benchmark's headline),
+    ``fovea_fraction_after_first`` (the share of the frames after the first foveation),
+    ``first_foveation_s`` (s to the first frame with the
     prey in both foveas; the episode's length when there is none), ``captured`` (1 when the
     observer's head came within ``CAPTURE_BL`` of the prey's centre of mass, else 0),
-    ``fovea_fraction_150`` (the same as ``fovea_fraction`` over the ``WINDOW`` = 150 frames
-    after the first foveation, or as many as the episode has), ``distance_closed_bl``,
-    ``passer_fraction`` (frames after the first foveation with the passer in both foveas and
-    the prey not: the gaze taken by the passer), ``first_foveation_frame`` (-1: never), and
+    ``fovea_fraction_150`` (the same as ``fovea_fraction_after_first`` over the ``WINDOW`` =
+    150 frames after the first foveation, or as many as the episode has),
+    ``distance_closed_bl``, ``distractor_fraction`` and ``passer_fraction`` (the share of the
+    frames after the first foveation with a distractor, or a passer, in both foveas and the
+    prey not: the gaze taken by them), ``first_foveation_frame`` (-1: never), and
     over the frames with the prey in both foveas: ``vergence_first_deg`` and
     ``vergence_last_deg`` (means of the first and last ``ENDS`` = 40 of them) and
     ``range_error`` (the median of
@@ -29,7 +31,8 @@ class PursuitSummary:
     def __init__(self, body_length: float, start_distance: float, dt: float) -> None:
         self.length, self.start, self.dt = body_length, start_distance, dt
         self.closest = start_distance
-        self.frames, self.first, self.held, self.passer, self.held_window = 0, None, 0, 0, 0
+        self.frames, self.first, self.held, self.held_window = 0, None, 0, 0
+        self.passer, self.distractor = 0, 0
         self.vergence: list[float] = []
         self.range_errors: list[float] = []
         self.last: dict = {}
@@ -42,6 +45,8 @@ class PursuitSummary:
             if self.frames < self.first + self.WINDOW:
                 self.held_window += bool(info["target_in_fovea"])
             self.passer += bool(info["passer_in_fovea"] and not info["target_in_fovea"])
+            self.distractor += bool(info.get("distractor_in_fovea", False)
+                                    and not info["target_in_fovea"])
         if info["target_in_fovea"]:
             self.vergence.append(float(np.degrees(info["vergence"])))
             if np.isfinite(info["range_estimate"]):  # the eyes converge
@@ -54,11 +59,12 @@ class PursuitSummary:
     def summary(self) -> dict[str, float]:
         after = max(self.frames - (self.first if self.first is not None else self.frames), 1)
         seen = self.first is not None
-        return {"fovea_fraction": self.held / after if seen else 0.0,
-                "fovea_fraction_episode": self.held / max(self.frames, 1),
+        return {"fovea_fraction": self.held / max(self.frames, 1),
+                "fovea_fraction_after_first": self.held / after if seen else 0.0,
                 "first_foveation_s": (self.first if seen else self.frames) * self.dt,
                 "captured": float(self.closest <= self.CAPTURE_BL * self.length),
                 "fovea_fraction_150": self.held_window / min(after, self.WINDOW) if seen else 0.0,
+                "distractor_fraction": self.distractor / after,
                 "passer_fraction": self.passer / after,
                 "distance_closed_bl": (self.start - self.last["target_distance"]) / self.length,
                 "first_foveation_frame": float(self.first if self.first is not None else -1),

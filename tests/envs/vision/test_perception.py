@@ -78,3 +78,32 @@ def test_backprojection_keeps_fractional_ratios():
     evidence = backproject(image, model, radius=0)
     assert evidence[8, 2] == pytest.approx(0.5, abs=0.01)
     assert evidence[8, 12] == pytest.approx(0.5, abs=0.01)
+
+
+def test_backprojection_lights_the_pixels_of_each_bin_and_no_other():
+    """Every pixel's evidence is its own colour bin's ratio (cv2.calcBackProject read a
+    three-dimensional NumPy histogram as a two-dimensional image of many channels, and lit
+    the wrong pixels)."""
+    from animat.envs.vision.perception import backproject, colour_bins
+
+    image = np.zeros((8, 8, 3), np.uint8)
+    image[:] = (52, 35, 46)  # a dark fish
+    image[:4] = (34, 82, 125)  # the water
+    image[0, 0] = (200, 50, 40)
+    for pixel in [(5, 5), (1, 1), (0, 0)]:
+        model = np.zeros_like(colour_histogram(image))
+        model[tuple(axis[pixel] for axis in colour_bins(image))] = 1000.0
+        evidence = backproject(image, model, radius=0)
+        same = np.all(image == image[pixel], axis=-1)
+        np.testing.assert_allclose(evidence[same], 1.0)
+        assert not evidence[~same].any()
+
+
+def test_red_and_salmon_fall_in_different_bins_in_the_light_and_in_the_shade():
+    """The prey's red and its distractor's salmon, at each shade a fish skin has (0.57-1)."""
+    from animat.envs.vision.perception import colour_bins
+
+    for shade in (1.0, 0.85, 0.7, 0.57):
+        image = (np.array([[(220, 50, 40), (240, 120, 110)]]) * shade).astype(np.uint8)
+        bins = [tuple(int(axis[0, k]) for axis in colour_bins(image)) for k in range(2)]
+        assert bins[0] != bins[1]

@@ -71,9 +71,9 @@ def test_the_pursuit_summary_counts_after_the_first_foveation():
                         })
     out = summary.summary()
     assert out["first_foveation_frame"] == 10
-    assert out["fovea_fraction"] == pytest.approx(290 / 390)
+    assert out["fovea_fraction"] == pytest.approx(290 / 400)  # of the whole episode
+    assert out["fovea_fraction_after_first"] == pytest.approx(290 / 390)
     assert out["fovea_fraction_150"] == 1.0
-    assert out["fovea_fraction_episode"] == pytest.approx(290 / 400)
     assert out["first_foveation_s"] == pytest.approx(0.5)
     assert out["captured"] == 0.0  # it came within 0.501 m, 1.67 BL
     assert out["distance_closed_bl"] == pytest.approx(0.399 / 0.3)
@@ -85,7 +85,8 @@ def test_the_pursuit_summary_counts_after_the_first_foveation():
                       "target_distance": distance, "vergence": 0.0, "range_estimate": np.inf})
     out = never.summary()
     assert out["fovea_fraction"] == 0.0 and np.isnan(out["range_error"])
-    assert out["fovea_fraction_episode"] == 0.0 and out["first_foveation_s"] == pytest.approx(0.15)
+    assert out["fovea_fraction_after_first"] == 0.0
+    assert out["first_foveation_s"] == pytest.approx(0.15)
     assert out["captured"] == 1.0
 
 

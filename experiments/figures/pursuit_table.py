@@ -1,0 +1,92 @@
+"""The pursuit benchmark's comparison table, each policy beside its blind and oracle baselines.
+
+``python -m animat.experiments.figures.pursuit_table FOLDER...`` reads every run folder under the
+FOLDERs scored on ``Animat/FishPursuit-v0`` (``result.json``, ``config.yaml`` and the
+``eval.json`` of ``animat eval RUN --episodes N``: N episodes of seeds it never saw) and prints a
+Markdown table per benchmark variant (the env's arguments, the privileged ``oracle`` entry left
+aside): for each run, on the unseen episodes, ``eval/fovea_fraction`` (the share of all frames
+with the prey in both foveas; mean ± std over the episodes), the same normalised between the
+variant's blind and oracle baselines ((x - blind) / (oracle - blind): 0 is what the start gives
+away, 1 is what sight could give at best with the same body), the time to the first foveation,
+the distance closed, the share of episodes with a capture, and the share of frames the
+distractor held the gaze. A run without ``eval.json`` is named and left out.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+from animat.learners.storage.files import read_json
+
+from ..compare import find_runs
+from ..launch.config import load_config
+
+COLUMNS = (("first_foveation_s", "first foveation, s", 1), ("distance_closed_bl",
+           "closed, BL", 1), ("captured", "captured", 2), ("distractor_fraction",
+           "distractor", 2))
+
+
+def pursuit_rows(folders: list[Path]) -> list[dict]:
+    """One dict per run with an ``eval.json``: its variant (JSON of the env's arguments but
+    ``oracle``), role (``blind``, ``oracle`` or ``policy``), label, unseen metrics and
+    episodes."""
+    rows = []
+    for folder in folders:
+        if not (folder / "eval.json").exists():
+            print(f"note: {folder} has no eval.json (animat eval RUN --episodes N)",
+                  file=sys.stderr)
+            continue
+        config = load_config(folder / "config.yaml", build=False)
+        params = config.learner.params
+        role = "blind" if params.get("blind") else "oracle" if params.get("oracle") else "policy"
+        kwargs = {k: v for k, v in config.env.kwargs.items() if k != "oracle"}
+        unseen = read_json(folder / "eval.json")
+        rows.append({"variant": json.dumps(kwargs, sort_keys=True), "role": role,
+                     "label": config.learner.display_name, "metrics": unseen["metrics"],
+                     "episodes": len(unseen["seeds"]), "folder": folder})
+    return rows
+
+
+def normalised(value: float, blind: float | None, oracle: float | None) -> str:
+    """``(value - blind) / (oracle - blind)`` to two places, or n/a without both baselines."""
+    if blind is None or oracle is None or oracle <= blind:
+        return "n/a"
+    return f"{(value - blind) / (oracle - blind):.2f}"
+
+
+def variant_markdown(rows: list[dict]) -> str:
+    """One variant's rows as a Markdown table, the policies first, then the baselines."""
+    ends = {r["role"]: r["metrics"]["eval/fovea_fraction"] for r in rows if r["role"] != "policy"}
+    lines = ["| policy | fovea fraction | normalised | "
+             + " | ".join(name for _, name, _ in COLUMNS) + " | episodes |",
+             "|---|---|---|" + "---|" * len(COLUMNS) + "---|"]
+    for row in sorted(rows, key=lambda r: (r["role"] != "policy", r["role"], r["label"])):
+        m = row["metrics"]
+        cells = [f"{m['eval/' + key]:.{places}f} ± {m['eval/' + key + '_std']:.{places}f}"
+                 for key, _, places in COLUMNS]
+        share = m["eval/fovea_fraction"]
+        lines.append(f"| {row['label']} | {share:.2f} ± {m['eval/fovea_fraction_std']:.2f} | "
+                     f"{normalised(share, ends.get('blind'), ends.get('oracle'))} | "
+                     f"{' | '.join(cells)} | {row['episodes']} |")
+    return "\n".join(lines)
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(
+        prog="python -m animat.experiments.figures.pursuit_table",
+        description="The pursuit benchmark's table on unseen episodes, with its baselines.")
+    parser.add_argument("folders", nargs="+", help="run folders, or folders holding them")
+    args = parser.parse_args(argv)
+    rows = pursuit_rows(find_runs(args.folders))
+    for variant in sorted({r["variant"] for r in rows}):
+        print(f"Env arguments {variant}:\n")
+        print(variant_markdown([r for r in rows if r["variant"] == variant]) + "\n")
+    print("Values on the unseen episodes: mean ± std over the episodes.")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
