@@ -3,9 +3,11 @@
 ``python -m animat.experiments.figures.pursuit_table FOLDER...`` reads every run folder under the
 FOLDERs scored on ``Animat/FishPursuit-v0`` (``result.json``, ``config.yaml`` and the
 ``eval.json`` of ``animat eval RUN --episodes N``: N episodes of seeds it never saw) and prints a
-Markdown table per benchmark variant (the env's arguments, the privileged ``oracle`` entry left
-aside): for each run, on the unseen episodes, ``eval/fovea_fraction`` (the share of all frames
-with the prey in both foveas; mean ± std over the episodes), the same normalised between the
+Markdown table per benchmark variant (the env's arguments but the privileged ``oracle`` entry
+and ``glances``, the looks a frame, which are the agent's and a column of the table): for each
+run, on the unseen episodes, ``eval/fovea_fraction`` (the share of all frames with the prey in
+both foveas; mean ± std over the episodes, and a 95% bootstrap interval of the mean), the same
+normalised between the
 variant's blind and oracle baselines ((x - blind) / (oracle - blind): 0 is what the start gives
 away, 1 is what sight could give at best with the same body), the time to the first foveation,
 the distance closed, the share of episodes with a capture, and the share of frames the
@@ -19,9 +21,11 @@ import json
 import sys
 from pathlib import Path
 
+import numpy as np
+
 from animat.learners.storage.files import read_json
 
-from ..compare import find_runs
+from ..compare import find_runs, mean_std
 from ..launch.config import load_config
 
 COLUMNS = (("first_foveation_s", "first foveation, s", 1), ("distance_closed_bl",
@@ -42,11 +46,14 @@ def pursuit_rows(folders: list[Path]) -> list[dict]:
         config = load_config(folder / "config.yaml", build=False)
         params = config.learner.params
         role = "blind" if params.get("blind") else "oracle" if params.get("oracle") else "policy"
-        kwargs = {k: v for k, v in config.env.kwargs.items() if k != "oracle"}
+        kwargs = {k: v for k, v in config.env.kwargs.items() if k not in ("oracle", "glances")}
         unseen = read_json(folder / "eval.json")
+        shares = np.array([e["fovea_fraction"] for e in unseen["episodes"]], float)
         rows.append({"variant": json.dumps(kwargs, sort_keys=True), "role": role,
                      "label": config.learner.display_name, "metrics": unseen["metrics"],
-                     "episodes": len(unseen["seeds"]), "folder": folder})
+                     "episodes": len(unseen["seeds"]), "folder": folder,
+                     "glances": int(config.env.kwargs.get("glances", 1)),
+                     "interval": mean_std(shares)})
     return rows
 
 
@@ -60,15 +67,16 @@ def normalised(value: float, blind: float | None, oracle: float | None) -> str:
 def variant_markdown(rows: list[dict]) -> str:
     """One variant's rows as a Markdown table, the policies first, then the baselines."""
     ends = {r["role"]: r["metrics"]["eval/fovea_fraction"] for r in rows if r["role"] != "policy"}
-    lines = ["| policy | fovea fraction | normalised | "
+    lines = ["| policy | glances | fovea fraction [95% interval] | normalised | "
              + " | ".join(name for _, name, _ in COLUMNS) + " | episodes |",
-             "|---|---|---|" + "---|" * len(COLUMNS) + "---|"]
+             "|---|---|---|---|" + "---|" * len(COLUMNS) + "---|"]
     for row in sorted(rows, key=lambda r: (r["role"] != "policy", r["role"], r["label"])):
         m = row["metrics"]
         cells = [f"{m['eval/' + key]:.{places}f} ± {m['eval/' + key + '_std']:.{places}f}"
                  for key, _, places in COLUMNS]
-        share = m["eval/fovea_fraction"]
-        lines.append(f"| {row['label']} | {share:.2f} ± {m['eval/fovea_fraction_std']:.2f} | "
+        share, (_, _, low, high) = m["eval/fovea_fraction"], row["interval"]
+        lines.append(f"| {row['label']} | {row['glances']} | {share:.2f} ± "
+                     f"{m['eval/fovea_fraction_std']:.2f} [{low:.2f}, {high:.2f}] | "
                      f"{normalised(share, ends.get('blind'), ends.get('oracle'))} | "
                      f"{' | '.join(cells)} | {row['episodes']} |")
     return "\n".join(lines)
@@ -84,7 +92,8 @@ def main(argv: list[str] | None = None) -> int:
     for variant in sorted({r["variant"] for r in rows}):
         print(f"Env arguments {variant}:\n")
         print(variant_markdown([r for r in rows if r["variant"] == variant]) + "\n")
-    print("Values on the unseen episodes: mean ± std over the episodes.")
+    print("Values on the unseen episodes: mean ± std over the episodes; the interval is a 95% "
+          "bootstrap interval of the mean over them.")
     return 0
 
 

@@ -225,3 +225,30 @@ def test_the_unseen_table_groups_runs_by_learner_with_own_and_unseen_figures(tmp
     assert table[3].startswith(f"| handmc | 0 | {own:.2f} ± 0.00")
     assert f"| {unseen:.2f} ± 0.00" in table[3]
     assert "has no eval.json" in out.err
+
+
+def test_the_pursuit_table_sets_each_policy_between_its_blind_and_oracle_baselines(
+        tmp_path, capsys):
+    """``pursuit_table``: the unseen fovea fraction of each run of a benchmark variant, and the
+    same normalised so that the variant's blind run is 0 and its oracle 1 (the oracle's
+    privileged entry and the glances are not part of the variant)."""
+    from animat.experiments.figures.pursuit_table import main, normalised, pursuit_rows
+
+    pursuit = {"id": "Animat/FishPursuit-v0", "kwargs": {"duration": 1.0}}
+    folders = {}
+    for label, params, kwargs in [("vision", {}, {}), ("blind", {"blind": True}, {}),
+                                  ("oracle", {"oracle": True}, {"oracle": True})]:
+        env = {**pursuit, "kwargs": {**pursuit["kwargs"], **kwargs}}
+        folders[label] = _run(tmp_path, label, env=env, learner="active_vision",
+                              params={"episodes": 1, **params}, budget=20,
+                              metric="eval/fovea_fraction")
+        evaluate(folders[label], episodes=2)
+    rows = {r["role"]: r for r in pursuit_rows(list(folders.values()))}
+    assert len({r["variant"] for r in rows.values()}) == 1
+    share = {role: r["metrics"]["eval/fovea_fraction"] for role, r in rows.items()}
+    assert main([str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    expected = normalised(share["policy"], share["blind"], share["oracle"])
+    assert f"| active_vision | 1 | {share['policy']:.2f} ± " in out
+    assert expected == "n/a" or f"| {expected} |" in out
+    assert normalised(0.5, 0.1, 0.9) == "0.50" and normalised(0.5, None, 0.9) == "n/a"

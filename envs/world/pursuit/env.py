@@ -26,8 +26,16 @@ the seam of :mod:`animat.envs.core.sensors`): the retina
 (:class:`animat.envs.vision.retina.Retina`) gives ``left_eye`` and ``right_eye``
 ``Box(0, 255, (64, 64, 12), uint8)`` (the 4 levels' RGB stacked, level 0 = 120 deg first,
 level 3 = the fovea last), ``gaze`` ``Box(-1, 1, (4,))`` (the gaze as commanded, in the
-action's units) and ``proprioception`` (the fish envs' 150 entries). It takes
+action's units) and ``proprioception`` (the fish envs' 150 entries); with ``glances`` > 1,
+``glance`` ``Box(0, glances - 1, (1,))``, the looks left before the body moves. It takes
 stable-baselines3's ``MultiInputPolicy`` as it is.
+
+## Glances
+With ``glances`` = G > 1 each frame (``dt``) is G env steps: the first G - 1 move the eyes
+alone (the action's gaze; its swim, turn and pitch are ignored), with the scene still and the
+eyes rendered again at the new gaze (reward 0, info's ``moved`` False); the last moves the
+body and the world as a step does with G = 1. So the paper's foveation (a saccade from the
+periphery, then a second pass in the fovea) and vergence can finish within a frame.
 
 ## Rewards
 ``r = (d_prev - d) / L + 0.05 * target_in_fovea`` per step: the distance closed on the prey
@@ -65,7 +73,8 @@ No termination; truncation after ``duration`` s (default 20).
 with L = 0.3 m; within [1, 100]), ``bearing_deg`` (the prey's start bearing, deg, positive
 left: (-60, 60); within [-360, 360], spanning at most 360), ``flee_distance_bl`` (2.5; in
 (0, 100]), ``prey_speed`` (0.5; the swim-MC's speed, in [0, 1]), ``distractors`` (1) and
-``passers`` (3) (integers in [0, 8]), ``occluders`` (True),
+``passers`` (3) (integers in [0, 8]), ``occluders`` (True), ``glances`` (1; in [1, 4]: looks
+per frame, see Glances),
 ``sensors`` (a list of sensors that read the observer's view, their entries' names unique;
 default :func:`~animat.envs.world.pursuit.senses.default_sensors`: the retina, the gaze and
 proprioception), ``oracle`` (False; True adds the privileged entry ``prey``, the prey's centre
@@ -94,12 +103,7 @@ from ...render.scenery import furnish
 from ...tasks.locomotion import SwimTask
 from ...vision.perception import triangulate
 from ...vision.retina import Retina, RetinaParams, composite
-from ..behaviours import BehaviourParams
-from ..intention import IntentionGenerator
-from ..life import Lives
-from ..mind import MentalState, MindParams
-from ..oracle import Obstacles, OracleParams
-from ..percepts import AvoidParams, Tank, perceive
+from .others import OtherFish
 from .senses import ObserverView, PreyPosition, PursuitObserver, default_sensors
 from .start import SEABED_Z, colours, place, scenery
 from .summary import PursuitSummary
@@ -108,6 +112,7 @@ OBSERVER, PREY, DISTRACTOR = 0, 1, 2  # rows; the distractors from DISTRACTOR on
 FOVEA_HALF_ANGLE = np.radians(7.5)
 MAX_DISTANCE_BL = 100.0  # the farthest start and flight distance, BL
 MAX_OTHERS = 8  # distractors and passers at most, each
+MAX_GLANCES = 4  # looks per frame at most
 
 
 class FishPursuitEnv(gym.Env):
@@ -120,7 +125,7 @@ class FishPursuitEnv(gym.Env):
                  bearing_deg: tuple[float, float] = (-60.0, 60.0),
                  flee_distance_bl: float = 2.5, prey_speed: float = 0.5,
                  distractors: int = 1, passers: int = 3, occluders: bool = True,
-                 sensors: list | None = None, water: dict | None = None,
+                 glances: int = 1, sensors: list | None = None, water: dict | None = None,
                  oracle: bool = False) -> None:
         if render_mode not in (None, "rgb_array", "retina"):
             raise ValueError(f"render_mode must be None, 'rgb_array' or 'retina', got "
@@ -129,6 +134,7 @@ class FishPursuitEnv(gym.Env):
         self.distractors = check_integer("distractors", distractors, 0, MAX_OTHERS)
         self.passers = check_integer("passers", passers, 0, MAX_OTHERS)
         self.occluders = check_flag("occluders", occluders)
+        self.glances = check_integer("glances", glances, 1, MAX_GLANCES)
         self.fish = 2 + self.distractors + self.passers
         self.core = BodyBatch(self.fish, SwimTask(), duration=duration, fins=True, water=water,
                               start_spread="point")  # placed by the pursuit
@@ -145,7 +151,8 @@ class FishPursuitEnv(gym.Env):
         self.prey_speed = check_number("prey_speed", prey_speed, 0.0, 1.0)
         self.retina = RetinaParams()
         self.navigator = Navigator(self.fish, navigation_for(self.core.system.water))
-        self._live_init()
+        self.others = OtherFish(self.distractors, self.passers, self.prey_speed,
+                                0.5 * self.flee_distance_bl * self.body_length)
         self.gaze = np.zeros(4)
         self.view = ObserverView(self.core, OBSERVER, self.scene, self.gaze, self.retina)
         self.eyes = Retina(self.retina)  # what render() and retina_images() show
@@ -154,6 +161,10 @@ class FishPursuitEnv(gym.Env):
             sensors = [*sensors, PreyPosition(PREY)]
         self.observer = PursuitObserver(self.view, sensors)
         self.observation_space = self.observer.single_space
+        if self.glances > 1:  # how many looks are left before the body moves
+            self.observation_space = gym.spaces.Dict({
+                **self.observation_space.spaces,
+                "glance": gym.spaces.Box(0.0, float(self.glances - 1), (1,), np.float32)})
         self.action_space = gym.spaces.Box(-1.0, 1.0, (7,), np.float32)
         self.skins = [fish_skin(self.core.body, colour)
                       for colour in colours(self.distractors, self.passers)]
@@ -166,8 +177,8 @@ class FishPursuitEnv(gym.Env):
 
     @property
     def episode_steps(self) -> int:
-        """Env steps per episode (``duration / dt``)."""
-        return self.core.episode_steps
+        """Env steps per episode (``duration / dt``, times ``glances``)."""
+        return self.core.episode_steps * self.glances
 
     # --- the world -----------------------------------------------------------------------
     def _place(self, row: int, position: np.ndarray, yaw: float) -> None:
@@ -186,54 +197,12 @@ class FishPursuitEnv(gym.Env):
         self.core.state.origin[:] = self.core.kinematics().com
         self._scenery = scenery(rng, self.occluders)
         self.navigator.reset(rows)
-        self._live_reset()
+        self.others.reset(self.core.kinematics().frames[:, 0])
         self.gaze[:] = 0.0
-        self._time = 0.0
+        self._time, self._glance = 0.0, 0
         self._distance = self._target_distance(self.core.kinematics())
         self._started = True
         return self._observe(), self._info(self.core.kinematics())
-
-    # --- the prey and the passer: the living world's mind and behaviours ----------------
-    def _live_init(self) -> None:
-        """Minds for every fish (all but the observer's are used): the prey fears the
-        observer; the distractors cruise at the prey's speed, the passers at full speed; no
-        hunger or libido; open water (no walls) round z = 0."""
-        self.tank = Tank(half_size=1e3, seabed_z=SEABED_Z, top_z=-SEABED_Z)
-        self.mind_params = MindParams(fear_distance=0.5 * self.flee_distance_bl
-                                      * self.body_length)
-        fish = self.fish
-        fears = np.zeros((fish, fish), bool)
-        fears[PREY, OBSERVER] = True
-        none = np.zeros((fish, fish), bool)
-        self.relations = {"fears": fears, "hunts": none, "schools_with": none, "courts": none}
-        self.habit_arrays = {name: np.zeros(fish, bool)
-                             for name in ("eats_food", "predator", "schooling", "mates")}
-        self.cruise = np.array([0.0, *[self.prey_speed] * (1 + self.distractors),
-                                *[1.0] * self.passers])
-        self.intentions = IntentionGenerator(fish)
-        self.oracle = OracleParams(field_deg=360.0)  # it feels the observer even right behind
-
-    def _live_reset(self) -> None:
-        wander = self.core.kinematics().frames[:, 0].copy()  # straight on
-        wander[:, 2] = 0.0
-        self.intentions.reset()
-        none = np.zeros(self.fish)
-        self.lives = Lives(MentalState.start(none, none), self.intentions, wander,
-                           np.full(self.fish, np.inf), self.habit_arrays, self.cruise, self.cruise,
-                           self.mind_params, BehaviourParams(), self.tank)
-
-    def _behaviours(self, kinematics) -> np.ndarray:
-        """(F - 1, 3) commands of every fish but the observer, from their minds and
-        behaviours."""
-        heads, headings = self.core.state.x[:, 0], kinematics.frames[:, 0]
-        percepts = perceive(heads, headings, kinematics.com, kinematics.com_vel,
-                            np.zeros((0, 3)), self.relations,
-                            Obstacles.none(), self.tank, self.oracle, AvoidParams())
-        fish = self.fish
-        no_focus = np.full((fish, 3), np.nan)
-        return self.lives.commands(percepts, heads, headings, kinematics.com, self._time,
-                                   self.dt, np.zeros(fish), np.zeros(fish, bool),
-                                   self.np_random, lambda intention: no_focus)[PREY:]
 
     def step(self, action):
         if not self._started:
@@ -243,8 +212,16 @@ class FishPursuitEnv(gym.Env):
             raise ValueError(f"action must be 7 finite numbers, got {action.tolist()}")
         action = np.clip(action, -1.0, 1.0)
         kinematics = self.core.kinematics()
+        if self._glance < self.glances - 1:  # a look within the frame: the eyes move alone
+            self._glance += 1
+            self.gaze[:] = action[3:]
+            info = {**self._info(kinematics), "moved": False}
+            return self._observe(kinematics), 0.0, False, False, info
+        self._glance = 0
         observer = [[0.5 * (action[0] + 1.0), action[1], action[2]]]
-        commands = np.concatenate([observer, self._behaviours(kinematics)])
+        others = self.others.commands(self.core.state.x[:, 0], kinematics, self._time, self.dt,
+                                      self.np_random)
+        commands = np.concatenate([observer, others])
         moves = self.navigator.actions(commands, self._time,
                                        forward=forward_speeds(kinematics, self.body_length))
         self.gaze[:] = action[3:]
@@ -270,9 +247,13 @@ class FishPursuitEnv(gym.Env):
         return self.eyes.images(self.view, kinematics or self.core.kinematics())[0]
 
     def _observe(self, kinematics=None) -> dict[str, np.ndarray]:
-        """The observer's observation: its sensors' reading (entry name -> array)."""
+        """The observer's observation: its sensors' reading (entry name -> array), and with
+        ``glances`` > 1 the looks left before the body moves."""
         kinematics = kinematics or self.core.kinematics()
-        return self.observer.row(self.observer.observe(self.view, kinematics), 0)
+        obs = self.observer.row(self.observer.observe(self.view, kinematics), 0)
+        if self.glances > 1:
+            obs["glance"] = np.array([self.glances - 1 - self._glance], np.float32)
+        return obs
 
     def _target_distance(self, kinematics) -> float:
         return float(np.linalg.norm(kinematics.com[PREY] - self.core.state.x[OBSERVER, 0]))
@@ -300,7 +281,7 @@ class FishPursuitEnv(gym.Env):
                 "gaze": angles.reshape(-1).copy(),
                 "vergence": float(angles[1, 0] - angles[0, 0]),
                 "range_estimate": triangulate(angles[0, 0], angles[1, 0], baseline),
-                "time": self._time}
+                "time": self._time, "moved": True}
 
     def render(self):
         if self.render_mode == "retina":

@@ -38,6 +38,8 @@ class PursuitSummary:
         self.last: dict = {}
 
     def update(self, info: dict) -> None:
+        if not info.get("moved", True):
+            return  # a look within a frame (``glances``): the frame counts once, when it ends
         if self.first is None and info["target_in_fovea"]:
             self.first = self.frames
         if self.first is not None:

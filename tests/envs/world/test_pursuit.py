@@ -28,7 +28,7 @@ def test_pursuit_observation_info_and_renders():
     obs, info = env.reset(seed=3)
     assert obs["left_eye"].shape == (64, 64, 12) and obs["left_eye"].dtype == np.uint8
     assert set(info) >= {"target_in_fovea", "target_distance", "gaze", "vergence",
-                         "range_estimate", "passer_in_fovea"}
+                         "range_estimate", "passer_in_fovea", "distractor_in_fovea"}
     assert env.render().shape == (512, 1024, 3)
     env.render_mode = "rgb_array"
     assert env.render().shape == (360, 480, 3)
@@ -198,3 +198,56 @@ def test_the_pursuer_keeps_its_distance_by_its_own_vergence_and_searches_where_i
     assert policy._search([0, 1], np.radians(-30.0)) == 0.0  # seen, on the right
     turns = [policy._search([], 0.0) for _ in range(policy.params.search_after)]
     assert turns[:-1] == [0.0] * (policy.params.search_after - 1) and turns[-1] == -1.0
+
+
+def test_the_benchmark_has_a_salmon_distractor_three_passers_and_occluders_in_the_layer():
+    """Six fish by default (observer, prey, one distractor, three passers), the prey and the
+    distractor within the field's bearings at 1-4 m; kelp and boulders rising through the
+    swimming layer (z = 0) only with ``occluders``."""
+    from animat.envs.world.pursuit.start import DISTRACTOR_COLOUR, PREY_COLOUR
+
+    env = gym.make("Animat/FishPursuit-v0", duration=1.0).unwrapped
+    assert env.fish == 6 and env.core.num_envs == 6
+    assert np.allclose(env.skins[1].max(axis=0), PREY_COLOUR, atol=60)
+    assert np.allclose(env.skins[2].max(axis=0), DISTRACTOR_COLOUR, atol=60)
+    for seed in range(8):
+        env.reset(seed=seed)
+        kinematics = env.core.kinematics()
+        for row in (1, 2):  # the prey and the distractor: nose-to-centre bearing and range
+            offset = kinematics.com[row] - env.core.state.x[0, 0]
+            assert abs(np.degrees(np.arctan2(offset[1], offset[0]))) < 63.0
+            assert 0.8 < np.linalg.norm(offset) < 4.3
+        assert _rising(env._scenery) >= 3  # rooted on the seabed, through z = 0
+    bare = gym.make("Animat/FishPursuit-v0", duration=1.0, occluders=False, distractors=0,
+                    passers=1).unwrapped
+    bare.reset(seed=0)
+    assert bare.fish == 3 and _rising(bare._scenery) == 0
+
+
+def _rising(things) -> int:
+    """How many of the scenery's things stand on the seabed (0.5 m below) and reach z = 0."""
+    return sum(corners[..., 2].min() < -0.45 and corners[..., 2].max() > 0.0
+               for corners, _ in things)
+
+
+def test_a_glance_moves_the_eyes_alone_and_the_frame_counts_once():
+    """With ``glances=2`` the first step of each frame turns the eyes and renders them again,
+    the world still (time, bodies, reward 0); the second moves everything; the summary counts
+    the frame once."""
+    env = gym.make("Animat/FishPursuit-v0", duration=1.0, glances=2).unwrapped
+    obs, _ = env.reset(seed=4)
+    assert obs["glance"][0] == 1.0 and env.episode_steps == 40
+    x = env.core.state.x.copy()
+    look = np.array([0.0, 0.0, 0.0, 0.5, 0.0, -0.5, 0.0], np.float32)
+    seen, reward, _, _, info = env.step(look)
+    assert reward == 0.0 and not info["moved"] and info["time"] == 0.0
+    np.testing.assert_array_equal(env.core.state.x, x)
+    assert seen["glance"][0] == 0.0 and not np.array_equal(seen["left_eye"], obs["left_eye"])
+    np.testing.assert_allclose(seen["gaze"], look[3:])
+    moved, _, _, _, info = env.step(look)
+    assert info["moved"] and info["time"] == pytest.approx(0.05) and moved["glance"][0] == 1.0
+    summary = PursuitSummary(0.3, 1.0, 0.05)
+    for step_info in ({**info, "moved": False}, info):
+        summary.update(step_info)
+    assert summary.frames == 1
+    assert "glance" not in gym.make("Animat/FishPursuit-v0").observation_space.spaces
