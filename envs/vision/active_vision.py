@@ -106,8 +106,9 @@ def detect(levels: np.ndarray, model: np.ndarray, params: VisionParams = VisionP
         if peak < params.min_evidence:
             continue
         sizes = counts * 4.0 ** (level - params.model_level)
+        known = None if background is None else background[colour_bins(levels[level])]
         score, target = max(_candidates(levels[level], evidence >= 0.5 * peak, evidence, views,
-                                        sizes, background, params), key=lambda c: c[0])
+                                        sizes, known, params), key=lambda c: c[0])
         if score < params.detect_threshold:
             continue
         edge = target[0].any() or target[-1].any() or target[:, 0].any() or target[:, -1].any()
@@ -119,15 +120,16 @@ def detect(levels: np.ndarray, model: np.ndarray, params: VisionParams = VisionP
 
 
 def _candidates(image: np.ndarray, mask: np.ndarray, evidence: np.ndarray, views: np.ndarray,
-                sizes: np.ndarray, background: np.ndarray | None, params: VisionParams
+                sizes: np.ndarray, known: np.ndarray | None, params: VisionParams
                 ) -> list[tuple[float, np.ndarray]]:
-    """[(match, region (S, S) bool)]: without a ``background``, the connected part of ``mask``
+    """[(match, region (S, S) bool)]: without ``known`` (S, S), the pixels of a background
+    colour, the connected part of ``mask``
     (8-neighbours) that holds the evidence's peak, so that evidence elsewhere in the image
-    neither joins the target's region nor moves its centre; with one, every connected part
+    neither joins the target's region nor moves its centre; with it, every connected part
     whose evidence reaches ``min_evidence``, each matched as the whole thing around it, so that
     a thing of similar colours with more evidence does not hide the target beside it."""
     count, labels = cv2.connectedComponents(mask.astype(np.uint8), connectivity=8)
-    if background is None:
+    if known is None:
         peak = np.unravel_index(int(np.argmax(evidence)), evidence.shape)
         parts = [labels == labels[peak]]
     else:
@@ -135,11 +137,10 @@ def _candidates(image: np.ndarray, mask: np.ndarray, evidence: np.ndarray, views
                  if evidence[part].max() >= params.min_evidence]
     out = []
     for part in parts:
-        matched = part if background is None else _thing_around(part, image, background,
-                                                                params.radius + 1)
+        matched = part if known is None else _thing_around(part, known, params.radius + 1)
         pixels = float(matched.sum())
         score = _match(colour_histogram(image, matched), pixels, views, sizes,
-                       params.size_ratio if background is not None else None)
+                       params.size_ratio if known is not None else None)
         out.append((score, part))
     return out
 
@@ -159,15 +160,14 @@ def _match(region: np.ndarray, pixels: float, views: np.ndarray, sizes: np.ndarr
     return max((intersection(region, scaled(view, pixels)) for view in near), default=0.0)
 
 
-def _thing_around(target: np.ndarray, image: np.ndarray, background: np.ndarray,
-                  margin: int) -> np.ndarray:
-    """(S, S) bool: the pixels not of a ``background`` colour within ``margin`` pixels of
-    ``target``'s bounding box (``target`` itself always)."""
+def _thing_around(target: np.ndarray, known: np.ndarray, margin: int) -> np.ndarray:
+    """(S, S) bool: the pixels not ``known`` (S, S: of a background colour) within ``margin``
+    pixels of ``target``'s bounding box (``target`` itself always)."""
     ys, xs = np.nonzero(target)
     box = np.zeros_like(target)
     box[max(ys.min() - margin, 0):ys.max() + margin + 1,
         max(xs.min() - margin, 0):xs.max() + margin + 1] = True
-    return target | (box & ~background[colour_bins(image)])
+    return target | (box & ~known)
 
 
 def saccade(theta: float, phi: float, level: int, x: float, y: float,

@@ -105,10 +105,9 @@ from ...vision.perception import triangulate
 from ...vision.retina import Retina, RetinaParams, composite
 from .others import OtherFish
 from .senses import ObserverView, PreyPosition, PursuitObserver, default_sensors
-from .start import SEABED_Z, colours, place, scenery
+from .start import DISTRACTOR, OBSERVER, PREY, SEABED_Z, colours, place, scenery
 from .summary import PursuitSummary
 
-OBSERVER, PREY, DISTRACTOR = 0, 1, 2  # rows; the distractors from DISTRACTOR on, then passers
 FOVEA_HALF_ANGLE = np.radians(7.5)
 MAX_DISTANCE_BL = 100.0  # the farthest start and flight distance, BL
 MAX_OTHERS = 8  # distractors and passers at most, each
@@ -194,15 +193,16 @@ class FishPursuitEnv(gym.Env):
                        self.distractors, self.passers)
         for row, start in enumerate(starts, start=PREY):
             self._place(row, start.position, start.yaw)
-        self.core.state.origin[:] = self.core.kinematics().com
+        kinematics = self.core.kinematics()  # of the placed fish
+        self.core.state.origin[:] = kinematics.com
         self._scenery = scenery(rng, self.occluders)
         self.navigator.reset(rows)
-        self.others.reset(self.core.kinematics().frames[:, 0])
+        self.others.reset(kinematics.frames[:, 0])
         self.gaze[:] = 0.0
         self._time, self._glance = 0.0, 0
-        self._distance = self._target_distance(self.core.kinematics())
+        self._distance = self._target_distance(kinematics)
         self._started = True
-        return self._observe(), self._info(self.core.kinematics())
+        return self._observe(kinematics), self._info(kinematics)
 
     def step(self, action):
         if not self._started:

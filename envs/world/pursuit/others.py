@@ -17,9 +17,7 @@ from ..life import Lives
 from ..mind import MentalState, MindParams
 from ..oracle import Obstacles, OracleParams
 from ..percepts import AvoidParams, Tank, perceive
-from .start import SEABED_Z
-
-OBSERVER, PREY = 0, 1
+from .start import OBSERVER, PREY, SEABED_Z
 
 
 class OtherFish:

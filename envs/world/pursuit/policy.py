@@ -199,14 +199,15 @@ class ActiveVisionPolicy:
     def predict(self, obs: dict, state=None, episode_start=None, deterministic: bool = True):
         gaze = np.asarray(obs["gaze"], float).reshape(2, 2) * [THETA_RANGE, PHI_RANGE]
         new, seen, found = gaze.copy(), [], []
-        for k, key in enumerate(("left_eye", "right_eye")):
-            found.append(self._locate(k, self._levels(obs[key])))
+        levels = [self._levels(obs[key]) for key in ("left_eye", "right_eye")]
+        for k in range(2):
+            found.append(self._locate(k, levels[k]))
             level, x, y = found[k]
             if level >= 0:
                 new[k] = saccade(gaze[k, 0], gaze[k, 1], level, x, y, self.retina)
                 seen.append(k)
         if self.params.correlate:
-            self._verge(obs, gaze, new, found[0])
+            self._verge(levels, gaze, new, found[0])
         self._unseen_eyes(gaze, new, seen)
         final = float(np.asarray(obs.get("glance", [0.0]))[0]) == 0.0  # the body moves next
         if final:  # within a frame (a glance) the head does not move
@@ -221,18 +222,17 @@ class ActiveVisionPolicy:
         turn = turn if seen else searching
         return pursuit_action(self._speed(new, len(seen) == 2), turn, pitch, new), None
 
-    def _verge(self, obs: dict, gaze: np.ndarray, new: np.ndarray,
+    def _verge(self, levels: list[np.ndarray], gaze: np.ndarray, new: np.ndarray,
                left: tuple[int, float, float]) -> None:
         """The paper's vergence: with the target in the left eye's fovea, the right eye is
         turned onto the same point by correlating the two foveal images (the translational
         offset of the left image in the right one,
         :func:`~animat.envs.vision.perception.translational_flow`), whatever the right eye's own
-        detection; ``new`` (2, 2) rad, in place."""
+        detection; ``levels``: each eye's (L, S, S, 3); ``new`` (2, 2) rad, in place."""
         fovea = self.retina.levels - 1
         if left[0] != fovea:
             return
-        images = [self._levels(obs[key])[fovea] for key in ("left_eye", "right_eye")]
-        dx, dy = translational_flow(images[0], images[1])
+        dx, dy = translational_flow(levels[0][fovea], levels[1][fovea])
         if np.hypot(dx, dy) <= self.params.correlate_limit:
             new[1] = saccade(gaze[1, 0], gaze[1, 1], fovea, left[1] + dx, left[2] + dy,
                              self.retina)

@@ -16,6 +16,7 @@ import numpy as np
 
 from ...render.scenery import SceneryParams, scatter
 
+OBSERVER, PREY, DISTRACTOR = 0, 1, 2  # rows; the distractors from DISTRACTOR on, then passers
 OBSERVER_COLOUR, PREY_COLOUR = (250, 140, 60), (220, 50, 40)
 DISTRACTOR_COLOUR = (240, 120, 110)  # salmon: red's family, its own histogram
 PASSER_COLOURS = ((230, 210, 40), (70, 120, 210), (190, 195, 200))  # yellow, blue, silver
