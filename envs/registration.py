@@ -3,8 +3,9 @@ and registered keyword arguments, and :func:`register` gives them to Gymnasium (
 by importing :mod:`animat.envs`).
 
 The fish's locomotion ids and the dolphin's tasks run on the batched core
-(:mod:`animat.envs.core`, a native vector env each); the pursuit and the living world are
-single envs.
+(:mod:`animat.envs.core`, a native vector env each), the pursuit on its own batched core of
+worlds (:mod:`animat.envs.world.pursuit.worlds`, a native vector env too); the living world
+is a single env.
 
 :func:`timing` gives an id's clock (``dt`` and ``episode_steps``) from these kwargs and the
 user's, without building the env; :func:`body_of`, :func:`task_of`, :func:`water_of` and
@@ -54,13 +55,14 @@ DOLPHIN_ENVS: dict[str, dict[str, Any]] = {
     "Animat/DolphinSomersault-v0": {"task": "somersault", "reward_weights": STUNT_WEIGHTS},
     "Animat/DolphinBellyFlop-v0": {"task": "belly_flop", "reward_weights": STUNT_WEIGHTS},
 }
-PURSUIT = "animat.envs.world.pursuit.env:FishPursuitEnv"
+PURSUIT = {"entry_point": "animat.envs.world.pursuit.env:FishPursuitEnv",
+           "vector_entry_point": "animat.envs.world.pursuit.vector:FishPursuitVectorEnv"}
 MARINE = "animat.envs.world.marine_env:MarineWorldEnv"
 ENVS: dict[str, dict] = {
     **{env_id: {**CORE, "kwargs": kwargs} for env_id, kwargs in FISH_ENVS.items()},
     **{env_id: {**CORE, "kwargs": {**DOLPHIN_KWARGS, **kwargs}}
        for env_id, kwargs in DOLPHIN_ENVS.items()},
-    "Animat/FishPursuit-v0": {"entry_point": PURSUIT},
+    "Animat/FishPursuit-v0": PURSUIT,
     "Animat/MarineWorld-v0": {"entry_point": MARINE},
 }
 
@@ -87,7 +89,7 @@ class Timing(NamedTuple):
 BUILT_FOR = frozenset({"render_mode", "max_episode_steps", "disable_env_checker", "task", "body",
                        "physics_dt", "water", "base_water", "sensors"})
 # single envs of one body batch at the core's default step, whose clock is their duration alone
-WORLDS = frozenset({PURSUIT, MARINE})
+WORLDS = frozenset({PURSUIT["entry_point"], MARINE})
 
 
 def timing(env_id: str, env_kwargs: dict | None = None) -> Timing:
@@ -212,7 +214,7 @@ def water_of(env_id: str, env_kwargs: dict | None = None) -> Water:
 
     arguments = _core_arguments(env_id, env_kwargs)
     if arguments is None:
-        if ENVS.get(env_id, {}).get("entry_point") in (PURSUIT, MARINE):
+        if ENVS.get(env_id, {}).get("entry_point") in WORLDS:
             return Water.from_dict((env_kwargs or {}).get("water"))
         core = _built_attribute(env_id, env_kwargs, "core")
         return core.system.water

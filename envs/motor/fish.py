@@ -199,8 +199,8 @@ def fin_mc(pitch: float = 0.0, roll: float = 0.0, params: FinParams = FinParams(
     forward); positive roll lifts the left fin and lowers the right (rolls to the right)."""
     pitch = _check_unit("fin pitch", pitch, -1.0, 1.0)
     roll = _check_unit("fin roll", roll, -1.0, 1.0)
-    left = np.clip(pitch + roll, -1.0, 1.0)
-    right = np.clip(pitch - roll, -1.0, 1.0)
+    left = min(max(pitch + roll, -1.0), 1.0)
+    right = min(max(pitch - roll, -1.0), 1.0)
     return params.max_angle * np.array([left, right])
 
 

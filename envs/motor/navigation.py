@@ -107,7 +107,8 @@ class Navigator:
             np.asarray(forward, dtype=float), -MAX_SPEED, MAX_SPEED)
         out = np.empty((len(self.kind), 8), np.float32)
         for k in range(len(self.kind)):
-            speed, turn, pitch = np.clip(commands[k], [0.0, -1.0, -1.0], 1.0)
+            speed, turn, pitch = (min(max(float(c), low), 1.0)
+                                  for c, low in zip(commands[k], (0.0, -1.0, -1.0)))
             elapsed = time[k] - self.start[k]
             if self.kind[k] != 0 and elapsed >= turn_duration(self.angle[k], self.params.turn):
                 self.kind[k], self.start[k] = 0, time[k]  # the turn is over: swim again

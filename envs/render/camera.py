@@ -110,14 +110,20 @@ class Scene:
         shadow = np.concatenate([np.zeros((0, 4, 3))]
                                 + [x[body.faces] for body, x, _ in self.bodies])
         shadow[..., 2] = self.seabed_z + SHADOW_LIFT
-        normals = np.cross(quads[:, 2] - quads[:, 0], quads[:, 3] - quads[:, 1])
-        normals /= np.maximum(np.linalg.norm(normals, axis=1, keepdims=True), 1e-12)
-        shade = 0.35 + 0.65 * np.maximum(0.0, normals @ self.light)
-        colours = np.concatenate([np.tile(SHADOW_COLOUR, (len(shadow), 1)),
-                                  np.minimum(shade[:, None] * base, 255.0)]).astype(np.uint8)
+        colours = np.concatenate([np.tile(np.uint8(SHADOW_COLOUR), (len(shadow), 1)),
+                                  shade(quads, base, self.light)])
         return Frame(quads_to_triangles(np.concatenate([shadow, quads])),
                      np.concatenate([colours, colours]), self.seabed_z, self.grid,
                      self.visibility)
+
+
+def shade(quads: np.ndarray, base: np.ndarray, light: np.ndarray) -> np.ndarray:
+    """(..., 3) uint8: quads (..., 4, 3) m of base colours (..., 3) RGB, flat-shaded by the
+    ``light`` (3,) direction (a quarter of the light is ambient)."""
+    normals = np.cross(quads[..., 2, :] - quads[..., 0, :], quads[..., 3, :] - quads[..., 1, :])
+    normals /= np.maximum(np.linalg.norm(normals, axis=-1, keepdims=True), 1e-12)
+    lit = 0.35 + 0.65 * np.maximum(0.0, normals @ light)
+    return np.minimum(lit[..., None] * base, 255.0).astype(np.uint8)
 
 
 _HALF = np.array([[1, 0, 0, 0], [.5, .5, 0, 0], [.25, .25, .25, .25], [.5, 0, 0, .5],

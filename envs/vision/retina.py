@@ -85,6 +85,23 @@ def eye_poses(frame: np.ndarray, head: np.ndarray, length: float, gaze: np.ndarr
     return positions, rotations
 
 
+def eye_poses_batch(frames: np.ndarray, heads: np.ndarray, length: float, gaze: np.ndarray,
+                    params: RetinaParams = RetinaParams()) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`eye_poses` of B heads at once, the same numbers: frames (B, 3, 3), noses
+    ``heads`` (B, 3) m, ``gaze`` (B, 2, 2) rad; (B, 2, 3) m positions and (B, 2, 3, 3)
+    camera rotations."""
+    forward, left, up = (frames[:, None, k] for k in range(3))  # (B, 1, 3) each
+    a, b, c = params.eye_offset
+    positions = np.stack([heads + length * (a * frames[:, 0] + s * b * frames[:, 1]
+                                            + c * frames[:, 2]) for s in (1.0, -1.0)], axis=1)
+    theta, phi = gaze[..., 0:1], gaze[..., 1:2]  # (B, 2, 1)
+    ct, st, cp, sp = np.cos(theta), np.sin(theta), np.cos(phi), np.sin(phi)
+    axis = cp * (ct * forward + st * left) + sp * up
+    side = ct * left - st * forward
+    top = np.cross(axis, side)
+    return positions, np.stack([-side, -top, axis], axis=2)
+
+
 def render_eye(scene: Scene, position: np.ndarray, rotation: np.ndarray,
                params: RetinaParams = RetinaParams(), frame: Frame | None = None) -> np.ndarray:
     """(levels, size, size, 3) uint8: the eye's images from level 0 (widest) to the fovea.
@@ -165,7 +182,12 @@ class Retina:
                                 for eye in self.EYES})
 
     def images(self, source: Sighted, kinematics: Any) -> np.ndarray:
-        """(B, 2, levels, size, size, 3) uint8: what the B observers' eyes see now."""
+        """(B, 2, levels, size, size, 3) uint8: what the B observers' eyes see now (a source
+        whose observers each live in a world of their own draws them itself, in one call:
+        its ``eye_images(params, kinematics)``)."""
+        own = getattr(source, "eye_images", None)
+        if own is not None:
+            return own(self.params, kinematics)
         positions, rotations = source.eye_poses(kinematics)
         scene = source.scene()
         frame = scene.prepare()

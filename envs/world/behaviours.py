@@ -10,6 +10,7 @@ A turn command of ``turn`` starts a turn of ``turn * 90`` deg when ``|turn| > 0.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -57,12 +58,24 @@ def steer(headings: np.ndarray, directions: np.ndarray) -> tuple[np.ndarray, np.
     return turn, np.clip((elevation - pitch_now) / np.radians(30.0), -1.0, 1.0)
 
 
-def wander_directions(rng: np.random.Generator, heads: np.ndarray, current: np.ndarray,
-                      due: np.ndarray, tank: Tank, params: BehaviourParams) -> np.ndarray:
+def uniform_angles(rng: np.random.Generator | Sequence[np.random.Generator], count: int
+                   ) -> np.ndarray:
+    """(count,) angles uniform in [-pi, pi) rad: from ``rng``, or from each generator of a
+    list in turn, ``count / len(rng)`` each (one block of fish per generator: the worlds of
+    a batch, each drawing what it would draw alone)."""
+    if isinstance(rng, np.random.Generator):
+        return rng.uniform(-np.pi, np.pi, count)
+    return np.concatenate([g.uniform(-np.pi, np.pi, count // len(rng)) for g in rng])
+
+
+def wander_directions(rng: np.random.Generator | Sequence[np.random.Generator],
+                      heads: np.ndarray, current: np.ndarray, due: np.ndarray, tank: Tank,
+                      params: BehaviourParams) -> np.ndarray:
     """(F, 3) wander directions: a new random horizontal heading where ``due`` (F,) bool, the
     way to the tank's middle for a fish beyond ``home`` of its half size, and otherwise
-    ``current`` (F, 3); each with the climb or dive back to the cruise depth."""
-    angle = rng.uniform(-np.pi, np.pi, len(heads))
+    ``current`` (F, 3); each with the climb or dive back to the cruise depth. ``rng``: one
+    generator, or one per equal block of fish (:func:`uniform_angles`)."""
+    angle = uniform_angles(rng, len(heads))
     fresh = np.stack([np.cos(angle), np.sin(angle), np.zeros_like(angle)], axis=1)
     out = np.where(due[:, None], fresh, current).copy()
     far = np.abs(heads[:, :2]).max(axis=1) > params.home * tank.half_size

@@ -8,7 +8,7 @@ renewed when due, and the behaviour routines give each fish its navigation comma
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -38,12 +38,15 @@ class Lives:
     tank: Tank
 
     def commands(self, percepts: Percepts, heads: np.ndarray, headings: np.ndarray,
-                 com: np.ndarray, time: float, dt: float, meals: np.ndarray,
-                 mated: np.ndarray, rng: np.random.Generator,
+                 com: np.ndarray, time: float | np.ndarray, dt: float, meals: np.ndarray,
+                 mated: np.ndarray, rng: np.random.Generator | Sequence[np.random.Generator],
                  focus_of: Callable[[np.ndarray], np.ndarray]) -> np.ndarray:
-        """(F, 3) this step's navigation commands at ``time`` s after an env step of ``dt`` s
-        with ``meals`` (F,) eaten and ``mated`` (F,); ``focus_of(intention)`` gives the
-        positions (F, 3) of the fish's focus (nan: none)."""
+        """(F, 3) this step's navigation commands at ``time`` s (scalar, or (F,) per fish)
+        after an env step of ``dt`` s with ``meals`` (F,) eaten and ``mated`` (F,);
+        ``focus_of(intention)`` gives the
+        positions (F, 3) of the fish's focus (nan: none); ``rng`` draws the wanderers' new
+        headings (one generator, or one per equal block of fish:
+        :func:`~animat.envs.world.behaviours.uniform_angles`)."""
         advance(self.mind, dt, meals, mated, percepts.predator_distance, self.mind_params)
         intention = self.intentions.decide(percepts, self.mind, self.habit_arrays, time)
         due = time >= self.wander_due

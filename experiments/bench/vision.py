@@ -1,6 +1,7 @@
-"""Pursuit benchmark: full ``Animat/FishPursuit-v0`` steps per second, and what they are made of.
+"""Pursuit benchmark: full ``Animat/FishPursuit-v0`` steps per second, what they are made of, and
+the native vector env against the single env.
 
-``python -m animat.experiments.bench.vision``: in the same rounds, on one core,
+``python -m animat.experiments.bench.vision``: in the same rounds,
 
 * the physics alone (the pursuit's fish in one batched step: a ``BodyBatch`` of as many
   swimming fish with fins, six by default, driven through the pursuit's navigator);
@@ -9,6 +10,11 @@
 * a full step with the vision: the :class:`~animat.envs.world.pursuit.policy.ActiveVisionPolicy`
   reading the observation (detection in both eyes, saccades) and the env stepping;
 * both retinas over the paper's 10-fish scene (:mod:`animat.experiments.bench.retina`);
+* the native vector env of ``--worlds`` worlds (16), in env steps per second (worlds times
+  its steps), with the same fixed action, and the ratio to the single env's step measured in
+  the same rounds;
+* the vector env's step taken apart, per world: the physics, the minds and motor controllers,
+  the eyes' poses and the triangles, the cameras (raster), and the rest (sensors, info);
 
 each as a median over rounds, with the ratios, and the paper's 1995 figure beside them.
 """
@@ -39,11 +45,12 @@ def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--seconds", type=float, default=12.0)
     parser.add_argument("--rounds", type=int, default=3)
+    parser.add_argument("--worlds", type=int, default=16)
     args = parser.parse_args(argv)
     env, obs = _pursuit()
     policy, still = ActiveVisionPolicy(), np.zeros(7, np.float32)
     n = env.fish
-    moves = env.navigator.actions(np.array([[0.6, 0.0, 0.0]] * n), 0.0).astype(np.float64)
+    moves = env.worlds.navigator.actions(np.array([[0.6, 0.0, 0.0]] * n), 0.0).astype(np.float64)
     scene, retina = paper_scene(), RetinaParams()
     state = {"obs": obs}
     fish = BodyBatch(n, make_task("swim"), duration=10_000.0, fins=True,
@@ -61,21 +68,75 @@ def main(argv: list[str] | None = None) -> None:
         state["obs"] = env.step(action)[0]
 
     physics_name = f"physics of {n} fish (one env step)"
+    worlds, parts = _vector(args.worlds)
+    vector_name = f"vector env, {args.worlds} worlds (env steps)"
     tasks = {physics_name: physics,
              "env step: physics + both retinas": env_step,
              "full step: + active vision policy": full_step,
-             "both retinas, 10-fish scene": lambda: eyes_once(scene, retina)}
+             "both retinas, 10-fish scene": lambda: eyes_once(scene, retina),
+             vector_name: parts.pop("vector step")}
+    tasks.update(parts)
     rates: dict[str, list[float]] = {name: [] for name in tasks}
     share = args.seconds / args.rounds / len(tasks)
     for _ in range(args.rounds):
         for name, fn in tasks.items():
             rates[name].append(rate(fn, share))
     medians = {name: float(np.median(values)) for name, values in rates.items()}
+    medians[vector_name] *= worlds
     reference = medians[physics_name]
-    for name, value in medians.items():
+    for name in list(tasks)[:4]:
+        value = medians[name]
         unit = "frame-sets/s" if "10-fish" in name else "steps/s"
         print(f"{name:38s} {value:8.1f} {unit:12s} ({value / reference:.2f} x the physics)")
+    single = medians["env step: physics + both retinas"]
+    print(f"{vector_name:38s} {medians[vector_name]:8.1f} {'steps/s':12s} "
+          f"({medians[vector_name] / single:.2f} x one env's step)")
+    whole = 1e6 / medians[vector_name]
+    micro = {name: 1e6 / medians[name] / worlds for name in parts}
+    micro["cameras (raster)"] = micro.pop(EYES) - micro[GEOMETRY]
+    micro["the rest: sensors, info, stepping"] = whole - sum(micro.values())
+    print(f"its step per world: {whole:.0f} us, of which")
+    for name, value in micro.items():
+        print(f"  {name:36s} {value:8.0f} us  ({value / whole:.0%})")
     print("the paper (1995, SGI): about 4 frames/s for the 10-fish scene, without vision")
+
+
+GEOMETRY, EYES = "eye poses and triangles", "eye poses, triangles and cameras"
+
+
+def _vector(worlds: int):
+    """The vector env's step, and its parts (name -> a function doing that part once for the
+    whole batch), on its own copy of the batch (the vector env's state is not disturbed)."""
+    vec = gym.make_vec("Animat/FishPursuit-v0", num_envs=worlds, duration=10_000.0)
+    vec.reset(seed=0)
+    still = np.zeros((worlds, 7), np.float32)
+    core = vec.unwrapped.worlds
+    rngs = [np.random.default_rng(k) for k in range(worlds)]
+    kinematics = core.core.kinematics()
+    moves = core.navigator.actions(np.tile([0.6, 0.0, 0.0], (len(core.core.state.x), 1)), 0.0)
+    physics = BodyBatch(len(core.core.state.x), make_task("swim"), duration=10_000.0,
+                        fins=True, start_spread="point")
+    physics.reset_rows(np.arange(len(moves)), [np.random.default_rng(0)] * len(moves))
+    params = core.retina
+
+    def minds() -> None:
+        commands = core.others.commands(core.core.state.x[:, 0], kinematics, core.time,
+                                        core.dt, rngs)
+        core.navigator.actions(commands, np.repeat(core.time, core.fish))
+
+    def geometry() -> None:
+        core._poses = None
+        core.eye_poses(kinematics)
+        core._triangles()
+
+    def raster() -> None:
+        core.eye_images(params, kinematics)
+
+    parts = {"vector step": lambda: vec.step(still),
+             "physics": lambda: physics.step(moves.astype(np.float64)),
+             "minds and motor controllers": minds,
+             GEOMETRY: geometry, EYES: raster}
+    return worlds, parts
 
 
 if __name__ == "__main__":

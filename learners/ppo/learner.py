@@ -18,6 +18,7 @@ import gymnasium as gym
 import numpy as np
 from pydantic import ValidationError
 
+from animat.envs.registration import CORE
 from animat.envs.tasks.base import EpisodeSummary
 
 from ..agents import PolicyAgent
@@ -146,9 +147,15 @@ class PPOLearner(Learner):
         return model
 
     def _native(self) -> bool:
-        """Whether the env has a native batched vector env (the fish envs) or is stepped as
-        ``n_envs`` single envs (e.g. the pursuit)."""
+        """Whether the env has a native batched vector env (the fish envs, the pursuit) or is
+        stepped as ``n_envs`` single envs (e.g. the living world)."""
         return gym.spec(self.env_id).vector_entry_point is not None
+
+    def _batch_scored(self) -> bool:
+        """Whether evaluation runs the native vector env with its task's batched summary (the
+        body envs), or scores one episode at a time by the env's own ``episode_summary()``
+        (the pursuit, whose summary is its own)."""
+        return self._native() and gym.spec(self.env_id).entry_point == CORE["entry_point"]
 
     def _venv(self, legacy: Path | None = None):
         """The training envs (their state saved with each checkpoint), normalised as the
@@ -175,7 +182,7 @@ class PPOLearner(Learner):
     def evaluate(self, model, venv) -> dict[str, float]:
         """Deterministic episodes from the black-box learners' start states (seeds ``seed`` ..
         ``seed + START_STATES - 1``): means, and ``_std`` the spread over them."""
-        if not self._native():
+        if not self._batch_scored():
             return self._evaluate_singly(model, venv)
         if getattr(self, "_eval_env", None) is None:
             self._eval_env = gym.make_vec(self.env_id, num_envs=START_STATES, **self.env_kwargs)

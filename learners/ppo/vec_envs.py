@@ -1,11 +1,12 @@
 """stable-baselines3 VecEnvs whose state can be saved and restored as data, so that a
 checkpointed PPO run resumes exactly (:mod:`animat.learners.ppo.checkpoint`).
 
-- :class:`NativeVecEnv`: the native batched fish env (SB3 cannot take a Gymnasium
-  ``VectorEnv``): the same batched step, with SB3's same-step reset conventions; its state is
-  the vector env's own (:meth:`animat.envs.core.env.BodyVectorEnv.get_state`).
+- :class:`NativeVecEnv`: a native batched env (the fish's, the pursuit's; SB3 cannot take a
+  Gymnasium ``VectorEnv``): the same batched step, with SB3's same-step reset conventions; its
+  state is the vector env's own (:meth:`animat.envs.core.env.BodyVectorEnv.get_state`,
+  :meth:`animat.envs.world.pursuit.vector.FishPursuitVectorEnv.get_state`).
 - :class:`ReplayVecEnv`: single envs stepped one after another (SB3's ``DummyVecEnv``), for
-  envs without a batched form (the pursuit); an env's state is how its episode began and the
+  envs without a batched form (the living world); an env's state is how its episode began and the
   actions since (:class:`EpisodeReplay`), replayed into a fresh env on restore.
 """
 
@@ -22,7 +23,7 @@ import animat  # noqa: F401
 
 
 class NativeVecEnv(VecEnv):
-    """``num_envs`` fish of ``env_id`` in one :class:`animat.envs.core.env.BodyVectorEnv`."""
+    """``num_envs`` sub-envs of ``env_id`` in its native vector env (``gym.make_vec``)."""
 
     def __init__(self, env_id: str, num_envs: int, env_kwargs: dict | None = None,
                  seed: int = 0) -> None:
@@ -54,8 +55,11 @@ class NativeVecEnv(VecEnv):
         obs, reward, terminated, truncated, info = self.venv.step(self._actions)
         dones = terminated | truncated
         infos: list[dict[str, Any]] = [{} for _ in range(self.num_envs)]
+        final = info.get("final_obs")
         for i in np.flatnonzero(dones):
-            infos[i]["terminal_observation"] = info["final_obs"][i]
+            infos[i]["terminal_observation"] = (
+                {key: value[i] for key, value in final.items()} if isinstance(final, dict)
+                else final[i])
             infos[i]["TimeLimit.truncated"] = bool(truncated[i] and not terminated[i])
         return obs, reward.astype(np.float32), dones, infos
 

@@ -24,7 +24,7 @@ from animat.envs.registration import (
 
 NAN = float("nan")
 IDS = sorted(ENVS)
-CORE_IDS = [i for i in IDS if ENVS[i]["entry_point"] not in (PURSUIT, MARINE)]
+CORE_IDS = [i for i in IDS if ENVS[i]["entry_point"] not in (PURSUIT["entry_point"], MARINE)]
 # kwargs every id takes; then kwargs only the core's ids (fish and dolphin) take
 ANY_KWARGS = [{}, {"duration": 0.5}, {"duration": 3}, {"duration": 7.37}, {"duration": 0.01}]
 CORE_KWARGS = [{"frame_skip": 20}, {"frame_skip": 7, "duration": 2.0}, {"frame_skip": 40.0},
@@ -77,7 +77,8 @@ VALID = ([(i, k) for i in IDS for k in ANY_KWARGS] + [(i, k) for i in CORE_IDS
 
 
 def test_every_registered_id_is_covered():
-    assert len(IDS) == 14 and {PURSUIT, MARINE} < {e["entry_point"] for e in ENVS.values()}
+    worlds = {PURSUIT["entry_point"], MARINE}
+    assert len(IDS) == 14 and worlds < {e["entry_point"] for e in ENVS.values()}
 
 
 @pytest.mark.parametrize(("env_id", "kwargs"), VALID)

@@ -46,7 +46,9 @@ periphery, then a second pass in the fovea) and vergence can finish within a fra
 ``target_distance`` (m, head to the prey's centre of mass), ``distractor_in_fovea`` and
 ``passer_in_fovea`` (any of them within both foveas), ``gaze``
 (rad: theta_L, phi_L, theta_R, phi_R), ``vergence`` (theta_R - theta_L, rad),
-``range_estimate`` (m, triangulated from the gaze), ``time`` (s).
+``range_estimate`` (m, triangulated from the gaze), ``time`` (s), ``moved`` (whether the body
+moved: False on a look within a frame), and the observer's ``com`` (3,) m and ``forward`` (3,)
+(its heading), as the fish envs give them.
 
 ## Scene
 A sand-tiled seabed 0.5 m below, water with depth haze, and a seeded scenery per episode
@@ -86,8 +88,15 @@ calibrated for its model), ``render_mode``
 (``"rgb_array"``: third person, 480x360; ``"retina"``: the two eyes' composites side by side,
 512x1024); each checked as it enters (a bad one is a
 ``ValueError`` of one line naming it). Public attributes: ``dt``, ``body_length``,
-``episode_steps``, ``view`` (what the sensors read), ``episode_summary()``, ``scene()``,
-``retina_images()``.
+``episode_steps``, ``core`` (the bodies' batch), ``view`` (what the sensors read),
+``episode_summary()``, ``scene()``, ``retina_images()``.
+
+## Vector env
+``gym.make_vec("Animat/FishPursuit-v0", num_envs=N)`` is the native batched form
+(:class:`~animat.envs.world.pursuit.vector.FishPursuitVectorEnv`): N worlds in one batch
+(:class:`~animat.envs.world.pursuit.worlds.PursuitWorlds`, which this env runs with N = 1), the
+N observers' eyes drawn in one call, the cameras over threads; world i reset with ``seed + i``
+steps bit for bit as this env reset with that seed.
 """
 
 from __future__ import annotations
@@ -95,23 +104,17 @@ from __future__ import annotations
 import gymnasium as gym
 import numpy as np
 
-from ...checks import check_flag, check_integer, check_number, check_range, shown
-from ...core.batch import BodyBatch
-from ...motor.navigation import Navigator, forward_speeds, navigation_for
-from ...render.camera import Camera, Scene, fish_skin, look_at, yaw_matrix
-from ...render.scenery import furnish
-from ...tasks.locomotion import SwimTask
-from ...vision.perception import triangulate
-from ...vision.retina import Retina, RetinaParams, composite
-from .others import OtherFish
-from .senses import ObserverView, PreyPosition, PursuitObserver, default_sensors
-from .start import DISTRACTOR, OBSERVER, PREY, SEABED_Z, colours, place, scenery
+from .senses import ObserverView
+from .shell import (
+    check_render_mode,
+    observe,
+    pursuit_observer,
+    pursuit_params,
+    render_world,
+    world_info,
+)
 from .summary import PursuitSummary
-
-FOVEA_HALF_ANGLE = np.radians(7.5)
-MAX_DISTANCE_BL = 100.0  # the farthest start and flight distance, BL
-MAX_OTHERS = 8  # distractors and passers at most, each
-MAX_GLANCES = 4  # looks per frame at most
+from .worlds import PursuitWorlds
 
 
 class FishPursuitEnv(gym.Env):
@@ -126,83 +129,33 @@ class FishPursuitEnv(gym.Env):
                  distractors: int = 1, passers: int = 3, occluders: bool = True,
                  glances: int = 1, sensors: list | None = None, water: dict | None = None,
                  oracle: bool = False) -> None:
-        if render_mode not in (None, "rgb_array", "retina"):
-            raise ValueError(f"render_mode must be None, 'rgb_array' or 'retina', got "
-                             f"{render_mode!r}")
-        self.render_mode = render_mode
-        self.distractors = check_integer("distractors", distractors, 0, MAX_OTHERS)
-        self.passers = check_integer("passers", passers, 0, MAX_OTHERS)
-        self.occluders = check_flag("occluders", occluders)
-        self.glances = check_integer("glances", glances, 1, MAX_GLANCES)
-        self.fish = 2 + self.distractors + self.passers
-        self.core = BodyBatch(self.fish, SwimTask(), duration=duration, fins=True, water=water,
-                              start_spread="point")  # placed by the pursuit
-        self.dt, self.body_length = self.core.dt, self.core.body.length
-        metres = (1.0 / self.body_length, 4.0 / self.body_length)  # 1-4 m, BL
-        self.start_distance_bl = check_range(
-            "start_distance_bl", metres if start_distance_bl is None else start_distance_bl,
-            1.0, MAX_DISTANCE_BL, "BL")
-        self.bearing_deg = check_range("bearing_deg", bearing_deg, -360.0, 360.0, "deg")
-        if self.bearing_deg[1] - self.bearing_deg[0] > 360.0:
-            raise ValueError(f"bearing_deg must span at most 360 deg, got {shown(bearing_deg)}")
-        self.flee_distance_bl = check_number("flee_distance_bl", flee_distance_bl, 0.0,
-                                             MAX_DISTANCE_BL, "BL", low_open=True)
-        self.prey_speed = check_number("prey_speed", prey_speed, 0.0, 1.0)
-        self.retina = RetinaParams()
-        self.navigator = Navigator(self.fish, navigation_for(self.core.system.water))
-        self.others = OtherFish(self.distractors, self.passers, self.prey_speed,
-                                0.5 * self.flee_distance_bl * self.body_length)
-        self.gaze = np.zeros(4)
-        self.view = ObserverView(self.core, OBSERVER, self.scene, self.gaze, self.retina)
-        self.eyes = Retina(self.retina)  # what render() and retina_images() show
-        sensors = default_sensors(self.retina) if sensors is None else sensors
-        if check_flag("oracle", oracle):
-            sensors = [*sensors, PreyPosition(PREY)]
-        self.observer = PursuitObserver(self.view, sensors)
-        self.observation_space = self.observer.single_space
-        if self.glances > 1:  # how many looks are left before the body moves
-            self.observation_space = gym.spaces.Dict({
-                **self.observation_space.spaces,
-                "glance": gym.spaces.Box(0.0, float(self.glances - 1), (1,), np.float32)})
+        self.render_mode = check_render_mode(render_mode)
+        params = pursuit_params(duration, start_distance_bl, bearing_deg, flee_distance_bl,
+                                prey_speed, distractors, passers, occluders, glances, water)
+        self.worlds = PursuitWorlds(1, params)
+        self.core, self.fish, self.skins = self.worlds.core, self.worlds.fish, self.worlds.skins
+        self.dt, self.body_length = self.worlds.dt, self.worlds.body_length
+        self.start_distance_bl, self.bearing_deg = params.start_distance_bl, params.bearing_deg
+        self.glances = params.glances
+        self.view = ObserverView(self.worlds)
+        self.observer, self.observation_space = pursuit_observer(self.view, sensors, oracle)
         self.action_space = gym.spaces.Box(-1.0, 1.0, (7,), np.float32)
-        self.skins = [fish_skin(self.core.body, colour)
-                      for colour in colours(self.distractors, self.passers)]
-        self._scenery: list = []
         self._started = False
 
     def episode_summary(self) -> PursuitSummary:
         """A summary for the episode that :meth:`reset` just began."""
-        return PursuitSummary(self.body_length, self._distance, self.dt)
+        return PursuitSummary(self.body_length, float(self.worlds.distance[0]), self.dt)
 
     @property
     def episode_steps(self) -> int:
         """Env steps per episode (``duration / dt``, times ``glances``)."""
         return self.core.episode_steps * self.glances
 
-    # --- the world -----------------------------------------------------------------------
-    def _place(self, row: int, position: np.ndarray, yaw: float) -> None:
-        body, state = self.core.body, self.core.state
-        state.x[row] = (state.x[row] - body.rest_positions[0]) @ yaw_matrix(yaw).T + position
-        state.v[row] = 0.0
-
     def reset(self, *, seed: int | None = None, options: dict | None = None):
         super().reset(seed=seed)
-        rng, rows = self.np_random, np.arange(self.fish)
-        self.core.reset_rows(rows, [rng] * self.fish)
-        starts = place(rng, self.body_length, self.start_distance_bl, self.bearing_deg,
-                       self.distractors, self.passers)
-        for row, start in enumerate(starts, start=PREY):
-            self._place(row, start.position, start.yaw)
-        kinematics = self.core.kinematics()  # of the placed fish
-        self.core.state.origin[:] = kinematics.com
-        self._scenery = scenery(rng, self.occluders)
-        self.navigator.reset(rows)
-        self.others.reset(kinematics.frames[:, 0])
-        self.gaze[:] = 0.0
-        self._time, self._glance = 0.0, 0
-        self._distance = self._target_distance(kinematics)
+        kinematics = self.worlds.reset([0], [self.np_random])
         self._started = True
-        return self._observe(kinematics), self._info(kinematics)
+        return self._observe(kinematics), self._info(kinematics, True)
 
     def step(self, action):
         if not self._started:
@@ -211,85 +164,34 @@ class FishPursuitEnv(gym.Env):
         if action.shape != (7,) or not np.all(np.isfinite(action)):
             raise ValueError(f"action must be 7 finite numbers, got {action.tolist()}")
         action = np.clip(action, -1.0, 1.0)
-        kinematics = self.core.kinematics()
-        if self._glance < self.glances - 1:  # a look within the frame: the eyes move alone
-            self._glance += 1
-            self.gaze[:] = action[3:]
-            info = {**self._info(kinematics), "moved": False}
+        closed, moved, kinematics = self.worlds.step(action[None], [self.np_random])
+        info = self._info(kinematics, moved)
+        if not moved:
             return self._observe(kinematics), 0.0, False, False, info
-        self._glance = 0
-        observer = [[0.5 * (action[0] + 1.0), action[1], action[2]]]
-        others = self.others.commands(self.core.state.x[:, 0], kinematics, self._time, self.dt,
-                                      self.np_random)
-        commands = np.concatenate([observer, others])
-        moves = self.navigator.actions(commands, self._time,
-                                       forward=forward_speeds(kinematics, self.body_length))
-        self.gaze[:] = action[3:]
-        _, _, kinematics = self.core.step(moves.astype(np.float64))
-        self._time += self.dt
-        distance = self._target_distance(kinematics)
-        info = self._info(kinematics)
-        reward = (self._distance - distance) / self.body_length + 0.05 * info["target_in_fovea"]
-        self._distance = distance
-        truncated = bool(self.core.truncated[OBSERVER])
+        reward = closed[0] / self.body_length + 0.05 * info["target_in_fovea"]
+        truncated = bool(self.worlds.truncated[0])
         return self._observe(kinematics), float(reward), False, truncated, info
 
-    # --- the eyes and the other senses --------------------------------------------------
-    def scene(self) -> Scene:
-        """What there is to see now: the three fish in their skins, and the scenery."""
-        scene = furnish(Scene(seabed_z=SEABED_Z), self._scenery)
-        for row in range(self.fish):
-            scene.add(self.core.body, self.core.state.x[row], self.skins[row])
-        return scene
+    def scene(self):
+        """What there is to see now: the fish in their skins, and the scenery."""
+        return self.worlds.scene(0)
+
+    @property
+    def _scenery(self) -> list:
+        return self.worlds.scenery[0]
 
     def retina_images(self, kinematics=None) -> np.ndarray:
         """(2, levels, size, size, 3) uint8: what the observer's eyes see now."""
-        return self.eyes.images(self.view, kinematics or self.core.kinematics())[0]
+        kinematics = kinematics or self.core.kinematics()
+        return self.worlds.eye_images(self.worlds.retina, kinematics)[0]
 
-    def _observe(self, kinematics=None) -> dict[str, np.ndarray]:
+    def _observe(self, kinematics) -> dict[str, np.ndarray]:
         """The observer's observation: its sensors' reading (entry name -> array), and with
         ``glances`` > 1 the looks left before the body moves."""
-        kinematics = kinematics or self.core.kinematics()
-        obs = self.observer.row(self.observer.observe(self.view, kinematics), 0)
-        if self.glances > 1:
-            obs["glance"] = np.array([self.glances - 1 - self._glance], np.float32)
-        return obs
+        return self.observer.row(observe(self.observer, self.view, kinematics), 0)
 
-    def _target_distance(self, kinematics) -> float:
-        return float(np.linalg.norm(kinematics.com[PREY] - self.core.state.x[OBSERVER, 0]))
-
-    def _in_foveas(self, point: np.ndarray, positions, rotations) -> bool:
-        for position, rotation in zip(positions, rotations):
-            direction = point - position
-            cosine = direction @ rotation[2] / np.linalg.norm(direction)
-            if cosine < np.cos(FOVEA_HALF_ANGLE):
-                return False
-        return True
-
-    def _info(self, kinematics) -> dict:
-        positions, rotations = (poses[0] for poses in self.view.eye_poses(kinematics))
-        angles = self.view.gaze_angles()
-        baseline = float(np.linalg.norm(positions[0] - positions[1]))
-        def seen(rows) -> bool:
-            return any(self._in_foveas(kinematics.com[row], positions, rotations) for row in rows)
-
-        others = DISTRACTOR + self.distractors
-        return {"target_in_fovea": seen([PREY]),
-                "distractor_in_fovea": seen(range(DISTRACTOR, others)),
-                "passer_in_fovea": seen(range(others, self.fish)),
-                "target_distance": self._target_distance(kinematics),
-                "gaze": angles.reshape(-1).copy(),
-                "vergence": float(angles[1, 0] - angles[0, 0]),
-                "range_estimate": triangulate(angles[0, 0], angles[1, 0], baseline),
-                "time": self._time, "moved": True}
+    def _info(self, kinematics, moved: bool) -> dict:
+        return world_info(self.worlds, kinematics, self.worlds.eye_poses(kinematics), 0, moved)
 
     def render(self):
-        if self.render_mode == "retina":
-            images = self.retina_images()
-            return np.concatenate([composite(images[0]), composite(images[1])], axis=1)
-        if self.render_mode == "rgb_array":
-            centre = self.core.kinematics().com.mean(axis=0)
-            eye = centre + np.array([-1.0, -2.0, 1.2]) * self.body_length * 1.5
-            camera = Camera(480, 360, 432.0, eye, look_at(eye, centre))
-            return camera.render(self.scene())
-        return None
+        return render_world(self.worlds, self.render_mode)

@@ -1,44 +1,51 @@
 """The pursuit's senses: its observation is its sensors' reading of the observer fish.
 
 The sensors are those of the seam of :mod:`animat.envs.core.sensors` (``name``, ``space``,
-``read``); what they read in the pursuit is an :class:`ObserverView`, the observer as one body
-(B = 1). It offers what a ``BodyBatch`` offers a sensor (the sizes, ``observe``,
-``proprioception``, ``task_observation``: a :class:`~animat.envs.core.sensors.Sensed`), so
-:class:`~animat.envs.core.sensors.Proprioception` and ``TaskEntries`` read it as it is;
-what the eyes read (``scene()``, ``eye_poses()``: a :class:`~animat.envs.vision.retina.Sighted`),
-so :class:`~animat.envs.vision.retina.Retina` does; and the ``gaze``, the ``core`` and the
-observer's ``row`` for any other sensor. :func:`default_sensors` are the retina (``left_eye``,
-``right_eye``), :class:`Gaze` and proprioception; :class:`PursuitObserver` makes their
-``Dict``, a sensor whose space is a ``Dict`` (the retina) giving each of its entries. A sensor
-more is one class and ``sensors=[*default_sensors(), MySensor()]`` in the env's arguments.
+``read``); what they read in the pursuit is an :class:`ObserverView`, the observers of a batch
+of worlds (B of them; B = 1 for the single env), one body each. It offers what a
+``BodyBatch`` offers a sensor (the sizes, ``observe``, ``proprioception``,
+``task_observation``: a :class:`~animat.envs.core.sensors.Sensed`), so
+:class:`~animat.envs.core.sensors.Proprioception` and ``TaskEntries`` read it as it is; what
+the eyes read (``scene()``, ``eye_poses()``: a :class:`~animat.envs.vision.retina.Sighted`,
+and ``eye_images()``, every world's eyes drawn in one call), so
+:class:`~animat.envs.vision.retina.Retina` does; and the ``gaze`` (B, 4), the ``core`` and the
+observers' ``rows`` (B,) for any other sensor (a reading is (B, ...)).
+:func:`default_sensors` are the retina (``left_eye``, ``right_eye``), :class:`Gaze` and
+proprioception; :class:`PursuitObserver` makes their ``Dict``, a sensor whose space is a
+``Dict`` (the retina) giving each of its entries. A sensor more is one class and
+``sensors=[*default_sensors(), MySensor()]`` in the env's arguments.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable
-
 import gymnasium as gym
 import numpy as np
 
-from ...core.batch import BodyBatch, Kinematics
+from ...core.batch import Kinematics
 from ...core.sensors import Observer, Proprioception, Sensed
 from ...render.camera import Scene
-from ...vision.retina import Retina, RetinaParams, eye_poses
+from ...vision.retina import Retina, RetinaParams
 
 THETA_RANGE, PHI_RANGE = np.radians(60.0), np.radians(30.0)  # the gaze's units, rad
 
 
 class ObserverView:
-    """The observer as its sensors read it: row ``row`` of ``core``, one body (B = 1).
+    """The observers of a batch of pursuit worlds as their sensors read them: ``rows`` (B,),
+    each world's observer's row of ``core`` (B = 1 for the single env).
 
-    ``scene``: () -> :class:`Scene`, what there is to see now; ``gaze``: (4,) the gaze as
-    commanded (theta_L, phi_L, theta_R, phi_R in units of ``THETA_RANGE`` and ``PHI_RANGE``;
-    the env's array, updated in place); ``retina``: where the eyes sit (``eye_offset``)."""
+    ``worlds``: the :class:`~animat.envs.world.pursuit.worlds.PursuitWorlds` they live in: its
+    ``gaze`` (B, 4) as commanded (theta_L, phi_L, theta_R, phi_R in units of ``THETA_RANGE``
+    and ``PHI_RANGE``), its scenes, and its eyes drawn in one call (:meth:`eye_images`);
+    ``retina``: where the eyes sit (``eye_offset``)."""
 
-    def __init__(self, core: BodyBatch, row: int, scene: Callable[[], Scene], gaze: np.ndarray,
-                 retina: RetinaParams) -> None:
-        self.core, self.row, self.gaze, self.retina = core, row, gaze, retina
-        self._scene = scene
+    def __init__(self, worlds) -> None:
+        self.worlds, self.core, self.rows = worlds, worlds.core, worlds.observers
+        self.retina = worlds.retina
+
+    @property
+    def gaze(self) -> np.ndarray:
+        """(B, 4) the gaze as commanded."""
+        return self.worlds.gaze
 
     @property
     def obs_size(self) -> int:
@@ -51,36 +58,38 @@ class ObserverView:
         return self.core.proprioception_size
 
     def observe(self, kinematics: Kinematics) -> np.ndarray:
-        """(1, obs_size) float32: the observer's own state, then the task's entries
+        """(B, obs_size) float32: the observers' own state, then the task's entries
         (``BodyBatch.observe``)."""
-        return self.core.observe(kinematics)[[self.row]]
+        return self.core.observe(kinematics)[self.rows]
 
     def proprioception(self, kinematics: Kinematics) -> np.ndarray:
-        """(1, proprioception_size) float32: the observer's own state
+        """(B, proprioception_size) float32: the observers' own state
         (``BodyBatch.proprioception``)."""
-        return self.core.proprioception(kinematics)[[self.row]]
+        return self.core.proprioception(kinematics)[self.rows]
 
     def task_observation(self, kinematics: Kinematics) -> np.ndarray:
-        """(1, obs_size - proprioception_size) float32: the task's entries for the observer
+        """(B, obs_size - proprioception_size) float32: the task's entries for the observers
         (``BodyBatch.task_observation``; none for the pursuit's swim task)."""
-        return self.core.task_observation(kinematics)[[self.row]]
+        return self.core.task_observation(kinematics)[self.rows]
 
-    def scene(self) -> Scene:
-        """What there is to see now."""
-        return self._scene()
+    def scene(self, world: int = 0) -> Scene:
+        """What there is to see now in world ``world``."""
+        return self.worlds.scene(world)
 
     def gaze_angles(self) -> np.ndarray:
-        """(2, 2) rad: (theta, phi) of the left and the right eye, relative to the head."""
-        return self.gaze.reshape(2, 2) * [THETA_RANGE, PHI_RANGE]
+        """(B, 2, 2) rad: (theta, phi) of each observer's left and right eye, from the head."""
+        return self.worlds.gaze_angles()
 
     def eye_poses(self, kinematics: Kinematics) -> tuple[np.ndarray, np.ndarray]:
-        """(1, 2, 3) m eye positions and (1, 2, 3, 3) camera rotations (rows right, down,
-        forward) of the left and the right eye, in the world
-        (:func:`~animat.envs.vision.retina.eye_poses` of the observer's head)."""
-        frame = kinematics.frames[self.row]
-        positions, rotations = eye_poses(frame, self.core.state.x[self.row, 0],
-                                         self.core.body.length, self.gaze_angles(), self.retina)
-        return positions[None], rotations[None]
+        """(B, 2, 3) m eye positions and (B, 2, 3, 3) camera rotations (rows right, down,
+        forward) of each observer's left and right eye, in the world
+        (:func:`~animat.envs.vision.retina.eye_poses` of its head)."""
+        return self.worlds.eye_poses(kinematics)
+
+    def eye_images(self, params: RetinaParams, kinematics: Kinematics) -> np.ndarray:
+        """(B, 2, levels, size, size, 3) uint8: every observer's eyes through ``params``'
+        cameras, each in its own world (one call for the batch)."""
+        return self.worlds.eye_images(params, kinematics)
 
 
 class Gaze:
@@ -93,8 +102,8 @@ class Gaze:
         return gym.spaces.Box(-1.0, 1.0, (4,), np.float32)
 
     def read(self, view: ObserverView, kinematics: Kinematics) -> np.ndarray:
-        """(1, 4) float32."""
-        return view.gaze[None].astype(np.float32)
+        """(B, 4) float32."""
+        return view.gaze.astype(np.float32)
 
 
 class PreyPosition:
@@ -107,16 +116,17 @@ class PreyPosition:
     LIMIT = 1000.0  # BL
 
     def __init__(self, target: int) -> None:
-        self.target = int(target)
+        self.target = int(target)  # the prey's row within its world
 
     def space(self, view: ObserverView) -> gym.spaces.Box:
         return gym.spaces.Box(-self.LIMIT, self.LIMIT, (3,), np.float32)
 
     def read(self, view: ObserverView, kinematics: Kinematics) -> np.ndarray:
-        """(1, 3) float32."""
-        offset = kinematics.com[self.target] - view.core.state.x[view.row, 0]
-        local = kinematics.frames[view.row] @ offset / view.core.body.length
-        return np.clip(local, -self.LIMIT, self.LIMIT)[None].astype(np.float32)
+        """(B, 3) float32."""
+        offsets = kinematics.com[view.rows + self.target] - view.core.state.x[view.rows, 0]
+        local = np.stack([kinematics.frames[row] @ offset
+                          for row, offset in zip(view.rows, offsets)]) / view.core.body.length
+        return np.clip(local, -self.LIMIT, self.LIMIT).astype(np.float32)
 
 
 def default_sensors(retina: RetinaParams = RetinaParams()) -> list:

@@ -18,8 +18,8 @@ from animat.envs.vision.retina import (
     gaze_rotation,
     render_eyes,
 )
-from animat.envs.world.pursuit.env import OBSERVER
 from animat.envs.world.pursuit.senses import default_sensors
+from animat.envs.world.pursuit.start import OBSERVER
 from animat.envs.world.pursuit.summary import PursuitSummary
 
 
@@ -140,7 +140,7 @@ class HeadDepth:
         return gym.spaces.Box(-1e4, 1e4, (1,), np.float32)
 
     def read(self, view, kinematics):
-        return -view.core.state.x[[view.row], 0, 2:3].astype(np.float32)
+        return -view.core.state.x[view.rows, 0, 2:3].astype(np.float32)
 
 
 class LeftEye(HeadDepth):

@@ -155,13 +155,17 @@ def _numbers(sink: MemorySink, after: int) -> list:
     return [r for r in sink.records if r[2] > after and not r[0].startswith("time/")]
 
 
-# the native batch (normalised), and single envs replayed (the pursuit: pixels, a Dict space)
+# the fish's native batch (normalised), the pursuit's native batch of worlds (pixels, a Dict
+# space, the state replayed from how the episodes began), and single envs replayed (the
+# living world, its oracle's vector)
+PIXELS = {**PARAMS, "policy": "MultiInputPolicy", "n_envs": 2, "n_steps": 8, "batch_size": 16,
+          "eval_every": 32, "checkpoint_every": 16,
+          "policy_kwargs": "dict(net_arch=[8], features_extractor_kwargs={'cnn_output_dim': 8})"}
 RESUMED = {"native": ("Animat/FishSwim-v0", {"duration": 0.5}, PARAMS, 192, [64, 100, 130]),
-           "replayed": ("Animat/FishPursuit-v0", {"duration": 0.6}, {
-               **PARAMS, "policy": "MultiInputPolicy", "n_envs": 2, "n_steps": 8,
-               "batch_size": 16, "eval_every": 32, "checkpoint_every": 16,
-               "policy_kwargs": "dict(net_arch=[8], features_extractor_kwargs="
-                                "{'cnn_output_dim': 8})"}, 64, [16, 40])}
+           "pursuit": ("Animat/FishPursuit-v0", {"duration": 0.6}, PIXELS, 64, [16, 40]),
+           "replayed": ("Animat/MarineWorld-v0", {"duration": 0.6}, {
+               **PIXELS, "policy": "MlpPolicy", "policy_kwargs": "dict(net_arch=[8])"}, 64,
+               [16, 40])}
 
 
 @pytest.mark.parametrize("kind", RESUMED)

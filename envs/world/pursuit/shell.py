@@ -1,0 +1,139 @@
+"""What the pursuit's single env and its native vector env share around their batched core
+(:class:`~animat.envs.world.pursuit.worlds.PursuitWorlds`): the arguments' checks
+(:func:`pursuit_params`), the observation's sensors and space (:func:`pursuit_observer`), a
+world's ``info`` (:func:`world_info`) and the pictures (:func:`render_world`).
+"""
+
+from __future__ import annotations
+
+import gymnasium as gym
+import numpy as np
+
+from ...bodies.fish import fish_body
+from ...checks import check_flag, check_integer, check_number, check_range, shown
+from ...core.batch import Kinematics
+from ...render.camera import Camera, look_at
+from ...vision.perception import triangulate
+from ...vision.retina import Retina, RetinaParams, composite
+from .senses import ObserverView, PreyPosition, PursuitObserver, default_sensors
+from .start import DISTRACTOR, PREY
+from .worlds import PursuitParams, PursuitWorlds
+
+FOVEA_HALF_ANGLE = np.radians(7.5)
+MAX_DISTANCE_BL = 100.0  # the farthest start and flight distance, BL
+MAX_OTHERS = 8  # distractors and passers at most, each
+MAX_GLANCES = 4  # looks per frame at most
+RENDER_MODES = (None, "rgb_array", "retina")
+
+
+def check_render_mode(render_mode: str | None) -> str | None:
+    if render_mode not in RENDER_MODES:
+        raise ValueError(f"render_mode must be None, 'rgb_array' or 'retina', got "
+                         f"{render_mode!r}")
+    return render_mode
+
+
+def pursuit_params(duration: float, start_distance_bl: tuple[float, float] | None,
+                   bearing_deg: tuple[float, float], flee_distance_bl: float,
+                   prey_speed: float, distractors: int, passers: int, occluders: bool,
+                   glances: int, water: dict | None) -> PursuitParams:
+    """The pursuit's arguments (see the env's docstring), each checked as it enters: a bad
+    one is a ValueError of one line naming it (the duration and the water are checked by the
+    batch they make)."""
+    length = fish_body().length
+    metres = (1.0 / length, 4.0 / length)  # 1-4 m, BL
+    bearing = check_range("bearing_deg", bearing_deg, -360.0, 360.0, "deg")
+    if bearing[1] - bearing[0] > 360.0:
+        raise ValueError(f"bearing_deg must span at most 360 deg, got {shown(bearing_deg)}")
+    return PursuitParams(
+        duration=duration,
+        start_distance_bl=check_range(
+            "start_distance_bl", metres if start_distance_bl is None else start_distance_bl,
+            1.0, MAX_DISTANCE_BL, "BL"),
+        bearing_deg=bearing,
+        flee_distance_bl=check_number("flee_distance_bl", flee_distance_bl, 0.0,
+                                      MAX_DISTANCE_BL, "BL", low_open=True),
+        prey_speed=check_number("prey_speed", prey_speed, 0.0, 1.0),
+        distractors=check_integer("distractors", distractors, 0, MAX_OTHERS),
+        passers=check_integer("passers", passers, 0, MAX_OTHERS),
+        occluders=check_flag("occluders", occluders),
+        glances=check_integer("glances", glances, 1, MAX_GLANCES), water=water)
+
+
+def pursuit_observer(view: ObserverView, sensors: list | None, oracle: bool
+                     ) -> tuple[PursuitObserver, gym.spaces.Dict]:
+    """The observation's sensors (default :func:`default_sensors`, plus the privileged
+    ``prey`` with ``oracle``) and one observer's space (with ``glance`` when a frame has more
+    than one look)."""
+    sensors = default_sensors(view.retina) if sensors is None else sensors
+    if check_flag("oracle", oracle):
+        sensors = [*sensors, PreyPosition(PREY)]
+    observer = PursuitObserver(view, sensors)
+    space = observer.single_space
+    glances = view.worlds.params.glances
+    if glances > 1:  # how many looks are left before the body moves
+        space = gym.spaces.Dict({**space.spaces, "glance": gym.spaces.Box(
+            0.0, float(glances - 1), (1,), np.float32)})
+    return observer, space
+
+
+def observe(observer: PursuitObserver, view: ObserverView, kinematics: Kinematics
+            ) -> dict[str, np.ndarray]:
+    """Entry name -> (B, ...) array: every observer's reading, and with glances the looks
+    left before its body moves."""
+    obs = observer.observe(view, kinematics)
+    worlds = view.worlds
+    if worlds.params.glances > 1:
+        left = worlds.params.glances - 1 - worlds.glance
+        obs["glance"] = left[:, None].astype(np.float32)
+    return obs
+
+
+def _in_foveas(point: np.ndarray, positions: np.ndarray, rotations: np.ndarray) -> bool:
+    for position, rotation in zip(positions, rotations):
+        direction = point - position
+        cosine = direction @ rotation[2] / np.linalg.norm(direction)
+        if cosine < np.cos(FOVEA_HALF_ANGLE):
+            return False
+    return True
+
+
+def world_info(worlds: PursuitWorlds, kinematics: Kinematics, poses, world: int,
+               moved: bool) -> dict:
+    """World ``world``'s info (ground truth, for evaluation; see the env's docstring) from
+    the eye ``poses`` of :meth:`PursuitWorlds.eye_poses`."""
+    positions, rotations = poses[0][world], poses[1][world]
+    angles = worlds.gaze_angles()[world]
+    baseline = float(np.linalg.norm(positions[0] - positions[1]))
+    rows = worlds.rows(world)
+
+    def seen(fish) -> bool:
+        return any(_in_foveas(kinematics.com[rows[k]], positions, rotations) for k in fish)
+
+    others = DISTRACTOR + worlds.params.distractors
+    observer = rows[0]
+    return {"target_in_fovea": seen([PREY]),
+            "distractor_in_fovea": seen(range(DISTRACTOR, others)),
+            "passer_in_fovea": seen(range(others, worlds.fish)),
+            "target_distance": float(worlds.distance[world]),
+            "gaze": angles.reshape(-1).copy(),
+            "vergence": float(angles[1, 0] - angles[0, 0]),
+            "range_estimate": triangulate(angles[0, 0], angles[1, 0], baseline),
+            "time": float(worlds.time[world]), "moved": moved,
+            "com": kinematics.com[observer].copy(),
+            "forward": kinematics.frames[observer, 0].copy()}
+
+
+def render_world(worlds: PursuitWorlds, render_mode: str | None, world: int = 0,
+                 eyes: Retina = Retina(RetinaParams())) -> np.ndarray | None:
+    """World ``world`` in ``render_mode``: ``"retina"`` the observer's two eyes'
+    composites side by side (512 x 1024), ``"rgb_array"`` a third-person view (480 x 360)."""
+    if render_mode == "retina":
+        images = eyes.images(ObserverView(worlds), worlds.core.kinematics())[world]
+        return np.concatenate([composite(images[0]), composite(images[1])], axis=1)
+    if render_mode == "rgb_array":
+        centre = worlds.core.kinematics().com[worlds.rows(world)].mean(axis=0)
+        eye = centre + np.array([-1.0, -2.0, 1.2]) * worlds.body_length * 1.5
+        camera = Camera(480, 360, 432.0, eye, look_at(eye, centre))
+        return camera.render(worlds.scene(world))
+    return None
