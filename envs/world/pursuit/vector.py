@@ -70,7 +70,8 @@ class FishPursuitVectorEnv(VectorEnv):
         self.action_space = batch_space(self.single_action_space, self.num_envs)
         self._rngs = [seeding.np_random(None)[0] for _ in range(self.num_envs)]
         self._autoreset = False
-        self._began: list[dict] = []  # each world's generator as its episode began
+        # each world's generator as its episode began (before the first reset: as it is now)
+        self._began = [rng.bit_generator.state for rng in self._rngs]
         self._actions: list[np.ndarray] = []  # the actions since
         self._started = False
 
@@ -158,10 +159,10 @@ class FishPursuitVectorEnv(VectorEnv):
         actions = np.asarray(saved["actions"], dtype=np.float64)
         if actions.ndim != 3 or actions.shape[1:] != (self.num_envs, 7):
             raise ValueError(f"actions must be (T, {self.num_envs}, 7), got {actions.shape}")
-        self._started = bool(saved["started"])
-        if not self._started:
+        self._started, self._rngs = bool(saved["started"]), rngs
+        if not self._started:  # the next reset draws what the saved env's would
+            self._began = [rng.bit_generator.state for rng in rngs]
             return
-        self._rngs = rngs
         self._restart()
         for step in actions:
             self.step(step)

@@ -67,6 +67,10 @@ def test_a_saved_batch_resumes_exactly_where_it_was():
         a, b = vec.step(actions)[0], other.step(actions)[0]
         for key in a:
             np.testing.assert_array_equal(a[key], b[key], err_msg=key)
+    fresh = gym.make_vec("Animat/FishPursuit-v0", num_envs=2, **kwargs)
+    unreset = gym.make_vec("Animat/FishPursuit-v0", num_envs=2, **kwargs)
+    unreset.unwrapped.set_state(fresh.unwrapped.get_state())  # saved before any reset
+    np.testing.assert_array_equal(fresh.reset()[0]["left_eye"], unreset.reset()[0]["left_eye"])
     with pytest.raises(ValueError, match="a state of 2 worlds, not 3"):
         gym.make_vec("Animat/FishPursuit-v0", num_envs=3, **kwargs).unwrapped.set_state(saved)
 
