@@ -3,8 +3,9 @@
 ``python -m animat.experiments.figures.pursuit_table FOLDER...`` reads every run folder under the
 FOLDERs scored on ``Animat/FishPursuit-v0`` (``result.json``, ``config.yaml`` and the
 ``eval.json`` of ``animat eval RUN --episodes N``: N episodes of seeds it never saw) and prints a
-Markdown table per benchmark variant (the env's arguments but the privileged ``oracle`` entry
-and ``glances``, the looks a frame, which are the agent's and a column of the table): for each
+Markdown table per benchmark variant (the env's arguments but those that are the agent's: the
+privileged ``oracle`` entry, ``eyes`` and ``frames``, what it observes, and ``glances``, the
+looks a frame, a column of the table): for each
 run, on the unseen episodes, ``eval/fovea_fraction`` (the share of all frames with the prey in
 both foveas; mean ± std over the episodes, and a 95% bootstrap interval of the mean), the same
 normalised between the
@@ -28,6 +29,9 @@ from animat.learners.storage.files import read_json
 from ..compare import find_runs, mean_std
 from ..launch.config import load_config
 
+# the env's arguments that are the agent's (what it observes, how often it looks), not the
+# benchmark's: runs that differ only in them are rows of one table
+AGENTS = ("oracle", "glances", "eyes", "frames")
 COLUMNS = (("first_foveation_s", "first foveation, s", 1), ("distance_closed_bl",
            "closed, BL", 1), ("captured", "captured", 2), ("distractor_fraction",
            "distractor", 2))
@@ -46,7 +50,7 @@ def pursuit_rows(folders: list[Path]) -> list[dict]:
         config = load_config(folder / "config.yaml", build=False)
         params = config.learner.params
         role = "blind" if params.get("blind") else "oracle" if params.get("oracle") else "policy"
-        kwargs = {k: v for k, v in config.env.kwargs.items() if k not in ("oracle", "glances")}
+        kwargs = {k: v for k, v in config.env.kwargs.items() if k not in AGENTS}
         unseen = read_json(folder / "eval.json")
         shares = np.array([e["fovea_fraction"] for e in unseen["episodes"]], float)
         rows.append({"variant": json.dumps(kwargs, sort_keys=True), "role": role,

@@ -82,7 +82,11 @@ default :func:`~animat.envs.world.pursuit.senses.default_sensors`: the retina, t
 proprioception), ``oracle`` (False; True adds the privileged entry ``prey``, the prey's centre
 of mass from the observer's nose in its body frame, BL
 (:class:`~animat.envs.world.pursuit.senses.PreyPosition`), for the oracle baseline and
-state-based learners), ``water`` (the water's fields, ``Water.from_dict``, e.g. ``{"model":
+state-based learners), ``eyes`` (True; False leaves the retina out of the default sensors: a
+state-based learner's observation is then the gaze, proprioception and, with the oracle, the
+prey, and nothing is rendered for it), ``frames`` (1; in [1, 8]: each image entry stacked over
+the last ``frames`` observations along its channels, the oldest first, a reset filling the
+stack with its first reading, as pixel learners stack frames), ``water`` (the water's fields, ``Water.from_dict``, e.g. ``{"model":
 "resistive"}``, the paper's; default the reactive water; the fishes' motor controllers
 calibrated for its model), ``render_mode``
 (``"rgb_array"``: third person, 480x360; ``"retina"``: the two eyes' composites side by side,
@@ -106,6 +110,7 @@ import numpy as np
 
 from .senses import ObserverView
 from .shell import (
+    FrameStack,
     check_render_mode,
     observe,
     pursuit_observer,
@@ -128,7 +133,7 @@ class FishPursuitEnv(gym.Env):
                  flee_distance_bl: float = 2.5, prey_speed: float = 0.5,
                  distractors: int = 1, passers: int = 3, occluders: bool = True,
                  glances: int = 1, sensors: list | None = None, water: dict | None = None,
-                 oracle: bool = False) -> None:
+                 oracle: bool = False, eyes: bool = True, frames: int = 1) -> None:
         self.render_mode = check_render_mode(render_mode)
         params = pursuit_params(duration, start_distance_bl, bearing_deg, flee_distance_bl,
                                 prey_speed, distractors, passers, occluders, glances, water)
@@ -138,7 +143,9 @@ class FishPursuitEnv(gym.Env):
         self.start_distance_bl, self.bearing_deg = params.start_distance_bl, params.bearing_deg
         self.glances = params.glances
         self.view = ObserverView(self.worlds)
-        self.observer, self.observation_space = pursuit_observer(self.view, sensors, oracle)
+        self.observer, space = pursuit_observer(self.view, sensors, oracle, eyes)
+        self.stack = FrameStack(frames, space)
+        self.observation_space = self.stack.space(space)
         self.action_space = gym.spaces.Box(-1.0, 1.0, (7,), np.float32)
         self._started = False
 
@@ -155,7 +162,7 @@ class FishPursuitEnv(gym.Env):
         super().reset(seed=seed)
         kinematics = self.worlds.reset([0], [self.np_random])
         self._started = True
-        return self._observe(kinematics), self._info(kinematics, True)
+        return self._observe(kinematics, fresh=True), self._info(kinematics, True)
 
     def step(self, action):
         if not self._started:
@@ -185,10 +192,12 @@ class FishPursuitEnv(gym.Env):
         kinematics = kinematics or self.core.kinematics()
         return self.worlds.eye_images(self.worlds.retina, kinematics)[0]
 
-    def _observe(self, kinematics) -> dict[str, np.ndarray]:
-        """The observer's observation: its sensors' reading (entry name -> array), and with
-        ``glances`` > 1 the looks left before the body moves."""
-        return self.observer.row(observe(self.observer, self.view, kinematics), 0)
+    def _observe(self, kinematics, fresh: bool = False) -> dict[str, np.ndarray]:
+        """The observer's observation: its sensors' reading (entry name -> array; its images
+        over the last ``frames``), and with ``glances`` > 1 the looks left before the body
+        moves."""
+        return self.observer.row(observe(self.observer, self.view, kinematics, self.stack,
+                                         fresh), 0)
 
     def _info(self, kinematics, moved: bool) -> dict:
         return world_info(self.worlds, kinematics, self.worlds.eye_poses(kinematics), 0, moved)

@@ -60,12 +60,19 @@ def pursuit_params(duration: float, start_distance_bl: tuple[float, float] | Non
         glances=check_integer("glances", glances, 1, MAX_GLANCES), water=water)
 
 
-def pursuit_observer(view: ObserverView, sensors: list | None, oracle: bool
+MAX_FRAMES = 8  # frames stacked at most
+
+
+def pursuit_observer(view: ObserverView, sensors: list | None, oracle: bool, eyes: bool = True
                      ) -> tuple[PursuitObserver, gym.spaces.Dict]:
-    """The observation's sensors (default :func:`default_sensors`, plus the privileged
-    ``prey`` with ``oracle``) and one observer's space (with ``glance`` when a frame has more
-    than one look)."""
-    sensors = default_sensors(view.retina) if sensors is None else sensors
+    """The observation's sensors (default :func:`default_sensors`, without the retina when
+    ``eyes`` is False; plus the privileged ``prey`` with ``oracle``) and one observer's space
+    (with ``glance`` when a frame has more than one look)."""
+    if not check_flag("eyes", eyes) and sensors is not None:
+        raise ValueError("eyes: false leaves the retina out of the default sensors; give "
+                         "sensors or eyes, not both")
+    if sensors is None:
+        sensors = default_sensors(view.retina) if eyes else default_sensors(view.retina)[1:]
     if check_flag("oracle", oracle):
         sensors = [*sensors, PreyPosition(PREY)]
     observer = PursuitObserver(view, sensors)
@@ -77,11 +84,46 @@ def pursuit_observer(view: ObserverView, sensors: list | None, oracle: bool
     return observer, space
 
 
-def observe(observer: PursuitObserver, view: ObserverView, kinematics: Kinematics
-            ) -> dict[str, np.ndarray]:
-    """Entry name -> (B, ...) array: every observer's reading, and with glances the looks
-    left before its body moves."""
-    obs = observer.observe(view, kinematics)
+class FrameStack:
+    """The last ``frames`` readings of a ``Dict`` observation's images (its uint8 entries of
+    shape (H, W, C)), stacked along their channels, the oldest first: (H, W, frames C). A
+    reset fills the stack with its first reading. The rest of the observation is as read."""
+
+    def __init__(self, frames: int, space: gym.spaces.Dict) -> None:
+        self.frames = check_integer("frames", frames, 1, MAX_FRAMES)
+        self.images = [key for key, sub in space.spaces.items()
+                       if sub.dtype == np.uint8 and len(sub.shape) == 3]
+        self._stacks: dict[str, np.ndarray] = {}
+
+    def space(self, space: gym.spaces.Dict) -> gym.spaces.Dict:
+        """One observer's stacked space."""
+        stacked = {key: gym.spaces.Box(0, 255, (*space[key].shape[:2],
+                                               self.frames * space[key].shape[2]), np.uint8)
+                   for key in self.images}
+        return gym.spaces.Dict({**space.spaces, **stacked})
+
+    def __call__(self, obs: dict[str, np.ndarray], fresh: bool) -> dict[str, np.ndarray]:
+        """``obs`` (entry -> (B, ...)) with its images stacked; ``fresh``: every episode of
+        the batch has just begun."""
+        if self.frames == 1:
+            return obs
+        for key in self.images:
+            now = obs[key]
+            if fresh or key not in self._stacks:
+                self._stacks[key] = np.concatenate([now] * self.frames, axis=-1)
+            else:
+                kept = self._stacks[key][..., now.shape[-1]:]
+                self._stacks[key] = np.concatenate([kept, now], axis=-1)
+            obs[key] = self._stacks[key].copy()
+        return obs
+
+
+def observe(observer: PursuitObserver, view: ObserverView, kinematics: Kinematics,
+            stack: FrameStack, fresh: bool = False) -> dict[str, np.ndarray]:
+    """Entry name -> (B, ...) array: every observer's reading (its images stacked over the
+    last frames, ``fresh`` when every episode has just begun), and with glances the looks left
+    before its body moves."""
+    obs = stack(observer.observe(view, kinematics), fresh)
     worlds = view.worlds
     if worlds.params.glances > 1:
         left = worlds.params.glances - 1 - worlds.glance

@@ -25,6 +25,7 @@ from ...checks import check_integer
 from ...core.shell import generator_from_state, parse_autoreset_mode, sub_env_seeds
 from .senses import ObserverView
 from .shell import (
+    FrameStack,
     check_render_mode,
     observe,
     pursuit_observer,
@@ -51,7 +52,7 @@ class FishPursuitVectorEnv(VectorEnv):
                  flee_distance_bl: float = 2.5, prey_speed: float = 0.5,
                  distractors: int = 1, passers: int = 3, occluders: bool = True,
                  glances: int = 1, sensors: list | None = None, water: dict | None = None,
-                 oracle: bool = False,
+                 oracle: bool = False, eyes: bool = True, frames: int = 1,
                  autoreset_mode: str | AutoresetMode = AutoresetMode.NEXT_STEP) -> None:
         self.autoreset_mode = parse_autoreset_mode(autoreset_mode)
         self.metadata = {**self.metadata, "autoreset_mode": self.autoreset_mode}
@@ -63,8 +64,9 @@ class FishPursuitVectorEnv(VectorEnv):
         self.core, self.dt, self.body_length = self.worlds.core, self.worlds.dt, \
             self.worlds.body_length
         self.view = ObserverView(self.worlds)
-        self.observer, self.single_observation_space = pursuit_observer(self.view, sensors,
-                                                                        oracle)
+        self.observer, space = pursuit_observer(self.view, sensors, oracle, eyes)
+        self.stack = FrameStack(frames, space)
+        self.single_observation_space = self.stack.space(space)
         self.single_action_space = gym.spaces.Box(-1.0, 1.0, (7,), np.float32)
         self.observation_space = batch_space(self.single_observation_space, self.num_envs)
         self.action_space = batch_space(self.single_action_space, self.num_envs)
@@ -86,7 +88,7 @@ class FishPursuitVectorEnv(VectorEnv):
             self._rngs = [seeding.np_random(s)[0] for s in seeds]
         kinematics = self._restart()
         self._started = True
-        return self._observe(kinematics), self._infos(kinematics, True)
+        return self._observe(kinematics, fresh=True), self._infos(kinematics, True)
 
     def _restart(self):
         self._began = [rng.bit_generator.state for rng in self._rngs]
@@ -103,7 +105,7 @@ class FishPursuitVectorEnv(VectorEnv):
         if self._autoreset:  # next-step autoreset: this step starts the new episodes
             kinematics = self._restart()
             zeros = np.zeros(self.num_envs, bool)
-            return (self._observe(kinematics), np.zeros(self.num_envs), zeros, zeros.copy(),
+            return (self._observe(kinematics, True), np.zeros(self.num_envs), zeros, zeros.copy(),
                     self._infos(kinematics, True))
         self._actions.append(actions.copy())
         clipped = np.clip(actions, -1.0, 1.0)
@@ -116,13 +118,13 @@ class FishPursuitVectorEnv(VectorEnv):
         if truncated.any() and self.autoreset_mode == AutoresetMode.SAME_STEP:
             info["final_obs"], info["_final_obs"] = self.observer.copy(obs), truncated.copy()
             info["final_info"], info["_final_info"] = dict(info), truncated.copy()
-            obs = self._observe(self._restart())
+            obs = self._observe(self._restart(), fresh=True)
         else:
             self._autoreset = bool(truncated.any())
         return obs, reward, terminated, truncated, info
 
-    def _observe(self, kinematics) -> dict[str, np.ndarray]:
-        return observe(self.observer, self.view, kinematics)
+    def _observe(self, kinematics, fresh: bool = False) -> dict[str, np.ndarray]:
+        return observe(self.observer, self.view, kinematics, self.stack, fresh)
 
     def _infos(self, kinematics, moved: bool) -> dict:
         poses = self.worlds.eye_poses(kinematics)

@@ -10,7 +10,8 @@ from gymnasium.vector import AutoresetMode
 import animat  # noqa: F401
 from animat.learners.ppo.vec_envs import NativeVecEnv
 
-SHORT = {"duration": 0.3, "glances": 2, "oracle": True, "distractors": 2, "passers": 1}
+SHORT = {"duration": 0.3, "glances": 2, "oracle": True, "distractors": 2, "passers": 1,
+         "frames": 2}
 
 
 def _rows_equal(batch: dict, single: dict, i: int) -> None:
@@ -86,6 +87,10 @@ def test_bad_input_is_one_line():
         gym.make_vec("Animat/FishPursuit-v0", num_envs=0)
     with pytest.raises(ValueError, match="glances must be"):
         gym.make_vec("Animat/FishPursuit-v0", num_envs=2, glances=9)
+    with pytest.raises(ValueError, match="frames must be"):
+        gym.make_vec("Animat/FishPursuit-v0", num_envs=2, frames=0)
+    with pytest.raises(ValueError, match="give sensors or eyes, not both"):
+        gym.make("Animat/FishPursuit-v0", eyes=False, sensors=[])
     assert vec.metadata["autoreset_mode"] == AutoresetMode.NEXT_STEP
 
 
@@ -103,3 +108,16 @@ def test_stable_baselines3_steps_it_as_a_vec_env_with_channel_first_images():
             done_seen = True
             assert infos[0]["terminal_observation"]["left_eye"].shape == (12, 64, 64)
     assert done_seen and reward.dtype == np.float32
+
+
+def test_frames_stack_the_retinas_oldest_first_and_a_blind_state_needs_no_eyes():
+    env = gym.make("Animat/FishPursuit-v0", duration=0.2, frames=3)
+    first, _ = env.reset(seed=4)
+    assert first["left_eye"].shape == (64, 64, 36)
+    np.testing.assert_array_equal(first["left_eye"][..., :12], first["left_eye"][..., 24:])
+    now = env.step(np.zeros(7, np.float32))[0]
+    np.testing.assert_array_equal(now["left_eye"][..., :24], first["left_eye"][..., 12:])
+    alone = gym.make("Animat/FishPursuit-v0", duration=0.2).reset(seed=4)[0]
+    np.testing.assert_array_equal(first["right_eye"][..., 24:], alone["right_eye"])
+    state = gym.make("Animat/FishPursuit-v0", eyes=False, oracle=True)
+    assert set(state.observation_space.spaces) == {"gaze", "proprioception", "prey"}
