@@ -21,7 +21,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ..bodies.spec import BodySpec
-from .raster import quads_to_triangles, rasterize_world, seabed_into, water_into
+from .raster import draw_picture, quads_to_triangles
 
 FISH_COLOUR = (250, 140, 60)  # RGB
 SHADOW_COLOUR = (25, 40, 45)
@@ -210,17 +210,11 @@ class Camera:
         """The picture of a prepared scene: the seabed (ray-cast), then the triangles through
         the depth buffer (:func:`animat.envs.render.raster.rasterize`), then the water and its
         haze."""
-        image = np.zeros((self.height, self.width, 3), np.uint8)
-        zbuffer = np.full((self.height, self.width), np.inf)
-        eye = np.asarray(self.eye, float)
-        rotation = np.ascontiguousarray(self.rotation, float)
-        seabed_into(image, zbuffer, eye, rotation, float(self.focal), float(frame.seabed_z),
-                    float(frame.tile), SAND, FAR)
-        if len(frame.triangles):
-            rasterize_world(frame.triangles, frame.colours, eye, rotation, float(self.focal),
-                            image, zbuffer, NEAR)
-        water_into(image, zbuffer, rotation, float(self.focal), WATER_TOP, WATER_BOTTOM,
-                   float(frame.visibility))
+        image = np.empty((self.height, self.width, 3), np.uint8)
+        draw_picture(frame.triangles, frame.colours, np.asarray(self.eye, float),
+                     np.ascontiguousarray(self.rotation, float), float(self.focal),
+                     float(frame.seabed_z), float(frame.tile), float(frame.visibility), SAND,
+                     WATER_TOP, WATER_BOTTOM, FAR, NEAR, image)
         return image
 
 

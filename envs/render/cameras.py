@@ -4,7 +4,7 @@ split over threads.
 :func:`draw_cameras` draws C cameras, each looking at one of N worlds' prepared triangles
 ((N, T, 3, 3) m, the same count T in every world), with exactly the passes of
 :meth:`animat.envs.render.camera.Camera.draw` (the seabed ray-cast, the triangles through the
-depth buffer, the water and its haze), in the same order and through the same kernels: a
+depth buffer, the water and its haze: :func:`~animat.envs.render.raster.draw_picture`), so a
 camera gives bit for bit the picture :class:`~animat.envs.render.camera.Camera` gives, whatever
 else is in the batch. What it saves is the Python around each camera (about half of a retina's
 time when drawn one camera at a time) and one core's idleness: ``prange`` over the cameras.
@@ -20,7 +20,7 @@ import numpy as np
 from numba import njit, prange
 
 from .camera import FAR, NEAR, SAND, SHADOW_COLOUR, WATER_BOTTOM, WATER_TOP
-from .raster import rasterize_world, seabed_into, water_into
+from .raster import draw_picture
 
 
 @njit(cache=True, parallel=True)
@@ -29,12 +29,9 @@ def _draw(triangles, colours, world, eyes, rotations, focals, seabed_z, tiles, v
     levels, height, width = images.shape[3], images.shape[1], images.shape[2]
     for c in prange(len(world)):
         w = world[c]
-        image = np.zeros((height, width, 3), np.uint8)  # contiguous while it is drawn
-        zbuffer = np.full((height, width), np.inf)
-        eye, rotation, focal = eyes[c], rotations[c], focals[c]
-        seabed_into(image, zbuffer, eye, rotation, focal, seabed_z[w], tiles[w], sand, far)
-        rasterize_world(triangles[w], colours[w], eye, rotation, focal, image, zbuffer, near)
-        water_into(image, zbuffer, rotation, focal, top, bottom, visibility[w])
+        image = np.empty((height, width, 3), np.uint8)  # contiguous while it is drawn
+        draw_picture(triangles[w], colours[w], eyes[c], rotations[c], focals[c], seabed_z[w],
+                     tiles[w], visibility[w], sand, top, bottom, far, near, image)
         images[c // levels, :, :, c % levels] = image
 
 

@@ -7,10 +7,12 @@ covers its centre (depth interpolated as 1/z across the triangle, which is exact
 triangles under perspective). Occlusion is therefore per pixel, whatever order the triangles
 come in. Triangles with a vertex nearer than ``near`` are dropped (no clipping).
 
-Around the triangles, two per-pixel passes on the same camera rays (:func:`pixel_ray`):
-:func:`seabed_into` first (the seabed plane, ray-cast, with a sand texture of tiles), and
-:func:`water_into` last (the water's colour by the ray's elevation, and depth haze: everything
-fades into that colour as ``exp(-distance / visibility)``).
+Around the triangles, two per-pixel passes on the same camera rays (:func:`pixel_rays`, each
+pixel's :func:`pixel_ray` and its length, computed once for both): :func:`seabed_into` first
+(the seabed plane, ray-cast, with a sand texture of tiles), and :func:`water_into` last (the
+water's colour by the ray's elevation, and depth haze: everything fades into that colour as
+``exp(-distance / visibility)``). :func:`draw_picture` is the three in order, a camera's whole
+picture.
 """
 
 from __future__ import annotations
@@ -102,24 +104,42 @@ def pixel_ray(rotation, focal, height, width, i, j):
 
 
 @njit(cache=True)
-def seabed_into(image, zbuffer, eye, rotation, focal, seabed_z, tile, sand, far) -> None:
+def pixel_rays(rotation, focal, rays) -> None:
+    """Fill ``rays`` (4, H, W) with every pixel's :func:`pixel_ray` (dx, dy, dz) and its
+    length ``sqrt(dx^2 + dy^2 + dz^2)`` (the same numbers, each pixel's division by ``focal``
+    done once per row and column): what :func:`seabed_into` and :func:`water_into` share."""
+    height, width = rays.shape[1], rays.shape[2]
+    for i in range(height):
+        ry = (i + 0.5 - 0.5 * height) / focal
+        for j in range(width):
+            rx = (j + 0.5 - 0.5 * width) / focal
+            dx = rotation[0, 0] * rx + rotation[1, 0] * ry + rotation[2, 0]
+            dy = rotation[0, 1] * rx + rotation[1, 1] * ry + rotation[2, 1]
+            dz = rotation[0, 2] * rx + rotation[1, 2] * ry + rotation[2, 2]
+            rays[0, i, j], rays[1, i, j], rays[2, i, j] = dx, dy, dz
+            rays[3, i, j] = np.sqrt(dx * dx + dy * dy + dz * dz)
+
+
+@njit(cache=True)
+def seabed_into(image, zbuffer, eye, rays, seabed_z, tile, sand, far) -> None:
     """Ray-cast the seabed (the plane z = ``seabed_z``, m) into ``image`` and ``zbuffer`` where
-    it is nearer than what is there and within ``far`` m: ``sand`` (3,) RGB in square tiles of
-    ``tile`` m, each tile's brightness a checker plus a hash of its indices (texture that
-    optical flow can lock onto)."""
+    it is nearer than what is there and within ``far`` m, along the camera at ``eye`` (3,)'s
+    pixel ``rays`` (:func:`pixel_rays`): ``sand`` (3,) RGB in square tiles of ``tile`` m, each
+    tile's brightness a checker plus a hash of its indices (texture that optical flow can lock
+    onto)."""
     height, width = zbuffer.shape
     if eye[2] <= seabed_z:
         return
     for i in range(height):
         for j in range(width):
-            dx, dy, dz = pixel_ray(rotation, focal, height, width, i, j)
+            dz = rays[2, i, j]
             if dz >= 0.0:
                 continue
             depth = (seabed_z - eye[2]) / dz
-            if depth >= zbuffer[i, j] or depth * np.sqrt(dx * dx + dy * dy + dz * dz) > far:
+            if depth >= zbuffer[i, j] or depth * rays[3, i, j] > far:
                 continue
-            u = int(np.floor((eye[0] + depth * dx) / tile))
-            v = int(np.floor((eye[1] + depth * dy) / tile))
+            u = int(np.floor((eye[0] + depth * rays[0, i, j]) / tile))
+            v = int(np.floor((eye[1] + depth * rays[1, i, j]) / tile))
             noise = ((u * 73856093) ^ (v * 19349663)) & 1023
             shade = 0.78 + 0.1 * ((u + v) & 1) + 0.14 * noise / 1023.0
             zbuffer[i, j] = depth
@@ -132,19 +152,19 @@ HAZE_TABLE = np.exp(-np.arange(16 * HAZE_STEPS + 2) / HAZE_STEPS)  # exp(-u), u 
 
 
 @njit(cache=True)
-def water_into(image, zbuffer, rotation, focal, top, bottom, visibility) -> None:
-    """The water: a pixel that shows nothing takes the water's colour along its ray (``top``
-    (3,) RGB looking straight up, ``bottom`` straight down, blended by the ray's elevation);
-    a pixel showing something at distance d (m, along the ray) is hazed toward that colour,
-    keeping ``exp(-d / visibility)`` of its own (from :data:`HAZE_TABLE`, linearly
-    interpolated: within 1e-4 of the exponential; nothing is kept beyond 16 visibilities)."""
+def water_into(image, zbuffer, rays, top, bottom, visibility) -> None:
+    """The water, along the camera's pixel ``rays`` (:func:`pixel_rays`): a pixel that shows
+    nothing takes the water's colour along its ray (``top`` (3,) RGB looking straight up,
+    ``bottom`` straight down, blended by the ray's elevation); a pixel showing something at
+    distance d (m, along the ray) is hazed toward that colour, keeping ``exp(-d /
+    visibility)`` of its own (from :data:`HAZE_TABLE`, linearly interpolated: within 1e-4 of
+    the exponential; nothing is kept beyond 16 visibilities)."""
     height, width = zbuffer.shape
     last = HAZE_TABLE.shape[0] - 2
     for i in range(height):
         for j in range(width):
-            dx, dy, dz = pixel_ray(rotation, focal, height, width, i, j)
-            length = np.sqrt(dx * dx + dy * dy + dz * dz)
-            up = 0.5 * (1.0 + dz / length)
+            length = rays[3, i, j]
+            up = 0.5 * (1.0 + rays[2, i, j] / length)
             u = min(zbuffer[i, j] * length / visibility, 16.0) * HAZE_STEPS
             k = min(int(u), last)
             keep = HAZE_TABLE[k] + (u - k) * (HAZE_TABLE[k + 1] - HAZE_TABLE[k])
@@ -154,6 +174,23 @@ def water_into(image, zbuffer, rotation, focal, top, bottom, visibility) -> None
                 water = bottom[c] + up * (top[c] - bottom[c])
                 image[i, j, c] = np.uint8(water + keep * (np.float64(image[i, j, c]) - water)
                                           + 0.5)
+
+
+@njit(cache=True)
+def draw_picture(triangles, colours, eye, rotation, focal, seabed_z, tile, visibility, sand,
+                 top, bottom, far, near, image) -> None:
+    """A camera's whole picture into ``image`` (H, W, 3) uint8 (drawn over, whatever it
+    held): its pixel rays (:func:`pixel_rays`), the seabed (:func:`seabed_into`), the
+    triangles (T, 3, 3) m with colours (T, 3) uint8 through the depth buffer
+    (:func:`rasterize_world`), then the water and its haze (:func:`water_into`)."""
+    height, width = image.shape[0], image.shape[1]
+    image[:] = 0
+    zbuffer = np.full((height, width), np.inf)
+    rays = np.empty((4, height, width))
+    pixel_rays(rotation, focal, rays)
+    seabed_into(image, zbuffer, eye, rays, seabed_z, tile, sand, far)
+    rasterize_world(triangles, colours, eye, rotation, focal, image, zbuffer, near)
+    water_into(image, zbuffer, rays, top, bottom, visibility)
 
 
 def quads_to_triangles(corners: np.ndarray) -> np.ndarray:

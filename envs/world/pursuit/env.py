@@ -86,9 +86,9 @@ state-based learners), ``eyes`` (True; False leaves the retina out of the defaul
 state-based learner's observation is then the gaze, proprioception and, with the oracle, the
 prey, and nothing is rendered for it), ``frames`` (1; in [1, 8]: each image entry stacked over
 the last ``frames`` observations along its channels, the oldest first, a reset filling the
-stack with its first reading, as pixel learners stack frames), ``water`` (the water's fields, ``Water.from_dict``, e.g. ``{"model":
-"resistive"}``, the paper's; default the reactive water; the fishes' motor controllers
-calibrated for its model), ``render_mode``
+stack with its first reading, as pixel learners stack frames), ``water`` (the water's fields,
+``Water.from_dict``, e.g. ``{"model": "resistive"}``, the paper's; default the reactive
+water; the fishes' motor controllers calibrated for its model), ``render_mode``
 (``"rgb_array"``: third person, 480x360; ``"retina"``: the two eyes' composites side by side,
 512x1024); each checked as it enters (a bad one is a
 ``ValueError`` of one line naming it). Public attributes: ``dt``, ``body_length``,
