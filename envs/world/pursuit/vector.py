@@ -112,6 +112,8 @@ class FishPursuitVectorEnv(VectorEnv):
         closed, moved, kinematics = self.worlds.step(clipped, self._rngs)
         info = self._infos(kinematics, moved)
         reward = closed / self.body_length + 0.05 * info["target_in_fovea"]
+        if not moved:  # a look within the frame earns nothing, as in the single env
+            reward = np.zeros(self.num_envs)
         truncated = self.worlds.truncated.copy() if moved else np.zeros(self.num_envs, bool)
         terminated = np.zeros(self.num_envs, bool)
         obs = self._observe(kinematics)

@@ -121,3 +121,24 @@ def test_frames_stack_the_retinas_oldest_first_and_a_blind_state_needs_no_eyes()
     np.testing.assert_array_equal(first["right_eye"][..., 24:], alone["right_eye"])
     state = gym.make("Animat/FishPursuit-v0", eyes=False, oracle=True)
     assert set(state.observation_space.spaces) == {"gaze", "proprioception", "prey"}
+
+
+def test_a_look_within_a_frame_earns_nothing_in_the_batch_as_alone():
+    """With glances the first look of a frame moves only the eyes, and its reward is 0 even
+    with the prey in both foveas (the oracle's gaze holds it there)."""
+    from animat.envs.world.pursuit.policy import OraclePolicy
+
+    kwargs = {"duration": 1.0, "glances": 2, "oracle": True}
+    vec = gym.make_vec("Animat/FishPursuit-v0", num_envs=2, **kwargs)
+    singles = [gym.make("Animat/FishPursuit-v0", **kwargs) for _ in range(2)]
+    vec.reset(seed=7)
+    obs = [env.reset(seed=7 + i)[0] for i, env in enumerate(singles)]
+    policy, looked = OraclePolicy(), 0
+    for _ in range(20):
+        actions = np.stack([policy.predict(o)[0] for o in obs])
+        _, reward, _, _, _ = vec.step(actions)
+        for i, env in enumerate(singles):
+            obs[i], single_reward, _, _, info = env.step(actions[i])
+            assert reward[i] == single_reward
+            looked += int(not info["moved"] and info["target_in_fovea"])
+    assert looked >= 10  # the case that matters happened
