@@ -8,6 +8,7 @@
     animat compare RUN_DIR_OR_PARENT ... [--metric eval/return] [--threshold X] [-o REPORT]
     animat eval RUN_DIR [--episodes N] [--seeds 0-3] [--video DIR]
     animat tune CONFIG --trials N [--set ...] [--out DIR] [--storage URL] [--study NAME]
+                [--workers N] [--executor local|ray] [--address ADDR]
     animat bench [--seconds S] [--breakdown]
     animat demo [--seconds S] [--video DIR] [--model-sweep]
     animat figures --out DIR [--seed S] [--frames N]
@@ -106,7 +107,8 @@ def cmd_run(args) -> int:
 
 
 def cmd_sweep(args) -> int:
-    from .sweep import parse_seeds, prepare, run_local, run_ray, summary_table
+    from .executors import run_ray
+    from .sweep import parse_seeds, prepare, run_local, summary_table
 
     try:
         seeds = parse_seeds(args.seeds)
@@ -132,7 +134,12 @@ def cmd_tune(args) -> int:
         raise RunError("--study must name the study, got an empty name")
     path = _config_path(args.config)
     _single_output(load_config(path, args.overrides, build=False), args.trials, "the study")
-    summary = tune(path, args.trials, args.out, args.overrides, args.storage, args.study)
+    if args.workers < 1:
+        raise RunError(f"--workers must be at least 1, got {args.workers}")
+    if args.address and args.executor != "ray":
+        raise RunError("--address is the Ray cluster's: give it with --executor ray")
+    summary = tune(path, args.trials, args.out, args.overrides, args.storage, args.study,
+                   args.workers, args.executor, args.address)
     print(table(summary))
     return 0 if summary["best"] is not None else 1
 

@@ -106,6 +106,13 @@ def make_parser() -> argparse.ArgumentParser:
                       "(default: 'tune' in --out's own storage; with --storage, the config "
                       "file's name and a digest of it and the --set values, so workers given "
                       "the same command join one study)")
+    tune.add_argument("--workers", type=int, default=1, help="trials at once, each worker "
+                      "a process here (sharing the CPUs out) or, with --executor ray, a Ray "
+                      "task of one CPU; all on the one study (default 1)")
+    tune.add_argument("--executor", choices=("local", "ray"), default="local",
+                      help="local processes (default) or Ray tasks")
+    tune.add_argument("--address", help="ray: an existing cluster's address (default: start "
+                      "a local one); the study's storage must reach every node (--storage)")
     evaluation = sub.add_parser("eval", help="play a finished run's agent over start states",
                                 description="Load a finished run's agent, play it on seeded "
                                 "start states, print its metric and write eval.json.")

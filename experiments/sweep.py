@@ -1,6 +1,7 @@
 """``animat sweep``: one run folder per seed, executed locally (one after the other, or
 ``--jobs N`` processes at once) or as Ray tasks (one CPU each) on an existing Ray cluster
-(``--address``) or a local one."""
+(``--address``) or a local one (:func:`animat.experiments.executors.run_ray`, each folder
+returned to this driver)."""
 
 from __future__ import annotations
 
@@ -74,16 +75,20 @@ def _execute_one(folder: Path, progress=None) -> dict:
 
 def summary_table(folders: list[Path], results: list[dict], metric: str | None) -> str:
     """The sweep's outcome, one row per run: seed, status, the config's metric, env steps,
-    wall seconds and the folder; then each failed run's one-line error."""
+    wall seconds, the Ray node that ran it (a Ray sweep's) and the folder; then each failed
+    run's one-line error."""
     metric = metric or "eval/return"
-    rows = [("seed", "status", metric, "env steps", "wall s", "folder")]
+    nodes = any("node" in result for result in results)  # Ray's: which node ran it
+    rows = [("seed", "status", metric, "env steps", "wall s") + (("node",) if nodes else ())
+            + ("folder",)]
     errors = []
     for folder, result in zip(folders, results):
         seed = str(load_seed(folder))
         value = result.get("metrics", {}).get(metric)
+        node = (str(result.get("node", "—"))[:8],) if nodes else ()
         rows.append((seed, result["status"], "—" if value is None else f"{value:.4g}",
                      f"{result.get('env_steps', 0):,}", f"{result.get('wall_seconds', 0.0):.1f}",
-                     str(folder)))
+                     *node, str(folder)))
         if result["status"] != "done":
             error = str(result.get("error") or "no error recorded").splitlines()[0]
             errors.append(f"seed {seed} {result['status']}: {error}")
@@ -97,33 +102,3 @@ def load_seed(folder: Path) -> int:
     """The seed a run folder's config.yaml holds, read as every config is (YAML aliases
     refused, the config validated; ConfigError naming the file otherwise)."""
     return load_config(Path(folder) / "config.yaml", build=False).seed
-
-
-def run_ray(folders: list[Path], address: str | None = None, num_cpus: int | None = None
-            ) -> list[dict]:
-    """Execute each folder as a Ray task with one CPU; the results land in the same folders
-    (the cluster's workers must see the folders: a local cluster, or a shared file system)."""
-    try:
-        import ray
-    except ImportError:
-        raise RuntimeError("the ray executor needs Ray: pip install 'artificial-animals[ray]'"
-                           ) from None
-    started = not ray.is_initialized()
-    if started:
-        ray.init(address=address, num_cpus=None if address else num_cpus,
-                 include_dashboard=False, log_to_driver=False)
-
-    @ray.remote(num_cpus=1)
-    def run_one(folder: str) -> dict:
-        from .launch.execute import execute as run_folder
-
-        try:
-            return run_folder(Path(folder), threads=1)  # the one CPU the task holds
-        except Exception:  # the failure is recorded in the folder's result.json
-            return read_status(Path(folder))
-
-    try:
-        return ray.get([run_one.remote(str(folder.resolve())) for folder in folders])
-    finally:
-        if started:
-            ray.shutdown()

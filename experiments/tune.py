@@ -89,7 +89,13 @@ def run_trial(optuna, trial, path: Path, overrides: list[str], out: Path,
               config: ExperimentConfig) -> tuple[str, float | None]:
     """One trial: its state name and value."""
     try:
-        trial_config = load_config(path, overrides + sample(trial, config))
+        sampled = sample(trial, config)
+        twin = twin_of(optuna, trial)
+        if twin is not None:  # never run twice (another worker may have drawn it too)
+            trial.set_user_attr("duplicate_of", twin)
+            trial.set_user_attr("error", f"the parameters of trial {twin}: not run again")
+            return "FAIL", None
+        trial_config = load_config(path, overrides + sampled)
     except ConfigError as error:
         trial.set_user_attr("error", str(error))
         return "FAIL", None
@@ -109,6 +115,18 @@ def run_trial(optuna, trial, path: Path, overrides: list[str], out: Path,
         return "FAIL", None
     value = result["metrics"].get(config.eval.metric)
     return ("COMPLETE", float(value)) if value is not None else ("FAIL", None)
+
+
+def twin_of(optuna, trial) -> int | None:
+    """The number of another trial of the study with ``trial``'s parameters that ran, runs or
+    is about to (complete, pruned or running, not itself a twin), or None."""
+    states = optuna.trial.TrialState
+    for other in trial.study.get_trials(deepcopy=False, states=(
+            states.COMPLETE, states.PRUNED, states.RUNNING)):
+        if (other.number != trial.number and other.params == trial.params
+                and "duplicate_of" not in other.user_attrs):
+            return other.number
+    return None
 
 
 def storage(optuna, out: Path, url: str | None):
@@ -161,9 +179,13 @@ def open_study(optuna, config: ExperimentConfig, out: Path, url: str | None, nam
 
 def tune(path: str | Path, trials: int, out: str | Path | None = None,
          overrides: list[str] | None = None, storage_url: str | None = None,
-         study_name: str | None = None) -> dict:
+         study_name: str | None = None, workers: int = 1, executor: str = "local",
+         address: str | None = None) -> dict:
     """Run the study (``study_name``, default :func:`default_study_name`) to ``trials``
-    finished trials; returns its summary (also printed by the CLI) and writes ``best.yaml``."""
+    finished trials, here (``workers`` 1) or by ``workers`` workers at once
+    (:func:`animat.experiments.executors.tune_workers`: processes, or Ray tasks on the
+    cluster at ``address``); returns its summary (also printed by the CLI) and writes
+    ``best.yaml``."""
     optuna = _optuna()
     path, overrides = Path(path), list(overrides or [])
     config = load_config(path, overrides)
@@ -178,12 +200,51 @@ def tune(path: str | Path, trials: int, out: str | Path | None = None,
     for stale in study.get_trials(states=(optuna.trial.TrialState.RUNNING,)):
         if _killed(out / f"trial{stale.number:03d}"):  # a killed tune's, not a live worker's
             study.tell(stale.number, state=optuna.trial.TrialState.FAIL)
-    while sum(t.state.is_finished() for t in study.trials) < trials:
+    if workers > 1 or executor == "ray":
+        from .executors import tune_workers
+
+        tune_workers(workers, executor, address, str(path), trials, str(out), overrides,
+                     storage_url, name)
+        study = open_study(optuna, config, out, storage_url, name)  # every worker's trials
+    else:
+        work(optuna, study, config, path, overrides, out, trials)
+    return summarise(study, out, config, path, overrides)
+
+
+MAX_TWINS = 200  # twins in a row: the space holds no parameter set not yet tried
+
+
+def finished(study) -> int:
+    """The study's finished trials, twins (:func:`twin_of`) not counted."""
+    return sum(t.state.is_finished() and "duplicate_of" not in t.user_attrs
+               for t in study.get_trials(deepcopy=False))
+
+
+def work(optuna, study, config: ExperimentConfig, path: Path, overrides: list[str], out: Path,
+         trials: int) -> None:
+    """Ask, run and tell trials until the study has ``trials`` finished ones (with other
+    workers on the study, those running when it gets there finish too), or
+    :data:`MAX_TWINS` samples in a row were twins."""
+    twins = 0
+    while finished(study) < trials and twins < MAX_TWINS:
         trial = study.ask()
         study.sampler = trial_sampler(optuna, config.seed, trial.number)  # draws at suggest
         state, value = run_trial(optuna, trial, path, overrides, out, config)
         study.tell(trial, value, state=getattr(optuna.trial.TrialState, state))
-    return summarise(study, out, config, path, overrides)
+        twins = twins + 1 if "duplicate_of" in trial.user_attrs else 0
+
+
+def worker(threads: int, path: str, trials: int, out: str, overrides: list[str],
+           storage_url: str | None, name: str) -> None:
+    """One of several workers on the study ``name`` (a process or a Ray task): :func:`work`
+    with ``threads`` Numba threads."""
+    import numba
+
+    numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))
+    optuna = _optuna()
+    config = load_config(Path(path), overrides)
+    study = open_study(optuna, config, Path(out), storage_url, name)
+    work(optuna, study, config, Path(path), overrides, Path(out), trials)
 
 
 def _killed(folder: Path) -> bool:

@@ -1,0 +1,179 @@
+"""Where a sweep's runs and a tune's trials execute beside this process: Ray tasks (on a local
+cluster, or an existing one at ``address``) and local worker processes.
+
+**A sweep over Ray** (:func:`run_ray`): each run folder travels with its task. The driver
+packs the prepared folder; the task unpacks it in a temporary folder on whichever node runs
+it, runs it there with the one CPU it holds, and returns the finished folder packed; the
+driver puts it in place of the prepared one (:func:`place`), under the folder's lock, the files
+first and ``result.json`` last, so an interrupted return leaves the folder as it was
+prepared, to run again with ``animat run --resume``. The nodes therefore need no shared file
+system. What comes back is data only: the archive is read with tarfile's ``data`` filter (no
+absolute paths, no links out of the folder, no devices), and a run folder holds no code. The
+tasks are spread over the nodes (Ray's ``SPREAD``); a task Ray loses (a node gone) leaves its
+folder as prepared and its row ``failed``.
+
+**A tune's workers** (:func:`tune_workers`): ``workers`` processes here, or as many Ray tasks,
+each running :func:`animat.experiments.tune.work` on the one study, so the sampler and the
+pruner see every worker's trials. The study's storage must be one every worker reaches: the
+journal file in OUT (one machine, or a shared file system) or an RDB URL (``--storage``); a
+trial's folder is written under OUT where its worker runs.
+"""
+
+from __future__ import annotations
+
+import io
+import json
+import multiprocessing
+import os
+import tarfile
+import tempfile
+from concurrent.futures import ProcessPoolExecutor
+from pathlib import Path
+
+from .launch.execute import execute
+from .launch.folders import read_status
+from .launch.lock import LOCK_NAME, RunError, run_lock
+from .launch.machine import available_cpus
+
+
+def pack(folder: Path) -> bytes:
+    """A run folder as an uncompressed tar archive (its lock file left out)."""
+    buffer = io.BytesIO()
+    with tarfile.open(fileobj=buffer, mode="w") as archive:
+        for path in sorted(Path(folder).iterdir()):
+            if path.name != LOCK_NAME:
+                archive.add(path, arcname=path.name)
+    return buffer.getvalue()
+
+
+def unpack(data: bytes, folder: Path) -> None:
+    """Extract a :func:`pack` archive into ``folder`` (made if missing) with tarfile's
+    ``data`` filter: RunError in one line for a member that would leave the folder, a link
+    out of it, or a device."""
+    Path(folder).mkdir(parents=True, exist_ok=True)
+    try:
+        with tarfile.open(fileobj=io.BytesIO(data), mode="r") as archive:
+            archive.extractall(folder, filter="data")
+    except (tarfile.TarError, OSError) as error:
+        raise RunError(f"{folder}: the returned run folder could not be unpacked ({error})"
+                       ) from None
+
+
+def place(data: bytes, folder: Path) -> dict:
+    """Put a finished run folder returned by a task (:func:`pack`) in place of the prepared
+    ``folder``, under its lock: unpacked beside it, then moved in entry by entry, the
+    ``result.json`` last; returns the folder's status."""
+    folder = Path(folder)
+    with run_lock(folder), tempfile.TemporaryDirectory(dir=folder.parent,
+                                                       prefix=f".{folder.name}.") as staging:
+        unpack(data, Path(staging))
+        entries = sorted(Path(staging).iterdir(), key=lambda p: p.name == "result.json")
+        if not entries or entries[-1].name != "result.json":
+            raise RunError(f"{folder}: the returned run folder has no result.json")
+        _check_result(entries[-1], folder)
+        for entry in entries:
+            target = folder / entry.name
+            if target.is_dir() and entry.is_dir():
+                _merge(entry, target)
+            else:
+                os.replace(entry, target)
+    return read_status(folder)
+
+
+def _check_result(path: Path, folder: Path) -> None:
+    """RunError in one line unless ``path`` is a run's result.json (a JSON object with a
+    ``status``), so a bad return never replaces the prepared folder's."""
+    try:
+        status = json.loads(path.read_text()).get("status")
+    except (OSError, ValueError, AttributeError):
+        status = None
+    if not isinstance(status, str):
+        raise RunError(f"{folder}: the returned result.json is not a run's (no status)")
+
+
+def _merge(source: Path, target: Path) -> None:
+    """Move ``source``'s tree into the folder ``target``, file by file (what a run adds to a
+    folder the driver prepared: new files, and the newer versions of its own)."""
+    for entry in source.iterdir():
+        there = target / entry.name
+        if entry.is_dir() and there.is_dir():
+            _merge(entry, there)
+        else:
+            os.replace(entry, there)
+
+
+def _run_packed(name: str, data: bytes) -> tuple[bytes, str]:
+    """A Ray task's body: run the packed folder ``name`` in a temporary folder on this node;
+    returns it packed, finished (or failed, as its result.json says), and the node's id."""
+    import ray
+
+    with tempfile.TemporaryDirectory() as scratch:
+        folder = Path(scratch) / name
+        unpack(data, folder)
+        try:
+            execute(folder, threads=1)  # the one CPU the task holds
+        except Exception:  # recorded in the folder's result.json
+            pass
+        return pack(folder), ray.get_runtime_context().get_node_id()
+
+
+def _ray(address: str | None, num_cpus: int | None):
+    """Ray, connected (a local cluster when ``address`` is None); and whether this call
+    started the connection (so it shuts it down)."""
+    try:
+        import ray
+    except ImportError:
+        raise RunError("the ray executor needs Ray: pip install 'artificial-animals[ray]'"
+                       ) from None
+    started = not ray.is_initialized()
+    if started:
+        ray.init(address=address or "local", num_cpus=None if address else num_cpus,
+                 include_dashboard=False, log_to_driver=False)  # "local": a new one here
+    return ray, started
+
+
+def run_ray(folders: list[Path], address: str | None = None, num_cpus: int | None = None
+            ) -> list[dict]:
+    """Execute each prepared folder as a Ray task of one CPU, spread over the cluster's
+    nodes, each folder returned to this driver (see the module's docstring); per folder its
+    status, with ``node``, the Ray node that ran it."""
+    ray, started = _ray(address, num_cpus)
+    task = ray.remote(num_cpus=1, scheduling_strategy="SPREAD", max_retries=0)(_run_packed)
+    try:
+        refs = [task.remote(folder.name, pack(folder)) for folder in folders]
+        results = []
+        for folder, ref in zip(folders, refs):
+            try:
+                data, node = ray.get(ref)
+            except ray.exceptions.RayError as error:  # lost with its node: left as prepared
+                results.append({**read_status(folder), "status": "failed",
+                                "error": f"ray: {str(error).splitlines()[0]}"})
+                continue
+            results.append({**place(data, folder), "node": node})
+        return results
+    finally:
+        if started:
+            ray.shutdown()
+
+
+def tune_workers(workers: int, executor: str, address: str | None, *args) -> None:
+    """``workers`` runs of :func:`animat.experiments.tune.worker` (``args``: its arguments
+    after ``threads``) at once: processes here sharing the CPUs out, or Ray tasks of one CPU
+    each; an error in a worker is raised here once all have ended."""
+    from .tune import worker
+
+    if executor == "ray":
+        ray, started = _ray(address, None)
+        try:
+            task = ray.remote(num_cpus=1, max_retries=0)(worker)
+            ray.get([task.remote(1, *args) for _ in range(workers)])
+        finally:
+            if started:
+                ray.shutdown()
+        return
+    threads = max(1, available_cpus() // workers)
+    context = multiprocessing.get_context("spawn")  # no forked Numba or Optuna state
+    with ProcessPoolExecutor(max_workers=workers, mp_context=context) as pool:
+        futures = [pool.submit(worker, threads, *args) for _ in range(workers)]
+        for future in futures:
+            future.result()
