@@ -267,9 +267,9 @@ class BlackBoxLearner(Learner):
             run.env_steps += len(candidates) * evaluator.episode_cost
             run.rounds += 1
             phase.track(candidates, returns, metrics)
+            run.wall = time.perf_counter() - start
             log_round(self.logger, run, returns, metrics,
                       self.optimizer.metrics(params, phase.state))
-            run.wall = time.perf_counter() - start
             if path and run.rounds % self.checkpoint_every == 0:
                 save_run(path, run)
 

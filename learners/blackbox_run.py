@@ -121,7 +121,8 @@ def log_round(logger: Logger, run: Run, returns: np.ndarray, metrics: dict,
     ``best/*``: the best so far (of either phase), which is what the run returns; and the
     optimiser's own ``train/*`` scalars (``train``), with ``train/diverged``, the round's
     candidates whose return is not finite (a body that blew up: never the incumbent, and the
-    optimisers never keep them)."""
+    optimisers never keep them); and ``time/fps``, the run's env steps per wall second so far
+    (SB3's tag for PPO's)."""
     k, best, step = round_best(returns), run.overall_best(), run.env_steps
     if k is not None:
         logger.scalar("eval/return", float(returns[k]), step)
@@ -134,6 +135,8 @@ def log_round(logger: Logger, run: Run, returns: np.ndarray, metrics: dict,
     logger.scalar("train/diverged", float((~np.isfinite(returns)).sum()), step)
     for name, value in train.items():
         logger.scalar(f"train/{name}", value, step)
+    if run.wall > 0.0:
+        logger.scalar("time/fps", run.env_steps / run.wall, step)
 
 
 def saved_run(checkpoint_dir: str | Path | None, trust_pickles: bool

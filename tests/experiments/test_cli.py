@@ -279,6 +279,10 @@ def test_curves_mean_the_same_for_every_learner_and_runs_keep_their_hparams(tmp_
     (_, current), (_, best) = curves["eval/return"], curves["best/return"]
     assert np.all(np.diff(best) >= 0) and np.all(current <= best + 1e-12)  # incumbent vs best
     assert not np.all(current == best)  # the incumbent is not the best so far every round
+    steps, fps = curves["time/fps"]  # env steps per wall second, as PPO's SB3 logs it
+    result = json.loads((tmp_path / "anneal" / "result.json").read_text())
+    assert np.all(fps > 0) and steps[-1] == result["env_steps"]
+    assert fps[-1] == pytest.approx(result["env_steps"] / result["wall_seconds"], rel=0.2)
     assert "hparams" in _tensor_plugins(tmp_path / "anneal")  # TensorBoard's HParams view
     animat("run", config, "--out", tmp_path / "ppo", "--set", "learner.name=ppo",
            "--set", "learner.params={n_envs: 2, n_steps: 16, batch_size: 32, n_epochs: 1, "
