@@ -14,6 +14,7 @@
     animat figures --out DIR [--seed S] [--frames N]
     animat stunt-figures --out DIR --leap RUN [--nose-ball RUN] [--tail-ball RUN]
                          [--somersault RUN] [--belly-flop RUN]
+    animat world-bench [--seconds S] [--fish 10,100,1000 [--plot FILE]]
     animat list
     animat --version
 
@@ -230,11 +231,27 @@ def cmd_bench(args) -> int:
 
 
 def cmd_world_bench(args) -> int:
-    from .bench.world import report, run
+    from .bench.world import plot_sizes, report, report_sizes, run, run_sizes
+    from .sweep import parse_seeds
 
     if not args.seconds > 0:
         raise RunError(f"--seconds must be > 0, got {args.seconds}")
-    print(report(run(args.seconds)))
+    if args.fish is None:
+        if args.plot:
+            raise RunError("--plot is the growth plot of --fish: give --fish too")
+        print(report(run(args.seconds)))
+        return 0
+    try:
+        sizes = parse_seeds(args.fish)
+    except ValueError:
+        raise RunError(f"--fish {args.fish!r}: give fish counts like 10,100,1000") from None
+    if not 1 <= len(sizes) <= 8 or min(sizes) < 1 or max(sizes) > 3000:
+        raise RunError(f"--fish {args.fish!r}: up to 8 counts, each in [1, 3000]")
+    result = run_sizes(sizes, args.seconds)
+    print(report_sizes(result))
+    if args.plot:
+        plot_sizes(result, args.plot)
+        print(f"plot: {args.plot}")
     return 0
 
 

@@ -152,6 +152,11 @@ def make_parser() -> argparse.ArgumentParser:
                                  "without and with one fish's eyes")
     world_bench.add_argument("--seconds", type=float, default=3.0,
                              help="wall seconds per measurement (3 interleaved rounds)")
+    world_bench.add_argument("--fish", metavar="N,N,...",
+                             help="how the cost grows instead: worlds of these many fish at "
+                                  "the paper's density, e.g. 10,100,1000")
+    world_bench.add_argument("--plot", type=Path, metavar="FILE",
+                             help="--fish: a log-log plot of the cost (PNG)")
     world_video = sub.add_parser("world-video", help="a video of the living world")
     world_video.add_argument("--out", type=Path, required=True, help="the mp4 file")
     world_video.add_argument("--seconds", type=float, default=60.0, help="simulated seconds")

@@ -9,7 +9,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .oracle import Obstacles
+from .grid import pairs_within
+from .oracle import Obstacles, clearance_to, first_min_per_row, obstacles_near
 from .percepts import Tank
 
 
@@ -59,8 +60,10 @@ def drift(food: np.ndarray, current: np.ndarray, dt: float, tank: Tank, obstacle
     moved = food + dt * (current + [0.0, 0.0, -params.sink_speed])
     on_bed = food[:, 2] <= tank.seabed_z + 1e-9
     moved[on_bed] = food[on_bed]
-    if len(obstacles.radii):
-        blocked = (obstacles.clearance(moved) < params.clearance).any(axis=1)
+    particle, k = obstacles_near(moved[:, None], moved, obstacles, params.clearance)
+    if len(k):
+        close = clearance_to(moved[particle, None], obstacles, k)[:, 0] < params.clearance
+        blocked = np.unique(particle[close])
         moved[blocked, :2] = food[blocked, :2]
     moved[:, 2] = np.maximum(moved[:, 2], tank.seabed_z)
     moved[:, :2] = np.clip(moved[:, :2], -tank.half_size, tank.half_size)
@@ -71,10 +74,13 @@ def eaten(heads: np.ndarray, food: np.ndarray, eaters: np.ndarray,
           params: FoodParams) -> tuple[np.ndarray, np.ndarray]:
     """Which fish eat which particle this step: (F,) meals per fish, (M,) bool eaten. A particle
     within ``eat_radius`` of several eaters' heads (``eaters`` (F,) bool) goes to the nearest."""
-    distance = np.linalg.norm(heads[:, None] - food[None], axis=-1)  # (F, M)
-    distance[~eaters] = np.inf
-    reach = distance < params.eat_radius
-    gone = reach.any(axis=0)
-    winner = np.argmin(distance, axis=0)
-    meals = np.bincount(winner[gone], minlength=len(heads)).astype(float)
+    fish, particle = pairs_within(heads, food, params.eat_radius)
+    fish, particle = fish[eaters[fish]], particle[eaters[fish]]
+    distance = np.linalg.norm(heads[fish] - food[particle], axis=-1)
+    within = distance < params.eat_radius
+    fish, particle, distance = fish[within], particle[within], distance[within]
+    gone = np.zeros(len(food), bool)
+    gone[particle] = True
+    winner = first_min_per_row(particle, distance, fish)  # each particle's nearest eater
+    meals = np.bincount(fish[winner], minlength=len(heads)).astype(float)
     return meals, gone

@@ -47,8 +47,10 @@ No termination; truncation after ``duration`` s (60).
 
 ## Arguments
 ``duration`` (s, 60; in (0, 86400]), ``species`` ({name: count} of shark, minnow, angelfish;
-default 1, 6, 3; each count in [0, 100]), ``food`` (15; in [0, 1000]), ``obstacles`` (5; in
-[0, 100]), ``agent`` (a fish index or None), ``control``,
+default 1, 6, 3; each count in [0, 1000]), ``food`` (15; in [0, 10000]), ``obstacles`` (5;
+in [0, 1000]), ``tank_size`` (the tank's side, 6 m; in [2, 200]: a larger world at the paper's
+density is ``species`` and ``food`` times k and ``tank_size`` times sqrt(k), as ``animat
+world-bench --fish`` makes it), ``agent`` (a fish index or None), ``control``,
 ``vision`` (a fish index or None: that fish hunts by its eyes), ``water`` (the water's fields,
 ``Water.from_dict``, e.g. ``{"model": "resistive"}``, the paper's; default the reactive water;
 the fishes' motor controllers calibrated for its model), ``render_mode``
@@ -65,6 +67,7 @@ from ..checks import check_integer, check_number, shown
 from ..core.arguments import MAX_DURATION
 from ..core.batch import OBS_LIMIT
 from .food import FoodParams
+from .percepts import Tank
 from .scene import WorldView
 from .start import ANGELFISH, MINNOW, SHARK, WorldParams
 from .world import MarineWorld
@@ -72,15 +75,17 @@ from .world import MarineWorld
 SPECIES = {"shark": SHARK, "minnow": MINNOW, "angelfish": ANGELFISH}
 CONTROLS = ("behaviour", "navigation", "muscles")
 SUMMED = ("food_eaten", "catches", "matings", "obstacle_collisions", "fish_collisions")
-MAX_SPECIES_COUNT, MAX_FOOD, MAX_OBSTACLES = 100, 1000, 100  # the sizes the env accepts
+MAX_SPECIES_COUNT, MAX_FOOD, MAX_OBSTACLES = 1000, 10_000, 1000  # the sizes the env accepts
+TANK_SIZES = (2.0, 200.0)  # m, the tank's side the env accepts
 
 
 def world_params(duration: float, species: dict | None, food: int, obstacles: int,
-                 water: dict | None = None) -> WorldParams:
+                 water: dict | None = None, tank_size: float = 6.0) -> WorldParams:
     """The world of the env's arguments, each checked (a ValueError of one line naming it):
-    ``duration`` in (0, 86400] s, ``species`` a dict of known names to counts in [0, 100]
-    with at least one fish, ``food`` in [0, 1000], ``obstacles`` in [0, 100], ``water`` the
-    water's fields (checked by ``Water.from_dict`` when the world is made)."""
+    ``duration`` in (0, 86400] s, ``species`` a dict of known names to counts in [0, 1000]
+    with at least one fish, ``food`` in [0, 10000], ``obstacles`` in [0, 1000], ``water`` the
+    water's fields (checked by ``Water.from_dict`` when the world is made), ``tank_size`` the
+    tank's side in [2, 200] m."""
     check_number("duration", duration, 0.0, MAX_DURATION, "s", low_open=True)
     counts = {"shark": 1, "minnow": 6, "angelfish": 3} if species is None else species
     if not isinstance(counts, dict):
@@ -93,9 +98,10 @@ def world_params(duration: float, species: dict | None, food: int, obstacles: in
     if sum(counts.values()) < 1:
         raise ValueError(f"species must give at least one fish, got {shown(species)}")
     chosen = tuple((SPECIES[name], n) for name, n in counts.items() if n > 0)
+    side = check_number("tank_size", tank_size, *TANK_SIZES, "m")
     return WorldParams(species=chosen, obstacles=check_integer("obstacles", obstacles, 0,
                                                                MAX_OBSTACLES),
-                       duration=float(duration), water=water,
+                       tank=Tank(half_size=0.5 * side), duration=float(duration), water=water,
                        food=FoodParams(count=check_integer("food", food, 0, MAX_FOOD)))
 
 
@@ -126,12 +132,14 @@ class MarineWorldEnv(gym.Env):
     def __init__(self, render_mode: str | None = None, duration: float = 60.0,
                  species: dict | None = None, food: int = 15, obstacles: int = 5,
                  agent: int | None = None, control: str = "behaviour",
-                 vision: int | None = None, water: dict | None = None) -> None:
+                 vision: int | None = None, water: dict | None = None,
+                 tank_size: float = 6.0) -> None:
         if render_mode not in (None, "rgb_array"):
             raise ValueError(f"render_mode must be None or 'rgb_array', got {render_mode!r}")
         if control not in CONTROLS:
             raise ValueError(f"control must be one of {CONTROLS}, got {control!r}")
-        self.world = MarineWorld(world_params(duration, species, food, obstacles, water))
+        self.world = MarineWorld(world_params(duration, species, food, obstacles, water,
+                                              tank_size))
         f = self.world.num_fish
         for name, row in (("agent", agent), ("vision", vision)):
             if row is not None and not (isinstance(row, int) and not isinstance(row, bool)

@@ -6,7 +6,8 @@ longer ``food_range`` m for food), inside its ``field_deg`` field of view about 
 (300 deg: all but a blind cone behind) or within ``lateral_line`` m (a fish feels what moves
 close to it all round), and not hidden behind an obstacle. Obstacles are
 vertical cylinders standing on the seabed (:class:`Obstacles`); a line of sight is hidden when
-it passes through one below its top. All functions are batched: F observers, T targets.
+it passes through one below its top. All functions are batched: F observers, T targets; only
+the pairs within reach are looked at (:mod:`animat.envs.world.grid`).
 """
 
 from __future__ import annotations
@@ -14,6 +15,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+
+from .grid import pairs_within
 
 
 @dataclass(frozen=True)
@@ -53,33 +56,78 @@ class Obstacles:
         return np.where(above > 0, np.hypot(np.maximum(side, 0.0), above), side)
 
 
-def hidden(eyes: np.ndarray, targets: np.ndarray, obstacles: Obstacles) -> np.ndarray:
-    """(F, T) True where the line from eye f (F, 3) to target t (T, 3) passes through an
-    obstacle below its top (the lower end of the line counts: a conservative occlusion)."""
-    if len(obstacles.radii) == 0:
-        return np.zeros((len(eyes), len(targets)), bool)
-    a, b = eyes[:, None, None, :], targets[None, :, None, :]  # (F, 1, 1, 3), (1, T, 1, 3)
-    c = obstacles.centres[None, None]  # (1, 1, K, 2)
-    d = (b - a)[..., :2]
-    length2 = np.maximum(np.einsum("ftkj,ftkj->ftk", d, d), 1e-12)
-    s = np.clip(np.einsum("ftkj,ftkj->ftk", c - a[..., :2], d) / length2, 0.0, 1.0)
-    closest = a[..., :2] + s[..., None] * d
-    through = np.linalg.norm(closest - c, axis=-1) < obstacles.radii
-    low = np.minimum(a[..., 2], b[..., 2]) < obstacles.tops
-    return np.any(through & low, axis=-1)
+def clearance_to(points: np.ndarray, obstacles: Obstacles, k: np.ndarray) -> np.ndarray:
+    """(M, P) m from ``points`` (M, P, 3) to obstacle ``k[m]`` (M,) each, as
+    :meth:`Obstacles.clearance` measures it."""
+    offset = points[..., None, :2] - obstacles.centres[k][:, None, None]
+    side = np.linalg.norm(offset, axis=-1)[..., 0] - obstacles.radii[k][:, None]
+    above = points[..., 2] - obstacles.tops[k][:, None]
+    return np.where(above > 0, np.hypot(np.maximum(side, 0.0), above), side)
+
+
+def obstacles_near(points: np.ndarray, centres: np.ndarray, obstacles: Obstacles,
+                   margin: float) -> tuple[np.ndarray, np.ndarray]:
+    """(fish, obstacle) index pairs, sorted, of every obstacle that may come within
+    ``margin`` m of any of fish f's ``points`` (F, P, 3) gathered about ``centres`` (F, 3)
+    (the grid at the points' widest spread about their centre, plus the margin and the
+    widest radius)."""
+    if len(obstacles.radii) == 0 or len(points) == 0:
+        return np.zeros(0, np.int64), np.zeros(0, np.int64)
+    spread = np.linalg.norm(points[..., :2] - centres[:, None, :2], axis=-1).max()
+    return pairs_within(centres, obstacles.centres, spread + margin + obstacles.radii.max())
+
+
+def first_min_per_row(rows: np.ndarray, values: np.ndarray, columns: np.ndarray
+                      ) -> np.ndarray:
+    """Indices into the pair arrays of each row's smallest value (the smallest column
+    among equals, as ``argmin`` along a dense row picks), one per row that has pairs."""
+    order = np.lexsort((columns, values, rows))
+    first = np.ones(len(order), bool)
+    first[1:] = rows[order][1:] != rows[order][:-1]
+    return order[first]
+
+
+def hidden(eyes: np.ndarray, targets: np.ndarray, obstacles: Obstacles,
+           reach: float = np.inf) -> np.ndarray:
+    """(P,) True where the line from eye p (P, 3) to target p (P, 3), no longer than
+    ``reach`` m, passes through an obstacle below its top (the lower end of the line
+    counts: a conservative occlusion). Only the obstacles that can reach the line are looked
+    at: those whose axis is within ``reach`` plus the widest radius of the eye."""
+    blocked = np.zeros(len(eyes), bool)
+    if len(obstacles.radii) == 0 or len(eyes) == 0:
+        return blocked
+    line, k = pairs_within(eyes, obstacles.centres, min(reach, 1e6) + obstacles.radii.max())
+    a, b, c = eyes[line], targets[line], obstacles.centres[k]
+    d = (b - a)[:, :2]
+    length2 = np.maximum(np.einsum("mj,mj->m", d, d), 1e-12)
+    s = np.clip(np.einsum("mj,mj->m", c - a[:, :2], d) / length2, 0.0, 1.0)
+    closest = a[:, :2] + s[:, None] * d
+    through = np.linalg.norm(closest - c, axis=-1) < obstacles.radii[k]
+    low = np.minimum(a[:, 2], b[:, 2]) < obstacles.tops[k]
+    blocked[line[through & low]] = True
+    return blocked
 
 
 def perceived(eyes: np.ndarray, headings: np.ndarray, targets: np.ndarray, reach: float,
               obstacles: Obstacles, params: OracleParams) -> tuple[np.ndarray, np.ndarray]:
     """Which targets (T, 3) each fish (eyes (F, 3), unit headings (F, 3)) perceives within
-    ``reach`` m: (F, T) bool, and the distances (F, T) m."""
-    offsets = targets[None] - eyes[:, None]
+    ``reach`` m: (F, T) bool, and the distances (F, T) m of the pairs within reach and in
+    the field (inf elsewhere: read them where perceived). Only the pairs the grid
+    (:func:`~animat.envs.world.grid.pairs_within`) puts within reach are looked at."""
+    f, t = pairs_within(eyes, targets, reach)
+    offsets = targets[t] - eyes[f]
     distance = np.linalg.norm(offsets, axis=-1)
-    cosine = np.einsum("ftk,fk->ft", offsets, headings) / np.maximum(distance, 1e-9)
+    cosine = np.einsum("pk,pk->p", offsets, headings[f]) / np.maximum(distance, 1e-9)
     in_field = (cosine >= np.cos(np.radians(0.5 * params.field_deg))) | (
         distance < params.lateral_line)
-    seen = (distance < reach) & in_field & ~hidden(eyes, targets, obstacles)
-    return seen, distance
+    near = (distance < reach) & in_field
+    f, t, distance = f[near], t[near], distance[near]
+    seen = np.zeros((len(eyes), len(targets)), bool)
+    dist = np.full((len(eyes), len(targets)), np.inf)
+    dist[f, t] = distance
+    visible = ~hidden(eyes[f], targets[t], obstacles, reach)
+    seen[f[visible], t[visible]] = True
+    return seen, dist
 
 
 def nearest(seen: np.ndarray, distance: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -14,7 +14,16 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .oracle import Obstacles, OracleParams, nearest, perceived
+from .grid import pairs_within
+from .oracle import (
+    Obstacles,
+    OracleParams,
+    clearance_to,
+    first_min_per_row,
+    nearest,
+    obstacles_near,
+    perceived,
+)
 
 
 @dataclass(frozen=True)
@@ -104,13 +113,15 @@ def collision_danger(heads, headings, com, obstacles: Obstacles, tank: Tank,
     probes = heads[:, None] + np.linspace(0.0, avoid.look_ahead, 4)[None, :, None] * headings[
         :, None]  # (F, 4, 3)
     turn, pitch = np.zeros(f), np.zeros(f)
-    if len(obstacles.radii):
-        near = probes if bodies is None else np.concatenate([probes, bodies], axis=1)
-        clearance = obstacles.clearance(near).min(axis=1)  # (F, K)
-        k = np.argmin(clearance, axis=1)
-        close = clearance[np.arange(f), k] < avoid.margin
-        towards = np.concatenate([obstacles.centres[k], heads[:, 2:]], axis=1) - heads
-        turn = np.where(close, -_side(headings, towards), turn)
+    near = probes if bodies is None else np.concatenate([probes, bodies], axis=1)
+    fish, k = obstacles_near(near, heads, obstacles, avoid.margin)
+    if len(k):
+        clearance = clearance_to(near[fish], obstacles, k).min(axis=1)  # per pair
+        best = first_min_per_row(fish, clearance, k)
+        close = best[clearance[best] < avoid.margin]
+        rows, k = fish[close], k[close]
+        towards = np.concatenate([obstacles.centres[k], heads[rows, 2:]], axis=1) - heads[rows]
+        turn[rows] = -_side(headings[rows], towards)
     ahead = probes[:, -1]
     for axis in (0, 1):  # the tank's walls: turn towards its centre
         out = np.abs(ahead[:, axis]) > tank.half_size - avoid.margin
@@ -120,15 +131,18 @@ def collision_danger(heads, headings, com, obstacles: Obstacles, tank: Tank,
         low &= ~feeding
     pitch = np.where(low, 1.0, pitch)
     pitch = np.where(probes[:, :, 2].max(axis=1) > tank.top_z - avoid.margin, -1.0, pitch)
-    offsets = com[None] - com[:, None]  # (F, F, 3): i to j
-    gap = np.linalg.norm(offsets, axis=-1) + np.eye(f) * 1e9
-    front = np.einsum("ijk,ik->ij", offsets, headings) > 0.0
-    crowd = (gap < avoid.fish_distance) & front
+    i, j = pairs_within(com, com, avoid.fish_distance)
+    i, j = i[i != j], j[i != j]
+    offsets = com[j] - com[i]  # i to j
+    gap = np.linalg.norm(offsets, axis=-1)
+    crowd = (gap < avoid.fish_distance) & (np.einsum("pk,pk->p", offsets, headings[i]) > 0.0)
     if exempt is not None:
-        crowd &= ~exempt
-    j = np.argmin(np.where(crowd, gap, np.inf), axis=1)
-    crowded = crowd.any(axis=1)
-    turn = np.where(crowded & (turn == 0), -_side(headings, offsets[np.arange(f), j]), turn)
+        crowd &= ~exempt[i, j]
+    i, j, gap, offsets = i[crowd], j[crowd], gap[crowd], offsets[crowd]
+    nearest_ahead = first_min_per_row(i, gap, j)
+    rows = i[nearest_ahead]
+    free = turn[rows] == 0
+    turn[rows[free]] = -_side(headings[rows[free]], offsets[nearest_ahead[free]])
     return (turn != 0) | (pitch != 0), turn, pitch
 
 

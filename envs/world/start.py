@@ -112,6 +112,7 @@ def free_spot(rng: np.random.Generator, tank: Tank, obstacles: Obstacles,
     ``taken``: anywhere in the tank, on its rim (``edge``), or within 0.8 m of ``near`` (3,)
     (after ``NEAR_TRIES`` draws that find none there, anywhere); ValueError if none is
     found."""
+    placed = np.asarray(taken, float).reshape(-1, 3)
     for attempt in range(MAX_TRIES):
         xy = rng.uniform(-0.8, 0.8, 2) * tank.half_size
         if near is not None and attempt < NEAR_TRIES:
@@ -122,8 +123,8 @@ def free_spot(rng: np.random.Generator, tank: Tank, obstacles: Obstacles,
             xy[side] = np.sign(xy[side] or 1.0) * 0.85 * tank.half_size
         z = rng.uniform(tank.seabed_z + 0.2, tank.top_z - 0.2)
         point = np.array([*xy, z])
-        if np.all(obstacles.clearance(point) > 0.3) and all(
-                np.linalg.norm(point - t) > 0.45 for t in taken):
+        if np.all(obstacles.clearance(point) > 0.3) and np.all(
+                np.linalg.norm(placed - point, axis=1) > 0.45):
             return point
     raise ValueError(f"world: no start 0.45 m from {len(taken)} fish and 0.3 m from the "
                      f"obstacles in a {2 * tank.half_size:g} m tank: too many fish")

@@ -25,10 +25,11 @@ from ..motor.navigation import Navigator, forward_speeds, navigation_for
 from ..render.camera import yaw_matrix
 from ..tasks.locomotion import SwimTask
 from . import food as food_mod
+from .grid import pairs_within
 from .intention import AVOID, EAT, HUNT, MATE, NAMES, IntentionGenerator
 from .life import Lives
 from .mind import MentalState
-from .oracle import Obstacles
+from .oracle import Obstacles, clearance_to, first_min_per_row, obstacles_near
 from .percepts import perceive
 from .start import WorldParams, free_spot, place_obstacles, relations
 
@@ -220,12 +221,20 @@ class MarineWorld:
         """(F,) catches per predator and (F,) bool prey caught; a caught prey is taken and a
         new one of its species enters at the tank's edge."""
         x = self.core.state.x
-        reach = np.linalg.norm(x[None] - heads[:, None, None], axis=-1).min(axis=2)  # (F, F)
-        within = self.relations["hunts"] & (reach < self.params.catch_radius)
-        caught = within.any(axis=0)
-        caught_by = np.zeros_like(within)  # each prey to the nearest of its hunters
+        com = x.mean(axis=1)
+        spread = np.linalg.norm(x[..., :2] - com[:, None, :2], axis=-1).max()
+        hunter, prey = pairs_within(heads, com, self.params.catch_radius + spread)
+        hunts = self.relations["hunts"][hunter, prey]
+        hunter, prey = hunter[hunts], prey[hunts]
+        reach = np.linalg.norm(x[prey] - heads[hunter, None], axis=-1).min(axis=1)
+        within = reach < self.params.catch_radius
+        hunter, prey, reach = hunter[within], prey[within], reach[within]
+        caught = np.zeros(self.num_fish, bool)
+        caught[prey] = True
+        caught_by = np.zeros((self.num_fish, self.num_fish), bool)  # to the nearest hunter
+        first = first_min_per_row(prey, reach, hunter)
+        caught_by[hunter[first], prey[first]] = True
         prey = np.flatnonzero(caught)
-        caught_by[np.argmin(np.where(within, reach, np.inf), axis=0)[prey], prey] = True
         for row in prey:
             self.core.reset_rows(np.array([row]), [self.rng])
             self.intentions.reset(np.array([row]))
@@ -248,8 +257,9 @@ class MarineWorld:
         pair = np.zeros((f, f), bool)
         courting = (intention == MATE) & (focus >= 0)
         pair[np.flatnonzero(courting), focus[courting]] = True
-        close = np.linalg.norm(com[:, None] - com[None], axis=-1) < self.params.court_distance
-        mutual = pair & pair.T & close
+        mutual = pair & pair.T
+        i, j = np.nonzero(mutual)
+        mutual[i, j] = np.linalg.norm(com[i] - com[j], axis=-1) < self.params.court_distance
         self.courting = np.where(mutual, self.courting + self.dt, 0.0)
         done = self.courting >= self.params.court_time
         self.courting[done] = 0.0
@@ -258,17 +268,20 @@ class MarineWorld:
     def _contacts(self) -> tuple[np.ndarray, np.ndarray]:
         """(F,) new obstacle contacts and (F,) new fish contacts of each fish this step."""
         x = self.core.state.x
-        inside = (self.obstacles.clearance(x) < 0).any(axis=1)  # (F, K)
-        new_obstacle = (inside & ~self.obstacle_contact).sum(axis=1)
-        self.obstacle_contact = inside
         f = len(x)
         com = x.mean(axis=1)
-        near = np.linalg.norm(com[:, None] - com[None], axis=-1) < self.length  # broad phase
+        inside = np.zeros((f, len(self.obstacles.radii)), bool)
+        fish, k = obstacles_near(x, com, self.obstacles, 0.0)
+        inside[fish, k] = (clearance_to(x[fish], self.obstacles, k) < 0).any(axis=1)
+        new_obstacle = (inside & ~self.obstacle_contact).sum(axis=1)
+        self.obstacle_contact = inside
+        i, j = pairs_within(com, com, self.length)  # broad phase
+        near = (i < j) & (np.linalg.norm(com[i] - com[j], axis=-1) < self.length)
+        i, j = i[near], j[near]
+        d = x[i][:, :, None] - x[j][:, None]
+        touch = np.einsum("pabk,pabk->pab", d, d).min(axis=(1, 2)) < self.params.contact_distance**2
         touching = np.zeros((f, f), bool)
-        for i, j in zip(*np.nonzero(np.triu(near, 1))):
-            d = x[i][:, None] - x[j][None]
-            touching[i, j] = touching[j, i] = (np.einsum("abk,abk->ab", d, d).min()
-                                               < self.params.contact_distance**2)
+        touching[i[touch], j[touch]] = touching[j[touch], i[touch]] = True
         touching &= ~(self.relations["hunts"] | self.relations["hunts"].T)  # catches
         self.apart = np.where(touching, 0.0, self.apart + self.dt)
         new_fish = (touching & ~self.fish_contact & (self.apart_before >= self.params.apart_time)

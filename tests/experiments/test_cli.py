@@ -304,3 +304,14 @@ def test_compare_reads_scalars_csv_without_events_and_shows_intervals(tmp_path):
                       row.split("|")[3])
     mean, std, low, high = (float(v) for v in found.groups())
     assert low <= mean <= high and std > 0 and low < high and "95% bootstrap interval" in text
+
+
+def test_world_bench_growth_arguments_are_checked_in_one_line(tmp_path):
+    for args, message in ((["--fish", "0,10"], "each in [1, 3000]"),
+                          (["--fish", "ten"], "give fish counts like 10,100,1000"),
+                          (["--plot", tmp_path / "g.png"], "give --fish too")):
+        result = animat("world-bench", *args, check=False)
+        assert result.returncode == 2 and message in result.stderr
+    result = animat("world-bench", "--fish", "5,10", "--seconds", "0.05", "--plot",
+                    tmp_path / "g.png")
+    assert "us/fish-step" in result.stdout and (tmp_path / "g.png").stat().st_size > 1000

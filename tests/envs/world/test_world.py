@@ -164,6 +164,26 @@ def test_the_world_env_contract_and_bad_arguments():
         gym.make("Animat/MarineWorld-v0", control="navigation")
     with pytest.raises(ValueError, match="vision"):
         gym.make("Animat/MarineWorld-v0", vision=3)  # a minnow: not a predator
+    for size in (1.0, float("nan"), "big"):
+        with pytest.raises(ValueError, match=r"^tank_size must be a finite number in \[2, 200\]"):
+            gym.make("Animat/MarineWorld-v0", tank_size=size)
+
+
+def test_a_world_of_a_hundred_fish_in_a_larger_tank_lives_and_the_growth_bench_reports():
+    from animat.experiments.bench.world import population_world, report_sizes, run_sizes
+
+    env = population_world(100)
+    world = env.unwrapped.world
+    assert world.num_fish == 100 and world.params.tank.half_size == pytest.approx(9.49, abs=0.01)
+    env.reset(seed=0)
+    events = [env.step(np.zeros(3, np.float32))[-1] for _ in range(40)]
+    heads = world.core.state.x[:, 0, :2]
+    assert np.abs(heads).max() < world.params.tank.half_size  # spread over the whole tank
+    assert np.abs(heads).max() > 6.0
+    assert len({code for info in events for code in info["intentions"]}) >= 2
+    result = run_sizes([10, 20], seconds=0.05, rounds=1)
+    text = report_sizes(result)
+    assert set(result) == {10, 20} and "growth" in text.splitlines()[0]
 
 
 def test_a_fish_with_eyes_hunts_by_active_vision_and_the_agent_takes_its_commands():
