@@ -20,7 +20,7 @@ CODE = {"animat": "animat", "animat.envs": "envs", "animat.learners": "learners"
 # the imports that an extra provides, and the modules that import them (each handles its
 # absence: the benchmark runs without Swimmer-v5, the sweep says to install the extra)
 OPTIONAL = {"mujoco": ("bench", {"experiments/bench/physics.py"}),
-            "ray": ("ray", {"experiments/sweep.py"})}
+            "ray": ("ray", {"experiments/executors.py"})}
 DATA = {"animat/configs": "configs", "animat/repertoires": "repertoires"}
 SKIP = shutil.ignore_patterns(".git", ".venv", "runs", "build", "dist", "*.egg-info",
                               "__pycache__", ".pytest_cache", ".ruff_cache", "videos")

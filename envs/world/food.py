@@ -9,8 +9,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .grid import pairs_within
-from .oracle import Obstacles, clearance_to, first_min_per_row, obstacles_near
+from .oracle import Obstacles, clearance_to, first_min_per_row, obstacles_near, pairs_within
 from .percepts import Tank
 
 

@@ -6,8 +6,15 @@ longer ``food_range`` m for food), inside its ``field_deg`` field of view about 
 (300 deg: all but a blind cone behind) or within ``lateral_line`` m (a fish feels what moves
 close to it all round), and not hidden behind an obstacle. Obstacles are
 vertical cylinders standing on the seabed (:class:`Obstacles`); a line of sight is hidden when
-it passes through one below its top. All functions are batched: F observers, T targets; only
-the pairs within reach are looked at (:mod:`animat.envs.world.grid`).
+it passes through one below its top. All functions are batched: F observers, T targets.
+
+Only the pairs within reach are looked at, so that the cost grows with the number of fish,
+not its square: :func:`pairs_within` returns every (query, point) pair whose horizontal
+distance may be below ``reach`` (those in the cells of a uniform grid over the tank's floor
+plan that the query's reach overlaps: a superset, never missing one), and the callers (here,
+:mod:`~animat.envs.world.percepts`, :mod:`~animat.envs.world.world`,
+:mod:`~animat.envs.world.food`) apply their exact test to those pairs alone, with the same
+arithmetic as on all pairs, so a world steps the same whether a pair was looked at or not.
 """
 
 from __future__ import annotations
@@ -16,7 +23,53 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .grid import pairs_within
+# --- which things are near which: a grid over the tank's floor plan -------------------------
+_KEY = np.int64(1 << 31)  # cell (i, j) -> i * _KEY + j (cell indices far below 2^30)
+ALL_PAIRS = 4096  # up to this many (query, point) pairs, all are returned without a grid
+
+
+def _cells(xy: np.ndarray, cell: float) -> tuple[np.ndarray, np.ndarray]:
+    return (np.floor(xy[:, 0] / cell).astype(np.int64),
+            np.floor(xy[:, 1] / cell).astype(np.int64))
+
+
+def _ranges(starts: np.ndarray, counts: np.ndarray) -> np.ndarray:
+    """The concatenation of ``arange(s, s + c)`` for each start s and count c."""
+    total = int(counts.sum())
+    if total == 0:
+        return np.zeros(0, np.int64)
+    offsets = np.repeat(np.cumsum(counts) - counts, counts)
+    return np.arange(total, dtype=np.int64) - offsets + np.repeat(starts, counts)
+
+
+def pairs_within(queries: np.ndarray, points: np.ndarray, reach: float
+                 ) -> tuple[np.ndarray, np.ndarray]:
+    """(q, p) index arrays, sorted by q then p: every pair of ``queries`` (Q, >=2) and
+    ``points`` (P, >=2) m whose horizontal (x, y) distance is below ``reach`` m, and some
+    farther ones (the points in the cells of side ``reach`` next to the query's; every pair
+    when there are at most :data:`ALL_PAIRS`)."""
+    if len(queries) == 0 or len(points) == 0 or not reach > 0:
+        return np.zeros(0, np.int64), np.zeros(0, np.int64)
+    if len(queries) * len(points) <= ALL_PAIRS:  # few: every pair costs less than the grid
+        return (np.repeat(np.arange(len(queries)), len(points)),
+                np.tile(np.arange(len(points)), len(queries)))
+    cell = float(reach)
+    pi, pj = _cells(np.asarray(points, float), cell)
+    keys = pi * _KEY + pj
+    order = np.argsort(keys, kind="stable")
+    sorted_keys = keys[order]
+    qi, qj = _cells(np.asarray(queries, float), cell)
+    found_q, found_p = [], []
+    for di in (-1, 0, 1):
+        for dj in (-1, 0, 1):
+            wanted = (qi + di) * _KEY + (qj + dj)
+            low = np.searchsorted(sorted_keys, wanted, "left")
+            counts = np.searchsorted(sorted_keys, wanted, "right") - low
+            found_q.append(np.repeat(np.arange(len(queries)), counts))
+            found_p.append(order[_ranges(low, counts)])
+    q, p = np.concatenate(found_q), np.concatenate(found_p)
+    both = np.lexsort((p, q))
+    return q[both], p[both]
 
 
 @dataclass(frozen=True)
@@ -113,7 +166,7 @@ def perceived(eyes: np.ndarray, headings: np.ndarray, targets: np.ndarray, reach
     """Which targets (T, 3) each fish (eyes (F, 3), unit headings (F, 3)) perceives within
     ``reach`` m: (F, T) bool, and the distances (F, T) m of the pairs within reach and in
     the field (inf elsewhere: read them where perceived). Only the pairs the grid
-    (:func:`~animat.envs.world.grid.pairs_within`) puts within reach are looked at."""
+    (:func:`pairs_within`) puts within reach are looked at."""
     f, t = pairs_within(eyes, targets, reach)
     offsets = targets[t] - eyes[f]
     distance = np.linalg.norm(offsets, axis=-1)

@@ -14,7 +14,6 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .grid import pairs_within
 from .oracle import (
     Obstacles,
     OracleParams,
@@ -22,6 +21,7 @@ from .oracle import (
     first_min_per_row,
     nearest,
     obstacles_near,
+    pairs_within,
     perceived,
 )
 

@@ -25,11 +25,10 @@ from ..motor.navigation import Navigator, forward_speeds, navigation_for
 from ..render.camera import yaw_matrix
 from ..tasks.locomotion import SwimTask
 from . import food as food_mod
-from .grid import pairs_within
 from .intention import AVOID, EAT, HUNT, MATE, NAMES, IntentionGenerator
 from .life import Lives
 from .mind import MentalState
-from .oracle import Obstacles, clearance_to, first_min_per_row, obstacles_near
+from .oracle import Obstacles, clearance_to, first_min_per_row, obstacles_near, pairs_within
 from .percepts import perceive
 from .start import WorldParams, free_spot, place_obstacles, relations
 

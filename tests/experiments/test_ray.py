@@ -8,6 +8,7 @@ import shutil
 import socket
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import pytest
@@ -29,27 +30,41 @@ def _free_port() -> int:
         return probe.getsockname()[1]
 
 
-def _ray_cli(*args: str) -> None:
+def _ray_cli(*args: str, tries: int = 1) -> None:
+    """``ray ARGS``, again up to ``tries`` times (a node joining a head just started may find
+    it not ready yet); its output in the failure's message."""
     ray_bin = Path(sys.executable).with_name("ray")
     command = [str(ray_bin) if ray_bin.exists() else shutil.which("ray") or "ray", *args]
-    subprocess.run(command, check=True, capture_output=True, timeout=120,
-                   env={**os.environ, "RAY_USAGE_STATS_ENABLED": "0",
-                        "PATH": f"{ray_bin.parent}{os.pathsep}{os.environ.get('PATH', '')}"})
+    env = {**os.environ, "RAY_USAGE_STATS_ENABLED": "0",
+           "PATH": f"{ray_bin.parent}{os.pathsep}{os.environ.get('PATH', '')}"}
+    for _ in range(tries):
+        done = subprocess.run(command, capture_output=True, text=True, timeout=120, env=env)
+        if done.returncode == 0:
+            return
+        time.sleep(3.0)
+    raise AssertionError(f"{' '.join(args)} failed: {done.stdout[-2000:]}\n{done.stderr[-2000:]}")
 
 
 @pytest.fixture(scope="module")
-def two_nodes():
-    """A head and a worker node of one CPU each, on 127.0.0.1: the cluster's address."""
-    port = _free_port()
+def two_nodes(tmp_path_factory):
+    """A head and a worker node of one CPU each, on 127.0.0.1: the cluster's address. Ray's
+    files under HOME are this fixture's own while it lasts (a ``~/.ray/auth_token`` that a
+    local ``ray.init`` leaves there stops a node joining a cluster started without one)."""
+    port, home = _free_port(), os.environ.get("HOME")
     address = f"127.0.0.1:{port}"
+    os.environ["HOME"] = str(tmp_path_factory.mktemp("home"))
     try:
         _ray_cli("start", "--head", "--node-ip-address=127.0.0.1", f"--port={port}",
                  "--num-cpus=1", "--include-dashboard=false", "--disable-usage-stats")
         _ray_cli("start", f"--address={address}", "--node-ip-address=127.0.0.1",
-                 "--num-cpus=1")
+                 "--num-cpus=1", tries=3)
         yield address
     finally:
         _ray_cli("stop", "--force")
+        if home is None:
+            os.environ.pop("HOME", None)
+        else:
+            os.environ["HOME"] = home
 
 
 def test_a_sweep_on_two_ray_nodes_returns_every_run_folder_to_the_driver(two_nodes, tmp_path):

@@ -1,12 +1,11 @@
-"""The world's spatial grid: the pairs it hands out hold every pair within reach, and what is
+"""The oracle's spatial grid: the pairs it hands out hold every pair within reach, and what is
 computed on them is what every pair gives (a brute force over all pairs, written here as the
 reference), for worlds small enough for all pairs and large enough for the grid."""
 
 import numpy as np
 import pytest
 
-from animat.envs.world.grid import ALL_PAIRS, pairs_within
-from animat.envs.world.oracle import Obstacles, OracleParams, perceived
+from animat.envs.world.oracle import ALL_PAIRS, Obstacles, OracleParams, pairs_within, perceived
 from animat.envs.world.percepts import AvoidParams, Tank, collision_danger
 
 
