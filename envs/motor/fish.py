@@ -109,23 +109,37 @@ def calibrated(model: str) -> tuple[SwimParams, TurnParams]:
     raise ValueError(f"no motor controllers are calibrated for water model {model!r}")
 
 
-def _check_unit(name: str, value: float, low: float, high: float) -> float:
-    value = float(value)
-    if not (low <= value <= high):
-        raise ValueError(f"{name} must be in [{low}, {high}], got {value!r}")
-    return value
+def _check_unit(name: str, value, low: float, high: float):
+    """``value`` as a float (an array of floats for an array) if it is within [low, high]
+    (every entry); else ValueError naming the first that is not."""
+    if np.ndim(value) == 0:
+        value = float(value)
+        if not (low <= value <= high):
+            raise ValueError(f"{name} must be in [{low}, {high}], got {value!r}")
+        return value
+    values = np.asarray(value, dtype=float)
+    bad = ~((low <= values) & (values <= high))
+    if bad.any():
+        raise ValueError(f"{name} must be in [{low}, {high}], got {float(values[bad][0])!r}")
+    return values
 
 
-def swim_mc(speed: float, t: np.ndarray | float, params: SwimParams = SwimParams()) -> np.ndarray:
-    """Swim forward at ``speed`` in [0, 1] (0: glide, 1: full speed). Returns u (..., 6)."""
+def swim_mc(speed: float | np.ndarray, t: np.ndarray | float,
+            params: SwimParams = SwimParams()) -> np.ndarray:
+    """Swim forward at ``speed`` in [0, 1] (0: glide, 1: full speed; an array: one swim per
+    entry, broadcast with ``t``). Returns u (..., 6)."""
     speed = _check_unit("swim speed", speed, 0.0, 1.0)
     t = np.asarray(t, dtype=float)
     hz = params.min_hz + (params.max_hz - params.min_hz) * speed
     ramp = params.ramp_cycles / hz
-    ease = np.clip(t / ramp, 0.0, 1.0) if ramp > 0 else np.ones_like(t)
+    if np.ndim(ramp) == 0:
+        ease = np.clip(t / ramp, 0.0, 1.0) if ramp > 0 else np.ones_like(t)
+    else:
+        eased = ramp > 0
+        ease = np.where(eased, np.clip(t / np.where(eased, ramp, 1.0), 0.0, 1.0), 1.0)
     half = 0.5 * params.max_amplitude * speed * ease * ease * (3.0 - 2.0 * ease)
     phase = 2.0 * np.pi * hz * t + params.start_phase
-    u = np.zeros(t.shape + (6,))
+    u = np.zeros(np.shape(phase) + (6,))
     u[..., LEFT_MIDDLE] = half * (1.0 + np.sin(phase))
     u[..., RIGHT_MIDDLE] = half * (1.0 - np.sin(phase))
     u[..., LEFT_BACK] = half * (1.0 + np.sin(phase - params.phase_lag))
@@ -133,20 +147,24 @@ def swim_mc(speed: float, t: np.ndarray | float, params: SwimParams = SwimParams
     return u
 
 
-def turn_strokes(angle: float, params: TurnParams = TurnParams()) -> int:
-    """Number of power strokes the turn-MC uses for ``angle`` rad."""
-    return max(1, int(np.ceil(angle / params.angle_per_stroke - 1e-9)))
+def turn_strokes(angle, params: TurnParams = TurnParams()):
+    """Number of power strokes the turn-MC uses for ``angle`` rad (an array: per entry)."""
+    if np.ndim(angle) == 0:
+        return max(1, int(np.ceil(angle / params.angle_per_stroke - 1e-9)))
+    return np.maximum(1, np.ceil(np.asarray(angle) / params.angle_per_stroke - 1e-9).astype(int))
 
 
-def turn_duration(angle: float, params: TurnParams = TurnParams()) -> float:
-    """Seconds from the start of a turn of ``angle`` rad until its muscles are relaxed."""
+def turn_duration(angle, params: TurnParams = TurnParams()):
+    """Seconds from the start of a turn of ``angle`` rad until its muscles are relaxed (an
+    array: per entry)."""
     return turn_strokes(angle, params) * params.period
 
 
-def turn_mc(angle: float, t: np.ndarray | float, left: bool = True,
-            params: TurnParams = TurnParams(), speed: float = 0.0) -> np.ndarray:
+def turn_mc(angle, t: np.ndarray | float, left=True,
+            params: TurnParams = TurnParams(), speed=0.0) -> np.ndarray:
     """Turn left (``left=True``) or right by ``angle`` rad in [0, pi], begun at the forward
-    speed ``speed`` (BL/s, in [-100, 100]; 0: from rest). Returns u (..., 6)."""
+    speed ``speed`` (BL/s, in [-100, 100]; 0: from rest); ``angle``, ``left`` and ``speed``
+    may be arrays (one turn per entry, broadcast with ``t``). Returns u (..., 6)."""
     angle = _check_unit("turn angle", angle, 0.0, np.pi)
     speed = _check_unit("turn's forward speed (BL/s)", speed, -MAX_SPEED, MAX_SPEED)
     t = np.asarray(t, dtype=float)
@@ -154,12 +172,21 @@ def turn_mc(angle: float, t: np.ndarray | float, left: bool = True,
     rise = params.rise / params.period
     envelope = np.where(phase < rise, phase / rise, 1.0 - (phase - rise) / (1.0 - rise))
     active = (t >= 0.0) & (t < turn_duration(angle, params))
-    amplitude = params.amplitude * max(MIN_RELIEF, 1.0 - params.speed_relief * speed**2)
+    relief = 1.0 - params.speed_relief * speed**2
+    amplitude = params.amplitude * (max(MIN_RELIEF, relief) if np.ndim(relief) == 0
+                                    else np.maximum(MIN_RELIEF, relief))
     envelope = amplitude * np.where(active, envelope, 0.0)
-    u = np.zeros(t.shape + (6,))
-    for segment in (LEFT_FRONT, LEFT_MIDDLE, LEFT_BACK) if left else (
-            RIGHT_FRONT, RIGHT_MIDDLE, RIGHT_BACK):
-        u[..., segment] = envelope
+    u = np.zeros(np.shape(envelope) + (6,))
+    if np.ndim(left) == 0:
+        for segment in (LEFT_FRONT, LEFT_MIDDLE, LEFT_BACK) if left else (
+                RIGHT_FRONT, RIGHT_MIDDLE, RIGHT_BACK):
+            u[..., segment] = envelope
+        return u
+    left = np.asarray(left, bool)
+    for segment in (LEFT_FRONT, LEFT_MIDDLE, LEFT_BACK):
+        u[..., segment] = np.where(left, envelope, 0.0)
+    for segment in (RIGHT_FRONT, RIGHT_MIDDLE, RIGHT_BACK):
+        u[..., segment] = np.where(left, 0.0, envelope)
     return u
 
 
@@ -199,9 +226,13 @@ def fin_mc(pitch: float = 0.0, roll: float = 0.0, params: FinParams = FinParams(
     forward); positive roll lifts the left fin and lowers the right (rolls to the right)."""
     pitch = _check_unit("fin pitch", pitch, -1.0, 1.0)
     roll = _check_unit("fin roll", roll, -1.0, 1.0)
-    left = min(max(pitch + roll, -1.0), 1.0)
-    right = min(max(pitch - roll, -1.0), 1.0)
-    return params.max_angle * np.array([left, right])
+    if np.ndim(pitch) == 0 and np.ndim(roll) == 0:
+        left = min(max(pitch + roll, -1.0), 1.0)
+        right = min(max(pitch - roll, -1.0), 1.0)
+        return params.max_angle * np.array([left, right])
+    left = np.minimum(np.maximum(pitch + roll, -1.0), 1.0)  # arrays: (..., 2)
+    right = np.minimum(np.maximum(pitch - roll, -1.0), 1.0)
+    return params.max_angle * np.stack(np.broadcast_arrays(left, right), axis=-1)
 
 
 def to_action(u: np.ndarray) -> np.ndarray:

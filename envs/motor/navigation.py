@@ -76,19 +76,21 @@ class Navigator:
         self.kind[rows], self.angle[rows], self.start[rows] = 0, 0.0, 0.0
         self.speed[rows], self.turn_from[rows] = np.nan, 0.0
 
-    def _swim_time(self, k: int, speed: float, time: float) -> float:
-        """s: the time at which the swim-MC at ``speed`` has made the tail beats fish ``k``'s
-        swim has made by ``time`` (the time since the swim began while its speed holds)."""
-        if self.speed[k] != speed:
-            if np.isnan(self.speed[k]):
-                self.beats[k], self.since[k] = 0.0, self.start[k]
-            else:
-                self.beats[k] += self._hz(self.speed[k]) * (time - self.since[k])
-                self.since[k] = time
-            self.speed[k] = speed
-        return self.beats[k] / self._hz(speed) + (time - self.since[k])
+    def _swim_times(self, rows: np.ndarray, speed: np.ndarray, time: np.ndarray) -> np.ndarray:
+        """(R,) s: for the swimming fish ``rows``, the time at which the swim-MC at ``speed``
+        (R,) has made the tail beats each one's swim has made by ``time`` (R,) (the time since
+        the swim began while its speed holds)."""
+        was = self.speed[rows]
+        changed = was != speed  # a new speed (nan: a new swim)
+        fresh, moved = changed & np.isnan(was), changed & ~np.isnan(was)
+        self.beats[rows[fresh]], self.since[rows[fresh]] = 0.0, self.start[rows[fresh]]
+        kept = rows[moved]
+        self.beats[kept] += self._hz(was[moved]) * (time[moved] - self.since[kept])
+        self.since[kept] = time[moved]
+        self.speed[rows[changed]] = speed[changed]
+        return self.beats[rows] / self._hz(speed) + (time - self.since[rows])
 
-    def _hz(self, speed: float) -> float:
+    def _hz(self, speed):
         swim = self.params.swim
         return swim.min_hz + (swim.max_hz - swim.min_hz) * speed
 
@@ -100,35 +102,37 @@ class Navigator:
         ``reflex`` (count,) is True, a turn the other way than the command's is cut short for
         it (a reflex, such as collision avoidance, pre-empts the running MC). ``forward``
         (count,) BL/s: each fish's speed along its heading now, which a turn begun now strokes
-        by (default 0: from rest; :func:`forward_speeds` reads it off the kinematics)."""
+        by (default 0: from rest; :func:`forward_speeds` reads it off the kinematics). Every
+        fish at once, in arrays; a command that is not a number is a ValueError, before any
+        fish's state changes."""
         commands = np.asarray(commands, dtype=float)
+        if not np.isfinite(commands).all():
+            raise ValueError("navigation commands must be finite numbers (speed, turn, pitch)")
         time = np.broadcast_to(np.asarray(time, dtype=float), self.kind.shape)
         forward = np.zeros(self.kind.shape) if forward is None else np.clip(
             np.asarray(forward, dtype=float), -MAX_SPEED, MAX_SPEED)
+        speed = np.minimum(np.maximum(commands[:, 0], 0.0), 1.0)
+        turn = np.minimum(np.maximum(commands[:, 1], -1.0), 1.0)
+        pitch = np.minimum(np.maximum(commands[:, 2], -1.0), 1.0)
+        params, wanted = self.params, np.abs(turn) > self.params.turn_threshold
+        over = (self.kind != 0) & (time - self.start >= turn_duration(self.angle, params.turn))
+        self.kind[over], self.start[over], self.speed[over] = 0, time[over], np.nan
+        if reflex is not None:  # the reflex's turn starts now
+            self.kind[np.asarray(reflex, bool) & (self.kind * turn < 0) & wanted] = 0
+        begin = (self.kind == 0) & wanted
+        self.kind[begin] = np.where(turn[begin] > 0, 1, -1)
+        self.start[begin], self.angle[begin] = time[begin], np.abs(turn[begin]) * params.max_turn
+        self.speed[begin], self.turn_from[begin] = np.nan, forward[begin]
+        u = np.empty((len(self.kind), 6))
+        swim = np.flatnonzero(self.kind == 0)
+        u[swim] = swim_mc(speed[swim], self._swim_times(swim, speed[swim], time[swim]),
+                          params.swim)
+        turning = np.flatnonzero(self.kind != 0)
+        u[turning] = turn_mc(self.angle[turning], time[turning] - self.start[turning],
+                             self.kind[turning] > 0, params.turn, self.turn_from[turning])
         out = np.empty((len(self.kind), 8), np.float32)
-        for k in range(len(self.kind)):
-            speed, turn, pitch = (min(max(float(c), low), 1.0)
-                                  for c, low in zip(commands[k], (0.0, -1.0, -1.0)))
-            elapsed = time[k] - self.start[k]
-            if self.kind[k] != 0 and elapsed >= turn_duration(self.angle[k], self.params.turn):
-                self.kind[k], self.start[k] = 0, time[k]  # the turn is over: swim again
-                self.speed[k] = np.nan
-            if (reflex is not None and reflex[k] and self.kind[k] * turn < 0
-                    and abs(turn) > self.params.turn_threshold):
-                self.kind[k] = 0  # the reflex's turn starts now
-            if self.kind[k] == 0 and abs(turn) > self.params.turn_threshold:
-                self.kind[k], self.start[k] = (1 if turn > 0 else -1), time[k]
-                self.angle[k] = abs(turn) * self.params.max_turn
-                self.speed[k], self.turn_from[k] = np.nan, forward[k]
-            elapsed = time[k] - self.start[k]
-            if self.kind[k] == 0:
-                u = swim_mc(float(speed), self._swim_time(k, float(speed), time[k]),
-                            self.params.swim)
-            else:
-                u = turn_mc(float(self.angle[k]), elapsed, self.kind[k] > 0, self.params.turn,
-                            float(self.turn_from[k]))
-            out[k, :6] = to_action(u)
-            out[k, 6:] = fin_mc(pitch=float(pitch)) / FinParams().max_angle
+        out[:, :6] = to_action(u)
+        out[:, 6:] = fin_mc(pitch=pitch) / FinParams().max_angle
         return out
 
 
