@@ -15,6 +15,11 @@ study as they are logged, and a trial whose curve falls below the median of earl
 the same env step is pruned (its folder says ``pruned``). The trial's value is the run's result
 for ``eval.metric``. At the end: a table of the trials, and ``OUT/best.yaml``, the resolved
 config of the best trial (the tuned config).
+
+``--workers N`` runs N workers on the study at once (processes here, or Ray tasks with
+``--executor ray``: :mod:`animat.experiments.executors`); whatever the workers, a parameter set
+already tried, or being tried, is never run again: the sample is told to the study as a failed
+twin (:func:`twin_of`), not run, and not counted in the trials.
 """
 
 from __future__ import annotations
