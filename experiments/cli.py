@@ -9,7 +9,7 @@
     animat eval RUN_DIR [--episodes N] [--seeds 0-3] [--video DIR]
     animat tune CONFIG --trials N [--set ...] [--out DIR] [--storage URL] [--study NAME]
                 [--workers N] [--executor local|ray] [--address ADDR]
-    animat bench [--seconds S] [--breakdown]
+    animat bench [--seconds S] [--breakdown | --learners]
     animat demo [--seconds S] [--video DIR] [--model-sweep]
     animat figures --out DIR [--seed S] [--frames N]
     animat stunt-figures --out DIR --leap RUN [--nose-ball RUN] [--tail-ball RUN]
@@ -223,8 +223,17 @@ def cmd_demo(args) -> int:
 def cmd_bench(args) -> int:
     from .bench.physics import report, report_breakdown, run
 
+    if not args.seconds > 0:
+        raise RunError(f"--seconds must be > 0, got {args.seconds}")
+    if args.breakdown and args.learners:
+        raise RunError("--breakdown and --learners are two benchmarks: give one")
     if args.breakdown:
         print(report_breakdown())
+        return 0
+    if args.learners:
+        from .bench import learners
+
+        print(learners.report(learners.run(args.seconds)))
         return 0
     print(report(run(args.seconds, args.num_envs), args.num_envs))
     return 0

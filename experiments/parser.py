@@ -136,6 +136,9 @@ def make_parser() -> argparse.ArgumentParser:
     bench.add_argument("--num-envs", type=int, default=256, help="the batch's size")
     bench.add_argument("--breakdown", action="store_true",
                        help="where an integration step's time goes, per force term")
+    bench.add_argument("--learners", action="store_true",
+                       help="annealing, CMA-ES and PPO's env steps/s as they learn, against "
+                            "the native batch they step, in the same rounds")
     stunts = sub.add_parser("stunt-figures", help="the paper's Figs. 10, 11 and a leap video "
                             "from finished dolphin macro runs")
     stunts.add_argument("--out", type=Path, required=True, help="folder for the files")
