@@ -35,6 +35,9 @@ def unseen_seeds(seed: int, count: int) -> list[int]:
     return [UNSEEN_SEEDS_FROM + int(seed) + k for k in range(int(count))]
 
 
+NARROW = 32  # rows: a part-filled chunk plays on a batch of the next multiple of this
+
+
 class BatchEvaluator:
     """Plays action sequences (P, T, A) on a native vector env.
 
@@ -51,8 +54,10 @@ class BatchEvaluator:
         if type(num_starts) is not int or num_starts < 1:
             raise ValueError(f"start_states must be an integer >= 1, got {num_starts!r}")
         self.num_starts = num_starts
+        self.env_id, self.env_kwargs = env_id, dict(env_kwargs or {})
         self.env = gym.make_vec(env_id, num_envs=int(num_envs) * num_starts,
-                                **(env_kwargs or {}))
+                                **self.env_kwargs)
+        self._narrow: dict[int, gym.vector.VectorEnv] = {}  # batches for part-filled chunks
         self.seed = int(seed)
         self.dt = float(self.env.dt)
         self.steps = int(self.env.episode_steps)
@@ -98,18 +103,33 @@ class BatchEvaluator:
         ``actions(dt, steps)``: controllers, macro sequences)."""
         return self.evaluate(np.stack([p.actions(self.dt, self.steps) for p in players]))
 
+    def _batch_for(self, count: int):
+        """The vector env a chunk of ``count`` rows is played on: the full batch, or for a
+        chunk that fills less of it (a single candidate's starts, a last part-filled
+        round), one of the next multiple of :data:`NARROW` rows, made once. A row plays the
+        same, bit for bit, whatever batch it is in (the bodies are independent, each row
+        seeded alone)."""
+        full = self.env.num_envs
+        width = min(full, -(-count // NARROW) * NARROW)
+        if width == full:
+            return self.env
+        if width not in self._narrow:
+            self._narrow[width] = gym.make_vec(self.env_id, num_envs=width, **self.env_kwargs)
+        return self._narrow[width]
+
     def _evaluate_chunk(self, chunk: np.ndarray):
-        """Play up to ``num_envs`` rows (padded to the batch) from their start states: (rows,)
-        returns and the task's summary metrics (rows,) each."""
-        count, width = len(chunk), self.env.num_envs
+        """Play up to ``num_envs`` rows (padded to the batch :meth:`_batch_for` gives) from
+        their start states: (rows,) returns and the task's summary metrics (rows,) each."""
+        env = self._batch_for(len(chunk))
+        count, width = len(chunk), env.num_envs
         padded = np.zeros((width,) + chunk.shape[1:], dtype=chunk.dtype)
         padded[:count] = chunk
         act = self._player(padded)
-        obs, _ = self.env.reset(seed=[self.seed + r % self.num_starts for r in range(width)])
+        obs, _ = env.reset(seed=[self.seed + r % self.num_starts for r in range(width)])
         total = np.zeros(width)
         summary = EpisodeSummary(self.task, width)
         for k in range(self.steps):
-            obs, reward, _, _, info = self.env.step(act(k, obs))
+            obs, reward, _, _, info = env.step(act(k, obs))
             total += reward
             summary.update(info)
         self.env_steps += count * self.steps
