@@ -78,10 +78,11 @@ def _wait_for_rows(process: subprocess.Popen | None, folder: Path, rows: int) ->
 
 
 def _scalars(folder: Path) -> list[tuple[int, str, str]]:
-    """scalars.csv's rows but the wall-clock ``time/*``."""
+    """scalars.csv's rows but the wall-clock ``time/*`` (a basic-training skill's too,
+    ``skill/NAME/time/*``)."""
     with (folder / "scalars.csv").open(newline="") as file:
         return [(int(r["step"]), r["tag"], r["value"]) for r in csv.DictReader(file)
-                if not r["tag"].startswith("time/")]
+                if "time" not in r["tag"].split("/")[:-1]]
 
 
 def _events(folder: Path) -> list[tuple[str, int]]:
