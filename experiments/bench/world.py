@@ -50,14 +50,19 @@ def configurations() -> dict[str, gym.Env]:
             "10 fishes, one with eyes": gym.make("Animat/MarineWorld-v0", vision=0)}
 
 
+def median_rates(envs: dict, seconds: float, rounds: int) -> dict:
+    """{key: median env steps/s of ``envs[key]`` over ``rounds`` interleaved rounds of
+    ``seconds``} (round k seeds every env with k)."""
+    samples: dict = {key: [] for key in envs}
+    for k in range(rounds):
+        for key, env in envs.items():
+            samples[key].append(steps_per_second(env, seconds, seed=k))
+    return {key: float(np.median(values)) for key, values in samples.items()}
+
+
 def run(seconds: float = 3.0, rounds: int = 3) -> dict[str, float]:
     """{configuration: median env steps/s over ``rounds`` interleaved rounds of ``seconds``}."""
-    envs = configurations()
-    samples: dict[str, list[float]] = {name: [] for name in envs}
-    for k in range(rounds):
-        for name, env in envs.items():
-            samples[name].append(steps_per_second(env, seconds, seed=k))
-    return {name: float(np.median(values)) for name, values in samples.items()}
+    return median_rates(configurations(), seconds, rounds)
 
 
 def report(result: dict[str, float]) -> str:
@@ -88,12 +93,7 @@ def population_world(fish: int) -> gym.Env:
 def run_sizes(sizes: list[int], seconds: float = 3.0, rounds: int = 3) -> dict[int, float]:
     """{fish: median env steps/s over ``rounds`` interleaved rounds of ``seconds``} of
     :func:`population_world` at each size."""
-    envs = {n: population_world(n) for n in sizes}
-    samples: dict[int, list[float]] = {n: [] for n in sizes}
-    for k in range(rounds):
-        for n, env in envs.items():
-            samples[n].append(steps_per_second(env, seconds, seed=k))
-    return {n: float(np.median(values)) for n, values in samples.items()}
+    return median_rates({n: population_world(n) for n in sizes}, seconds, rounds)
 
 
 def report_sizes(result: dict[int, float]) -> str:
