@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from .forces import FAST, limited_drag, submerged
+from .forces import BATCH, FAST, lane_count, limited_drag, submerged
 from .system import AIR_COEFFICIENT, CURRENT_X, CURRENT_Y, CURRENT_Z, FLUID_COEFFICIENT, SURFACE_Z
 
 
@@ -25,7 +25,7 @@ def _centroid(x, nodes, axis, lane) -> float:
     return total / nodes.shape[0]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def body_frame_into(x, lane, front, back, up, down, frame) -> None:
     """Write body ``lane``'s frame into ``frame`` (3, 3): rows forward, left, up (right-handed);
     x (N, 3, L)."""
@@ -48,18 +48,20 @@ def body_frame_into(x, lane, front, back, up, down, frame) -> None:
 
 @njit(**FAST)
 def add_fin_forces(x, v, frame_nodes, fin_nodes, fin_areas, fin_mass, sin_cos, water, dt, f,
-                   scratch) -> None:
+                   scratch, one_body=BATCH) -> None:
     """Pectoral fins as two-sided plates; fin p's normal is the body's up vector pitched by the
     fin angle about the body's lateral axis (``sin_cos`` (P, 2, L) its sine and cosine),
     leading edge up for a positive angle. Same angle on both fins: lift (pitch, depth);
     opposite angles: roll; a large angle on one side: drag on that side (yaw). ``frame_nodes``:
-    (front, back, up, down) node lists; ``scratch`` (16, L) work space."""
+    (front, back, up, down) node lists; ``scratch`` (16, L) work space; ``one_body``:
+    :func:`animat.envs.physics.forces.lane_count`."""
     kappa_water, kappa_air = water[FLUID_COEFFICIENT], water[AIR_COEFFICIENT]
     surface_z = water[SURFACE_Z]
     c0, c1, c2 = water[CURRENT_X], water[CURRENT_Y], water[CURRENT_Z]
     front, back, up, down = frame_nodes
     frame = np.empty((3, 3))
-    for lane in range(x.shape[2]):
+    lanes = lane_count(x, one_body)
+    for lane in range(lanes):
         body_frame_into(x, lane, front, back, up, down, frame)
         for row in range(3):
             for axis in range(3):
@@ -70,13 +72,13 @@ def add_fin_forces(x, v, frame_nodes, fin_nodes, fin_areas, fin_mass, sin_cos, w
         scratch[9:13] = 0.0
         for q in range(nodes.shape[0]):
             node = nodes[q]
-            for lane in range(x.shape[2]):
+            for lane in range(lanes):
                 scratch[9, lane] += share * v[node, 0, lane]
                 scratch[10, lane] += share * v[node, 1, lane]
                 scratch[11, lane] += share * v[node, 2, lane]
                 scratch[12, lane] += share * x[node, 2, lane]
         area, mass = fin_areas[p], fin_mass[p]
-        for lane in range(x.shape[2]):
+        for lane in range(lanes):
             sin_a, cos_a = sin_cos[p, 0, lane], sin_cos[p, 1, lane]
             n0 = -sin_a * scratch[0, lane] + cos_a * scratch[6, lane]
             n1 = -sin_a * scratch[1, lane] + cos_a * scratch[7, lane]
@@ -90,7 +92,7 @@ def add_fin_forces(x, v, frame_nodes, fin_nodes, fin_areas, fin_mass, sin_cos, w
             scratch[15, lane] = magnitude * n2
         for q in range(nodes.shape[0]):
             node = nodes[q]
-            for lane in range(x.shape[2]):
+            for lane in range(lanes):
                 f[node, 0, lane] -= scratch[13, lane]
                 f[node, 1, lane] -= scratch[14, lane]
                 f[node, 2, lane] -= scratch[15, lane]

@@ -30,45 +30,58 @@ from numba import njit, prange
 
 from .ball import ball_substep
 from .fins import add_fin_forces
-from .forces import FAST, add_element_forces, add_face_forces, add_gravity_buoyancy
+from .forces import (
+    BATCH,
+    FAST,
+    ONE_BODY,
+    add_element_forces,
+    add_face_forces,
+    add_gravity_buoyancy,
+    lane_count,
+)
 from .reactive import MEAN_ROWS, SECTION_ROWS, add_reactive_forces, solve_added_mass
 from .system import AIR_PRESSURE, DENSITY, GRAVITY, REACTIVE, SURFACE_Z
 
 
 @njit(**FAST)
-def ramp_rest_lengths(rest_lengths, actuator, max_contraction, u_start, u_end, ramp, rest):
+def ramp_rest_lengths(rest_lengths, actuator, max_contraction, u_start, u_end, ramp, rest,
+                      one_body=BATCH):
     """rest (E, L): muscle e of body b at ``l0 (1 - max_contraction u)``, u ramped a fraction
     ``ramp`` from u_start to u_end (L, A); passive elements are left as they are."""
+    lanes = lane_count(rest, one_body)
     for e in range(rest_lengths.shape[0]):
         a = actuator[e]
         if a < 0:
             continue
-        for b in range(rest.shape[1]):
+        for b in range(lanes):
             u = u_start[b, a] + ramp * (u_end[b, a] - u_start[b, a])
             rest[e, b] = rest_lengths[e] * (1.0 - max_contraction * u)
 
 
 @njit(**FAST)
-def kick_drift(x, v, f, masses, dt) -> None:
+def kick_drift(x, v, f, masses, dt, one_body=BATCH) -> None:
     """v += dt f / m, then x += dt v (x, v, f (N, 3, L))."""
+    lanes = lane_count(x, one_body)
     for i in range(x.shape[0]):
         scale = dt / masses[i]
         for a in range(3):
-            for b in range(x.shape[2]):
+            for b in range(lanes):
                 v[i, a, b] += scale * f[i, a, b]
                 x[i, a, b] += dt * v[i, a, b]
 
 
 @njit(cache=True)
 def step_chunk(x, v, u_start, u_end, fin_angles, substeps, c, splash, ball, touch, ball_args,
-               face_parts):
+               face_parts, one_body=BATCH):
     """Advance a chunk of L bodies, x, v (L, N, 3), in place by ``substeps`` steps, with
     activations ramped from u_start to u_end (L, A) and fin angles (L, P) held; ``c`` is
     :attr:`animat.envs.physics.system.System.kernel_args`; ``splash`` (L,) accumulates each
     body's splash, kg m/s (:func:`animat.envs.physics.forces.add_face_forces`). With
     ``ball_args`` not empty, each body has a beach ball (``ball`` (L, 6), ``touch`` (L, 3);
-    :func:`animat.envs.physics.ball.ball_substep`) stepped after it."""
-    lanes, n = x.shape[0], x.shape[1]
+    :func:`animat.envs.physics.ball.ball_substep`) stepped after it. ``one_body`` ONE_BODY
+    (L = 1) runs the kernels compiled for one body
+    (:func:`animat.envs.physics.forces.lane_count`): the same numbers, faster."""
+    lanes, n = (x.shape[0] if one_body is None else 1), x.shape[1]
     xl, vl, fl = np.empty((n, 3, lanes)), np.empty((n, 3, lanes)), np.empty((n, 3, lanes))
     for b in range(lanes):
         for i in range(n):
@@ -91,21 +104,24 @@ def step_chunk(x, v, u_start, u_end, fin_angles, substeps, c, splash, ball, touc
     up_scratch = np.empty((3, lanes))
     for s in range(substeps):
         ramp_rest_lengths(c.rest_lengths, c.actuator, c.max_contraction, u_start, u_end,
-                          s / substeps, rest)
+                          s / substeps, rest, one_body)
         fl[:] = 0.0
-        add_element_forces(xl, vl, c.elements, c.stiffness, c.damping, rest, fl)
+        add_element_forces(xl, vl, c.elements, c.stiffness, c.damping, rest, fl, one_body)
         add_face_forces(xl, vl, c.faces, c.face_weights, c.face_mass, c.water, c.dt, fl,
-                        face_scratch, splash_lanes)
+                        face_scratch, splash_lanes, one_body)
         add_fin_forces(xl, vl, frame_nodes, c.fin_nodes, c.fin_areas, c.fin_mass, sin_cos,
-                       c.water, c.dt, fl, fin_scratch)
+                       c.water, c.dt, fl, fin_scratch, one_body)
         add_gravity_buoyancy(xl, c.masses, c.volumes, c.lungs, c.water[DENSITY],
-                             c.water[GRAVITY], c.water[SURFACE_Z], c.water[AIR_PRESSURE], fl)
+                             c.water[GRAVITY], c.water[SURFACE_Z], c.water[AIR_PRESSURE], fl,
+                             one_body)
         if reactive:
             add_reactive_forces(xl, vl, c.section_up, c.section_down, c.section_nodes,
                                 c.section_weights, c.section_lengths, c.section_areas, c.water,
-                                c.dt, fl, sections, section_means, up_scratch, c.masses)
-            solve_added_mass(fl, c.masses, c.section_nodes, c.section_weights, sections)
-        kick_drift(xl, vl, fl, c.masses, c.dt)
+                                c.dt, fl, sections, section_means, up_scratch, c.masses,
+                                one_body)
+            solve_added_mass(fl, c.masses, c.section_nodes, c.section_weights, sections,
+                             one_body)
+        kick_drift(xl, vl, fl, c.masses, c.dt, one_body)
         if ball_args.shape[0] > 0:
             ball_substep(xl.transpose(2, 0, 1), vl.transpose(2, 0, 1), c.masses, c.faces,
                          face_parts, ball, touch, ball_args, c.water, c.dt)
@@ -138,6 +154,13 @@ def _step_parallel(x, v, u_start, u_end, fin_angles, substeps, constants, splash
                    constants, splash[c:e], ball[c:e], touch[c:e], ball_args, face_parts)
 
 
+@njit(cache=True)
+def _step_one(x, v, u_start, u_end, fin_angles, substeps, constants, splash, ball, touch,
+              ball_args, face_parts):
+    step_chunk(x, v, u_start, u_end, fin_angles, substeps, constants, splash, ball, touch,
+               ball_args, face_parts, ONE_BODY)
+
+
 PARALLEL_MIN_BATCH = 2 * CHUNK
 NO_BALL = (np.zeros((0, 6)), np.zeros((0, 3)), np.zeros(0), np.zeros(0, np.int64))
 
@@ -152,10 +175,14 @@ def step_batch(x: np.ndarray, v: np.ndarray, u_start: np.ndarray, u_end: np.ndar
 
     ``kernel_args`` is :attr:`animat.envs.physics.system.System.kernel_args`. Bodies are independent
     and go through the integrator in chunks of ``CHUNK`` (SIMD across bodies), chunks split over
-    threads when B >= ``PARALLEL_MIN_BATCH``. Every body's arithmetic is the same whatever B is:
-    a batch of one gives bit for bit the numbers of its row in a batch.
+    threads when B >= ``PARALLEL_MIN_BATCH``; a batch of one runs the kernels compiled for one
+    body (``ONE_BODY``). Every body's arithmetic is the same whatever B is: a batch of one gives
+    bit for bit the numbers of its row in a batch.
     """
-    kernel = _step_parallel if x.shape[0] >= PARALLEL_MIN_BATCH else _step_serial
+    if x.shape[0] == 1:
+        kernel = _step_one
+    else:
+        kernel = _step_parallel if x.shape[0] >= PARALLEL_MIN_BATCH else _step_serial
     if splash is None:
         splash = np.zeros(x.shape[0])
     if ball is None:

@@ -88,7 +88,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from .forces import FAST, wet_fraction
+from .forces import BATCH, FAST, lane_count, wet_fraction
 from .system import ADDED_MASS, CURRENT_X, CURRENT_Y, CURRENT_Z, DENSITY, SURFACE_Z
 
 SECTION_ROWS = 10  # rows of the sections' terms per section (add_reactive_forces's ``s``)
@@ -101,30 +101,32 @@ def _normalised(a0: float, a1: float, a2: float) -> tuple[float, float, float]:
     return a0 * inverse, a1 * inverse, a2 * inverse
 
 
-@njit(**FAST)
-def _section_means(x, v, nodes, weights, j, means) -> None:
+@njit(inline="always", **FAST)
+def _section_means(x, v, nodes, weights, j, means, one_body) -> None:
     """means[j, 0:3] the section's centre (m), means[j, 3:6] its velocity (m/s), every lane."""
+    lanes = lane_count(x, one_body)
     for r in range(6):
-        for lane in range(x.shape[2]):
+        for lane in range(lanes):
             means[j, r, lane] = 0.0
     for k in range(nodes.shape[1]):
         node, share = nodes[j, k], weights[j, k]
         for a in range(3):
-            for lane in range(x.shape[2]):
+            for lane in range(lanes):
                 means[j, a, lane] += share * x[node, a, lane]
                 means[j, 3 + a, lane] += share * v[node, a, lane]
 
 
-@njit(**FAST)
-def _body_up(x, up, down, out) -> None:
+@njit(inline="always", **FAST)
+def _body_up(x, up, down, out, one_body) -> None:
     """out (3, L): a section's axis across the plane of undulation (the ``up`` nodes'
     centroid minus the ``down`` nodes', m)."""
     out[:] = 0.0
+    lanes = lane_count(x, one_body)
     for group, sign in ((up, 1.0), (down, -1.0)):
         share = sign / group.shape[0]
         for k in range(group.shape[0]):
             for a in range(3):
-                for lane in range(x.shape[2]):
+                for lane in range(lanes):
                     out[a, lane] += share * x[group[k], a, lane]
 
 
@@ -139,7 +141,7 @@ def _same_axis(up, down, j) -> bool:
 
 @njit(**FAST)
 def add_reactive_forces(x, v, up, down, nodes, weights, lengths, areas, water, dt, f, s, means,
-                        frame, masses) -> None:
+                        frame, masses, one_body=BATCH) -> None:
     """Add each section's reactive force (the module's ``F_j``) to its nodes by their shares.
 
     ``nodes``, ``weights`` (J, K), ``lengths`` (J,) m and ``areas`` (J,) m^2: the body's
@@ -147,7 +149,8 @@ def add_reactive_forces(x, v, up, down, nodes, weights, lengths, areas, water, d
     its axis across the plane of undulation (``BodySpec.section_up``, ``section_down``);
     ``water`` :meth:`Water.as_args`; ``dt`` the step, s; ``f`` (N, 3, L) the force
     accumulator, N; ``masses`` (N,) the nodes' masses, kg. Work space: ``s`` (J, SECTION_ROWS,
-    L), ``means`` (J, MEAN_ROWS, L) and ``frame`` (3, L). On return ``s[j, 0:3]`` holds each
+    L), ``means`` (J, MEAN_ROWS, L) and ``frame`` (3, L); ``one_body``:
+    :func:`animat.envs.physics.forces.lane_count`. On return ``s[j, 0:3]`` holds each
     section's normal e and ``s[j, 3]`` its added mass ``l m`` (kg), for
     :func:`solve_added_mass`. (Inputs and outputs of each lane loop are separate arrays, so
     that the loops run in SIMD.)"""
@@ -156,26 +159,26 @@ def add_reactive_forces(x, v, up, down, nodes, weights, lengths, areas, water, d
     surface_z = water[SURFACE_Z]
     c0, c1, c2 = water[CURRENT_X], water[CURRENT_Y], water[CURRENT_Z]
     for j in range(count):
-        _section_means(x, v, nodes, weights, j, means)
+        _section_means(x, v, nodes, weights, j, means, one_body)
         if surface_z < np.inf:
-            _wet_shares(means, j, np.sqrt(areas[j] / np.pi), surface_z, dt)
+            _wet_shares(means, j, np.sqrt(areas[j] / np.pi), surface_z, dt, one_body)
         else:
             means[j, 6, :] = 1.0
             means[j, 7, :] = 0.0
     for j in range(count):
         if j == 0 or not _same_axis(up, down, j):  # the fish's sections share one: once
-            _body_up(x, up[j], down[j], frame)
+            _body_up(x, up[j], down[j], frame, one_body)
         _section_terms(means[max(j - 1, 0)], means[min(j + 1, count - 1)], means[j], frame,
-                       rho * areas[j], lengths[j], c0, c1, c2, s[j])
-    _add_section_forces(nodes, weights, f, s, means, masses)
+                       rho * areas[j], lengths[j], c0, c1, c2, s[j], one_body)
+    _add_section_forces(nodes, weights, f, s, means, masses, one_body)
 
 
-@njit(**FAST)
-def _wet_shares(means, j, reach, surface_z, dt) -> None:
+@njit(inline="always", **FAST)
+def _wet_shares(means, j, reach, surface_z, dt, one_body) -> None:
     """means[j, 6] the share of section j under the surface (its centre's height +- ``reach``
     m) and means[j, 7] the rate it goes under, 1/s: the share now less a step ago's (at most
     now's: a section leaving the water gets none of the water's momentum back), over dt."""
-    for lane in range(means.shape[2]):
+    for lane in range(lane_count(means, one_body)):
         height, rise = means[j, 2, lane], means[j, 5, lane]
         wet = wet_fraction(height - reach, height + reach, surface_z)
         was = min(wet_fraction(height - dt * rise - reach, height - dt * rise + reach,
@@ -196,15 +199,16 @@ def _normal_and_rate(r0, r1, r2, q0, q1, q2, u0, u1, u2):
             (d2 - along * e2) * inverse)
 
 
-@njit(**FAST)
-def _section_terms(front, back, own, frame, density_area, length, c0, c1, c2, out) -> None:
+@njit(inline="always", **FAST)
+def _section_terms(front, back, own, frame, density_area, length, c0, c1, c2, out,
+                   one_body) -> None:
     """A section's normal e (out[0:3]), added mass l m (out[3]), momentum flux Phi (out[4:7])
     and the explicit part of -e d/dt(l m w) (out[7:10]), (SECTION_ROWS, L), from its means and wet
     shares ``own`` and those of the sections in ``front`` of it and ``back`` of it
     (MEAN_ROWS, L); ``frame`` (3, L) the section's axis across the plane of undulation. Two
     lane loops, each calling no function that takes an array and writing few rows, so that
     both run in SIMD."""
-    for lane in range(out.shape[1]):
+    for lane in range(lane_count(out, one_body)):
         r0 = front[0, lane] - back[0, lane]
         r1 = front[1, lane] - back[1, lane]
         r2 = front[2, lane] - back[2, lane]
@@ -222,7 +226,7 @@ def _section_terms(front, back, own, frame, density_area, length, c0, c1, c2, ou
         out[6, lane] = forward * e2 - energy * t2
         out[0, lane], out[1, lane], out[2, lane] = e0, e1, e2
         out[3, lane] = length * m
-    for lane in range(out.shape[1]):
+    for lane in range(lane_count(out, one_body)):
         e0, e1, e2, g0, g1, g2 = _normal_and_rate(
             front[0, lane] - back[0, lane], front[1, lane] - back[1, lane],
             front[2, lane] - back[2, lane], front[3, lane] - back[3, lane],
@@ -240,12 +244,12 @@ def _section_terms(front, back, own, frame, density_area, length, c0, c1, c2, ou
 
 
 @njit(**FAST)
-def _add_section_forces(nodes, weights, f, s, total, masses) -> None:
+def _add_section_forces(nodes, weights, f, s, total, masses, one_body) -> None:
     """f += each section's F_j = s[j, 7:10] - (Phi_{j+1/2} - Phi_{j-1/2}), Phi_j = s[j, 4:7],
     shared among its nodes by their weights (F_j assembled in ``total[j, 0:3]``, which holds
     the sections' centres on entry), except the trailing edge's force along the body: that
     goes to the nodes of the last two sections by their masses (``masses`` (N,), kg)."""
-    count, lanes = nodes.shape[0], f.shape[2]
+    count, lanes = nodes.shape[0], lane_count(f, one_body)
     along = np.empty((4, lanes))  # the trailing edge's tangent (rows 0:3) and force along it
     for lane in range(lanes):
         along[0, lane], along[1, lane], along[2, lane] = _normalised(
@@ -286,18 +290,19 @@ def _add_section_forces(nodes, weights, f, s, total, masses) -> None:
 
 
 @njit(**FAST)
-def solve_added_mass(f, masses, nodes, weights, s) -> None:
+def solve_added_mass(f, masses, nodes, weights, s, one_body=BATCH) -> None:
     """Turn the force on each section node into ``m_i (m_i I + c e e')^-1 f_i``, with
     ``c = w_i l m`` its share of the section's added mass (``s`` as left by
     :func:`add_reactive_forces`), so that the integrator's ``v += dt f / m_i`` solves the
     node's motion with the water it carries (Sherman-Morrison)."""
+    lanes = lane_count(f, one_body)
     for j in range(nodes.shape[0]):
         for k in range(nodes.shape[1]):
             node, share = nodes[j, k], weights[j, k]
             if share == 0.0:
                 continue
             mass = masses[node]
-            for lane in range(f.shape[2]):
+            for lane in range(lanes):
                 f0, f1, f2 = f[node, 0, lane], f[node, 1, lane], f[node, 2, lane]
                 e0, e1, e2 = s[j, 0, lane], s[j, 1, lane], s[j, 2, lane]
                 c = share * s[j, 3, lane]

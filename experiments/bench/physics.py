@@ -108,7 +108,8 @@ def _timed(fn, reps: int) -> float:
 def breakdown(lanes: int, reps: int = 2000) -> dict[str, float]:
     """ns per body and integration step of each part of the step, for a chunk of ``lanes``
     bodies in a swimming state (each part called on its own, so call overhead included), in
-    the reactive water (the fused step in both)."""
+    the reactive water (the fused step in both); one body through the kernels compiled for
+    one (``ONE_BODY``), as a single env steps it."""
     env = gym.make("Animat/FishSwim-v0", water=REACTIVE)
     env.reset(seed=0)
     for k in range(20):
@@ -127,25 +128,27 @@ def breakdown(lanes: int, reps: int = 2000) -> dict[str, float]:
     sections = np.zeros((len(c.section_nodes), reactive.SECTION_ROWS, lanes))
     means = np.zeros((len(c.section_nodes), reactive.MEAN_ROWS, lanes))
     up = np.empty((3, lanes))
+    one = forces.ONE_BODY if lanes == 1 else forces.BATCH  # as the env steps it
     parts = {
         "muscle rest lengths": lambda: ramp_rest_lengths(c.rest_lengths, c.actuator,
-                                                         c.max_contraction, u, u, 0.5, rest),
+                                                         c.max_contraction, u, u, 0.5, rest, one),
         "elements": lambda: forces.add_element_forces(x, v, c.elements, c.stiffness,
-                                                      c.damping, rest, f),
+                                                      c.damping, rest, f, one),
         "faces": lambda: forces.add_face_forces(x, v, c.faces, c.face_weights, c.face_mass,
-                                                c.water, c.dt, f, face_scratch, splash),
+                                                c.water, c.dt, f, face_scratch, splash, one),
         "fins": lambda: fins.add_fin_forces(x, v, frames, c.fin_nodes, c.fin_areas,
                                             c.fin_mass, sin_cos, c.water, c.dt, f,
-                                            fin_scratch),
+                                            fin_scratch, one),
         "gravity, buoyancy": lambda: forces.add_gravity_buoyancy(x, c.masses, c.volumes,
                                                                  c.lungs, 1000.0, 0.0, 0.0,
-                                                                 101325.0, f),
+                                                                 101325.0, f, one),
         "reactive force (sections)": lambda: reactive.add_reactive_forces(
             x, v, c.section_up, c.section_down, c.section_nodes, c.section_weights,
-            c.section_lengths, c.section_areas, c.water, c.dt, f, sections, means, up, c.masses),
+            c.section_lengths, c.section_areas, c.water, c.dt, f, sections, means, up, c.masses,
+            one),
         "added mass (solve)": lambda: reactive.solve_added_mass(f, c.masses, c.section_nodes,
-                                                                c.section_weights, sections),
-        "kick-drift": lambda: kick_drift(x, v, f, c.masses, 0.0),
+                                                                c.section_weights, sections, one),
+        "kick-drift": lambda: kick_drift(x, v, f, c.masses, 0.0, one),
     }
     out = {name: 1e9 * _timed(fn, reps) / lanes for name, fn in parts.items()}
     steps = 40
@@ -153,7 +156,7 @@ def breakdown(lanes: int, reps: int = 2000) -> dict[str, float]:
     for name, args in (("fused step, reactive water", c), ("fused step, resistive", resistive)):
         out[name] = 1e9 * _timed(
             lambda args=args: step_chunk(xb, vb, u, u, np.zeros((lanes, 2)), steps, args,
-                                         np.zeros(lanes), *NO_BALL),
+                                         np.zeros(lanes), *NO_BALL, one),
             max(1, reps // steps)) / lanes / steps
     return out
 

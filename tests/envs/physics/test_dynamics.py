@@ -207,19 +207,33 @@ def test_random_fin_angles_keep_the_batch_finite(water):
     assert np.isfinite(x).all() and np.isfinite(v).all()
 
 
-def test_a_batch_row_matches_a_batch_of_one_bit_for_bit():
-    system = System(fish_body())
-    x, v = _batch(system.body, 40)
+@pytest.mark.parametrize("water", [Water(), Water(model="reactive"),
+                                   Water(model="reactive", surface_z=0.05)],
+                         ids=["resistive", "reactive", "reactive-surface"])
+def test_a_batch_row_matches_a_batch_of_one_bit_for_bit(water):
+    """A batch of one runs the kernels compiled for one body (ONE_BODY), a batch of 70 the lane
+    kernels over threads (chunks of 32, 32 and 6): every term, fins and the surface included,
+    gives the same numbers."""
+    system = System(fish_body(), water)
+    x, v = _batch(system.body, 70)
     rng = np.random.default_rng(3)
     x += rng.normal(0, 1e-3, x.shape)
-    one_x, one_v = x[7:8].copy(), v[7:8].copy()
-    u_prev = np.zeros((40, 6))
+    rows = (7, 69)
+    ones = [(x[r:r + 1].copy(), v[r:r + 1].copy(), np.zeros(1)) for r in rows]
+    splash = np.zeros(70)
+    u_prev = np.zeros((70, 6))
     for _ in range(20):
-        u = rng.uniform(0, 1, (40, 6))
-        step_batch(x, v, u_prev, u, np.zeros((40, 2)), 30, system.kernel_args)
-        step_batch(one_x, one_v, u_prev[7:8], u[7:8], np.zeros((1, 2)), 30, system.kernel_args)
+        u = rng.uniform(0, 1, (70, 6))
+        fins = rng.uniform(-0.5, 0.5, (70, 2))
+        step_batch(x, v, u_prev, u, fins, 30, system.kernel_args, splash)
+        for r, (one_x, one_v, one_splash) in zip(rows, ones):
+            step_batch(one_x, one_v, u_prev[r:r + 1], u[r:r + 1], fins[r:r + 1], 30,
+                       system.kernel_args, one_splash)
         u_prev = u
-    assert np.array_equal(x[7], one_x[0]) and np.array_equal(v[7], one_v[0])
+    for r, (one_x, one_v, one_splash) in zip(rows, ones):
+        assert np.array_equal(x[r], one_x[0]) and np.array_equal(v[r], one_v[0])
+        assert splash[r] == one_splash[0]
+    assert np.isfinite(x).all()
 
 
 def test_above_the_surface_a_body_falls_ballistically():
