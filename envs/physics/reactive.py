@@ -116,18 +116,24 @@ def _section_means(x, v, nodes, weights, j, means, one_body) -> None:
                 means[j, 3 + a, lane] += share * v[node, a, lane]
 
 
+@njit(**FAST)
+def _add_nodes(x, nodes, share, out, one_body) -> None:
+    """out (3, L) += ``share`` times each of the ``nodes``' positions (x (N, 3, L)), in order."""
+    lanes = lane_count(x, one_body)
+    for k in range(nodes.shape[0]):
+        node = nodes[k]
+        for a in range(3):
+            for lane in range(lanes):
+                out[a, lane] += share * x[node, a, lane]
+
+
 @njit(inline="always", **FAST)
 def _body_up(x, up, down, out, one_body) -> None:
     """out (3, L): a section's axis across the plane of undulation (the ``up`` nodes'
     centroid minus the ``down`` nodes', m)."""
     out[:] = 0.0
-    lanes = lane_count(x, one_body)
-    for group, sign in ((up, 1.0), (down, -1.0)):
-        share = sign / group.shape[0]
-        for k in range(group.shape[0]):
-            for a in range(3):
-                for lane in range(lanes):
-                    out[a, lane] += share * x[group[k], a, lane]
+    _add_nodes(x, up, 1.0 / up.shape[0], out, one_body)
+    _add_nodes(x, down, -1.0 / down.shape[0], out, one_body)
 
 
 @njit(cache=True, inline="always")
@@ -199,7 +205,7 @@ def _normal_and_rate(r0, r1, r2, q0, q1, q2, u0, u1, u2):
             (d2 - along * e2) * inverse)
 
 
-@njit(inline="always", **FAST)
+@njit(**FAST)
 def _section_terms(front, back, own, frame, density_area, length, c0, c1, c2, out,
                    one_body) -> None:
     """A section's normal e (out[0:3]), added mass l m (out[3]), momentum flux Phi (out[4:7])
