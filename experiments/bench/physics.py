@@ -10,7 +10,7 @@ too).
 Simulated seconds per wall second of a vector env count every sub-env's time.
 ``--breakdown`` prints where an integration step's time goes instead: each force term, the
 kick-drift and the whole fused step, in ns per body and step, for one body and for a SIMD
-chunk of 32 bodies.
+chunk of 32 bodies, each part timed in a compiled loop (:mod:`animat.experiments.bench.parts`).
 """
 
 from __future__ import annotations
@@ -22,8 +22,10 @@ import gymnasium as gym
 import numpy as np
 
 import animat  # noqa: F401  (registers Animat/*)
-from animat.envs.physics import fins, forces, reactive
-from animat.envs.physics.integrator import CHUNK, NO_BALL, kick_drift, ramp_rest_lengths, step_chunk
+from animat.envs.physics import forces, reactive
+from animat.envs.physics.integrator import CHUNK, NO_BALL, step_chunk
+
+from . import parts
 
 
 def sim_seconds_per_second(env, dt: float, num_envs: int, seconds: float, seed: int = 0) -> float:
@@ -105,18 +107,20 @@ def _timed(fn, reps: int) -> float:
     return (time.perf_counter() - start) / reps
 
 
-def breakdown(lanes: int, reps: int = 2000) -> dict[str, float]:
+def breakdown(lanes: int, reps: int = 20000) -> dict[str, float]:
     """ns per body and integration step of each part of the step, for a chunk of ``lanes``
-    bodies in a swimming state (each part called on its own, so call overhead included), in
-    the reactive water (the fused step in both); one body through the kernels compiled for
-    one (``ONE_BODY``), as a single env steps it."""
+    bodies in a swimming state, each part ``reps`` times in a compiled loop
+    (:mod:`animat.experiments.bench.parts`: no call overhead), in the reactive water (the
+    fused step in both waters); one body through the kernels compiled for one
+    (``ONE_BODY``), as a single env steps it."""
     env = gym.make("Animat/FishSwim-v0", water=REACTIVE)
     env.reset(seed=0)
     for k in range(20):
         env.step(np.full(6, np.sin(k), np.float32))
     c, x0 = env.unwrapped.core.system.kernel_args, env.unwrapped.node_positions
+    v0 = env.unwrapped.core.state.v[0]
     x = np.ascontiguousarray(np.repeat(x0[:, :, None], lanes, axis=2))
-    v, f = np.zeros_like(x), np.zeros_like(x)
+    v, f = np.ascontiguousarray(np.repeat(v0[:, :, None], lanes, axis=2)), np.zeros_like(x)
     rest = np.repeat(c.rest_lengths[:, None], lanes, axis=1).copy()
     u = np.full((lanes, 6), 0.5)
     sin_cos = np.zeros((2, 2, lanes))
@@ -124,33 +128,29 @@ def breakdown(lanes: int, reps: int = 2000) -> dict[str, float]:
     face_scratch, fin_scratch = np.empty((len(c.faces), 4, lanes)), np.empty((16, lanes))
     splash = np.zeros(lanes)
     frames = (c.frame_front, c.frame_back, c.frame_up, c.frame_down)
-    xb, vb = np.repeat(x0[None], lanes, axis=0), np.zeros((lanes,) + x0.shape)
+    xb, vb = np.repeat(x0[None], lanes, axis=0), np.repeat(v0[None], lanes, axis=0)
     sections = np.zeros((len(c.section_nodes), reactive.SECTION_ROWS, lanes))
     means = np.zeros((len(c.section_nodes), reactive.MEAN_ROWS, lanes))
     up = np.empty((3, lanes))
     one = forces.ONE_BODY if lanes == 1 else forces.BATCH  # as the env steps it
-    parts = {
-        "muscle rest lengths": lambda: ramp_rest_lengths(c.rest_lengths, c.actuator,
-                                                         c.max_contraction, u, u, 0.5, rest, one),
-        "elements": lambda: forces.add_element_forces(x, v, c.elements, c.stiffness,
-                                                      c.damping, rest, f, one),
-        "faces": lambda: forces.add_face_forces(x, v, c.faces, c.face_weights, c.face_mass,
-                                                c.water, c.dt, f, face_scratch, splash, one),
-        "fins": lambda: fins.add_fin_forces(x, v, frames, c.fin_nodes, c.fin_areas,
-                                            c.fin_mass, sin_cos, c.water, c.dt, f,
-                                            fin_scratch, one),
-        "gravity, buoyancy": lambda: forces.add_gravity_buoyancy(x, c.masses, c.volumes,
-                                                                 c.lungs, 1000.0, 0.0, 0.0,
-                                                                 101325.0, f, one),
-        "reactive force (sections)": lambda: reactive.add_reactive_forces(
-            x, v, c.section_up, c.section_down, c.section_nodes, c.section_weights,
-            c.section_lengths, c.section_areas, c.water, c.dt, f, sections, means, up, c.masses,
-            one),
-        "added mass (solve)": lambda: reactive.solve_added_mass(f, c.masses, c.section_nodes,
-                                                                c.section_weights, sections, one),
-        "kick-drift": lambda: kick_drift(x, v, f, c.masses, 0.0, one),
+    loops = {
+        "muscle rest lengths": lambda n: parts.rest_lengths_loop(n, c, u, rest, one),
+        "elements": lambda n: parts.elements_loop(n, c, x, v, rest, f, one),
+        "faces": lambda n: parts.faces_loop(n, c, x, v, f, face_scratch, splash, one),
+        "fins": lambda n: parts.fins_loop(n, c, x, v, frames, sin_cos, f, fin_scratch, one),
+        "gravity, buoyancy": lambda n: parts.gravity_loop(n, c, x, f, one),
+        "reactive force (sections)": lambda n: parts.sections_loop(n, c, x, v, f, sections,
+                                                                   means, up, one),
+        "added mass (solve)": lambda n: parts.added_mass_loop(n, c, f, sections, one),
+        "kick-drift": lambda n: parts.kick_drift_loop(n, c, x, v, f, one),
     }
-    out = {name: 1e9 * _timed(fn, reps) / lanes for name, fn in parts.items()}
+    out = {}
+    for name, loop in loops.items():
+        f[:] = 0.0
+        loop(1)  # compiled (or loaded) before it is timed
+        start = time.perf_counter()
+        loop(reps // lanes)
+        out[name] = 1e9 * (time.perf_counter() - start) / (reps // lanes) / lanes
     steps = 40
     resistive = gym.make("Animat/FishSwim-v0", water=RESISTIVE).unwrapped.core.system.kernel_args
     for name, args in (("fused step, reactive water", c), ("fused step, resistive", resistive)):
@@ -161,7 +161,7 @@ def breakdown(lanes: int, reps: int = 2000) -> dict[str, float]:
     return out
 
 
-def report_breakdown(reps: int = 2000) -> str:
+def report_breakdown(reps: int = 20000) -> str:
     one, wide = breakdown(1, reps), breakdown(CHUNK, reps)
     lines = [f"{'part of a step':<26} {'1 body':>10} {f'chunk of {CHUNK}':>14}  (ns per body-step)"]
     lines += [f"{name:<26} {one[name]:>10.0f} {wide[name]:>14.0f}" for name in one]
