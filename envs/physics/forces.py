@@ -59,8 +59,10 @@ def lane_count(lanes_array, one_body) -> int:
     In compiled code the choice is made from ``one_body``'s type, so ONE_BODY compiles every
     kernel again with the constant 1: its lane loops unroll, with no vector set-up or overlap
     checks around the one body's arithmetic (measured, the Voigt elements of one fish: 2.5 us
-    a step through the lane loops, 0.6-1.0 us unrolled). The arithmetic is the same, so a body
-    gets the same numbers bit for bit either way."""
+    a step through the lane loops, 0.6-1.0 us unrolled). The arithmetic is the same, and a body
+    gets the same numbers bit for bit either way (tests/envs/physics/test_dynamics.py checks
+    it: a fused multiply-add formed in one and not the other would break it). Pass BATCH or
+    ONE_BODY only: any boolean is read as one body."""
     return lanes_array.shape[-1] if one_body is None else 1
 
 
