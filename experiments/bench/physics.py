@@ -109,10 +109,10 @@ def _timed(fn, reps: int) -> float:
 
 def breakdown(lanes: int, reps: int = 20000) -> dict[str, float]:
     """ns per body and integration step of each part of the step, for a chunk of ``lanes``
-    bodies in a swimming state, each part ``reps`` times in a compiled loop
-    (:mod:`animat.experiments.bench.parts`: no call overhead), in the reactive water (the
-    fused step in both waters); one body through the kernels compiled for one
-    (``ONE_BODY``), as a single env steps it."""
+    bodies in a swimming state, each part over about ``reps`` body-steps in a compiled loop
+    (:mod:`animat.experiments.bench.parts`: no call overhead) and the fused step over ``reps``
+    substeps, in the reactive water (the fused step in both waters); one body through the
+    kernels compiled for one (``ONE_BODY``), as a single env steps it."""
     env = gym.make("Animat/FishSwim-v0", water=REACTIVE)
     env.reset(seed=0)
     for k in range(20):
