@@ -132,11 +132,8 @@ def swim_mc(speed: float | np.ndarray, t: np.ndarray | float,
     t = np.asarray(t, dtype=float)
     hz = params.min_hz + (params.max_hz - params.min_hz) * speed
     ramp = params.ramp_cycles / hz
-    if np.ndim(ramp) == 0:
-        ease = np.clip(t / ramp, 0.0, 1.0) if ramp > 0 else np.ones_like(t)
-    else:
-        eased = ramp > 0
-        ease = np.where(eased, np.clip(t / np.where(eased, ramp, 1.0), 0.0, 1.0), 1.0)
+    eased = ramp > 0  # no ramp: at full amplitude from the start
+    ease = np.where(eased, np.clip(t / np.where(eased, ramp, 1.0), 0.0, 1.0), 1.0)
     half = 0.5 * params.max_amplitude * speed * ease * ease * (3.0 - 2.0 * ease)
     phase = 2.0 * np.pi * hz * t + params.start_phase
     u = np.zeros(np.shape(phase) + (6,))
@@ -148,10 +145,10 @@ def swim_mc(speed: float | np.ndarray, t: np.ndarray | float,
 
 
 def turn_strokes(angle, params: TurnParams = TurnParams()):
-    """Number of power strokes the turn-MC uses for ``angle`` rad (an array: per entry)."""
-    if np.ndim(angle) == 0:
-        return max(1, int(np.ceil(angle / params.angle_per_stroke - 1e-9)))
-    return np.maximum(1, np.ceil(np.asarray(angle) / params.angle_per_stroke - 1e-9).astype(int))
+    """Number of power strokes the turn-MC uses for ``angle`` rad (an int; an array of them,
+    one per entry, for an array)."""
+    strokes = np.maximum(1, np.ceil(np.asarray(angle) / params.angle_per_stroke - 1e-9).astype(int))
+    return int(strokes) if np.ndim(angle) == 0 else strokes
 
 
 def turn_duration(angle, params: TurnParams = TurnParams()):
@@ -172,16 +169,9 @@ def turn_mc(angle, t: np.ndarray | float, left=True,
     rise = params.rise / params.period
     envelope = np.where(phase < rise, phase / rise, 1.0 - (phase - rise) / (1.0 - rise))
     active = (t >= 0.0) & (t < turn_duration(angle, params))
-    relief = 1.0 - params.speed_relief * speed**2
-    amplitude = params.amplitude * (max(MIN_RELIEF, relief) if np.ndim(relief) == 0
-                                    else np.maximum(MIN_RELIEF, relief))
+    amplitude = params.amplitude * np.maximum(MIN_RELIEF, 1.0 - params.speed_relief * speed**2)
     envelope = amplitude * np.where(active, envelope, 0.0)
     u = np.zeros(np.shape(envelope) + (6,))
-    if np.ndim(left) == 0:
-        for segment in (LEFT_FRONT, LEFT_MIDDLE, LEFT_BACK) if left else (
-                RIGHT_FRONT, RIGHT_MIDDLE, RIGHT_BACK):
-            u[..., segment] = envelope
-        return u
     left = np.asarray(left, bool)
     for segment in (LEFT_FRONT, LEFT_MIDDLE, LEFT_BACK):
         u[..., segment] = np.where(left, envelope, 0.0)
@@ -221,16 +211,13 @@ def wave_mc(hz: float, lag: float, amplitude: float, t: np.ndarray | float,
 
 
 def fin_mc(pitch: float = 0.0, roll: float = 0.0, params: FinParams = FinParams()) -> np.ndarray:
-    """Pectoral fin angles (2,) rad for an up/down command ``pitch`` and a ``roll`` command,
-    each in [-1, 1]. Positive pitch raises both leading edges (the fish rises when it moves
-    forward); positive roll lifts the left fin and lowers the right (rolls to the right)."""
+    """Pectoral fin angles (2,) rad (arrays: (..., 2)) for an up/down command ``pitch`` and a
+    ``roll`` command, each in [-1, 1]. Positive pitch raises both leading edges (the fish rises
+    when it moves forward); positive roll lifts the left fin and lowers the right (rolls to the
+    right)."""
     pitch = _check_unit("fin pitch", pitch, -1.0, 1.0)
     roll = _check_unit("fin roll", roll, -1.0, 1.0)
-    if np.ndim(pitch) == 0 and np.ndim(roll) == 0:
-        left = min(max(pitch + roll, -1.0), 1.0)
-        right = min(max(pitch - roll, -1.0), 1.0)
-        return params.max_angle * np.array([left, right])
-    left = np.minimum(np.maximum(pitch + roll, -1.0), 1.0)  # arrays: (..., 2)
+    left = np.minimum(np.maximum(pitch + roll, -1.0), 1.0)
     right = np.minimum(np.maximum(pitch - roll, -1.0), 1.0)
     return params.max_angle * np.stack(np.broadcast_arrays(left, right), axis=-1)
 
