@@ -270,14 +270,31 @@ def compressed(volume: float, depth: float, pressure_head: float) -> float:
     return volume / (1.0 + max(depth, 0.0) / pressure_head)
 
 
+@njit(cache=True, inline="always")
+def sphere_radius(volume: float) -> float:
+    """The radius of a sphere of ``volume`` m^3, m (at least 1e-6 m)."""
+    return max((0.75 * volume / np.pi) ** (1.0 / 3.0), 1e-6)
+
+
+@njit(cache=True)
+def sphere_radii(volumes: np.ndarray) -> np.ndarray:
+    """(N,) :func:`sphere_radius` of each of ``volumes`` (N,) m^3: the nodes' radii, computed
+    once for :func:`add_gravity_buoyancy` rather than in every step (a cube root a node)."""
+    radii = np.empty(volumes.shape[0])
+    for i in range(volumes.shape[0]):
+        radii[i] = sphere_radius(volumes[i])
+    return radii
+
+
 @njit(**FAST)
-def add_gravity_buoyancy(x, masses, volumes, lungs, density, gravity, surface_z, air_pressure,
-                         f, one_body=BATCH) -> None:
+def add_gravity_buoyancy(x, masses, volumes, radii, lungs, density, gravity, surface_z,
+                         air_pressure, f, one_body=BATCH) -> None:
     """Weight ``-m g`` on every node and buoyancy ``rho g V`` on the submerged share of every
-    node's volume (a sphere of that volume about the node: :func:`sphere_submerged`), along
-    z. A node's lung volume ``lungs`` (m^3 at the surface) adds to its volume, compressed with
-    depth (:func:`compressed`); without a surface there is no depth and lungs keep their
-    surface volume."""
+    node's volume (a sphere of that volume about the node: :func:`sphere_submerged`; ``radii``
+    (N,) the spheres' radii, :func:`sphere_radii` of ``volumes``), along z. A node's lung volume
+    ``lungs`` (m^3 at the surface) adds to its volume, compressed with depth
+    (:func:`compressed`), and to its sphere; without a surface there is no depth and lungs keep
+    their surface volume."""
     head = air_pressure / max(density * gravity, 1e-300)
     lanes = lane_count(x, one_body)
     for i in range(x.shape[0]):
@@ -288,12 +305,12 @@ def add_gravity_buoyancy(x, masses, volumes, lungs, density, gravity, surface_z,
                     x[i, 2, b], surface_z) - weight
             continue
         if lungs[i] == 0.0:
-            radius = max((0.75 * volumes[i] / np.pi) ** (1.0 / 3.0), 1e-6)
+            radius = radii[i]
             for b in range(lanes):
                 f[i, 2, b] += lift * sphere_submerged(x[i, 2, b], radius, surface_z) - weight
             continue
         for b in range(lanes):
             gas = compressed(lungs[i], surface_z - x[i, 2, b], head)
-            radius = max((0.75 * (volumes[i] + gas) / np.pi) ** (1.0 / 3.0), 1e-6)
+            radius = sphere_radius(volumes[i] + gas)
             f[i, 2, b] += gravity * density * (volumes[i] + gas) * sphere_submerged(
                 x[i, 2, b], radius, surface_z) - weight

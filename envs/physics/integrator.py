@@ -25,6 +25,7 @@ angles held.
 
 from __future__ import annotations
 
+import numba
 import numpy as np
 from numba import njit, prange
 
@@ -38,6 +39,7 @@ from .forces import (
     add_face_forces,
     add_gravity_buoyancy,
     lane_count,
+    sphere_radii,
 )
 from .reactive import MEAN_ROWS, SECTION_ROWS, add_reactive_forces, solve_added_mass
 from .system import AIR_PRESSURE, DENSITY, GRAVITY, REACTIVE, SURFACE_Z
@@ -102,6 +104,7 @@ def step_chunk(x, v, u_start, u_end, fin_angles, substeps, c, splash, ball, touc
     sections = np.empty((c.section_nodes.shape[0], SECTION_ROWS, lanes))
     section_means = np.empty((c.section_nodes.shape[0], MEAN_ROWS, lanes))
     up_scratch = np.empty((3, lanes))
+    radii = sphere_radii(c.volumes)
     for s in range(substeps):
         ramp_rest_lengths(c.rest_lengths, c.actuator, c.max_contraction, u_start, u_end,
                           s / substeps, rest, one_body)
@@ -111,7 +114,7 @@ def step_chunk(x, v, u_start, u_end, fin_angles, substeps, c, splash, ball, touc
                         face_scratch, splash_lanes, one_body)
         add_fin_forces(xl, vl, frame_nodes, c.fin_nodes, c.fin_areas, c.fin_mass, sin_cos,
                        c.water, c.dt, fl, fin_scratch, one_body)
-        add_gravity_buoyancy(xl, c.masses, c.volumes, c.lungs, c.water[DENSITY],
+        add_gravity_buoyancy(xl, c.masses, c.volumes, radii, c.lungs, c.water[DENSITY],
                              c.water[GRAVITY], c.water[SURFACE_Z], c.water[AIR_PRESSURE], fl,
                              one_body)
         if reactive:
@@ -132,24 +135,35 @@ def step_chunk(x, v, u_start, u_end, fin_angles, substeps, c, splash, ball, touc
                 x[b, i, a], v[b, i, a] = xl[i, a, b], vl[i, a, b]
 
 
-CHUNK = 32
+CHUNK = 32  # the fewest lanes a chunk of a batch has (a smaller batch is one chunk)
+MAX_CHUNK = 128  # the most (a batch of 256 on 2 threads, per body-step: 0.21-0.26 us in
+# chunks of 128, 0.28-0.30 in chunks of 64, 0.33-0.39 in chunks of 32, measured)
+SIMD_LANES = 8  # chunk widths are multiples of it (doubles in an AVX-512 register)
+
+
+def chunk_width(batch: int, threads: int) -> int:
+    """Lanes per chunk for a batch of ``batch`` bodies on ``threads`` threads: the batch split
+    evenly over the threads, rounded up to a multiple of ``SIMD_LANES``, within [CHUNK,
+    MAX_CHUNK]: wide chunks spend less on each lane loop's set-up, and every thread gets one."""
+    per_thread = -(-batch // max(threads, 1))
+    return min(max(-(-per_thread // SIMD_LANES) * SIMD_LANES, CHUNK), MAX_CHUNK)
 
 
 @njit(cache=True)
 def _step_serial(x, v, u_start, u_end, fin_angles, substeps, constants, splash, ball, touch,
-                 ball_args, face_parts):
-    for c in range(0, x.shape[0], CHUNK):
-        e = min(c + CHUNK, x.shape[0])
+                 ball_args, face_parts, chunk):
+    for c in range(0, x.shape[0], chunk):
+        e = min(c + chunk, x.shape[0])
         step_chunk(x[c:e], v[c:e], u_start[c:e], u_end[c:e], fin_angles[c:e], substeps,
                    constants, splash[c:e], ball[c:e], touch[c:e], ball_args, face_parts)
 
 
 @njit(cache=True, parallel=True)
 def _step_parallel(x, v, u_start, u_end, fin_angles, substeps, constants, splash, ball, touch,
-                   ball_args, face_parts):
-    for k in prange((x.shape[0] + CHUNK - 1) // CHUNK):
-        c = k * CHUNK
-        e = min(c + CHUNK, x.shape[0])
+                   ball_args, face_parts, chunk):
+    for k in prange((x.shape[0] + chunk - 1) // chunk):
+        c = k * chunk
+        e = min(c + chunk, x.shape[0])
         step_chunk(x[c:e], v[c:e], u_start[c:e], u_end[c:e], fin_angles[c:e], substeps,
                    constants, splash[c:e], ball[c:e], touch[c:e], ball_args, face_parts)
 
@@ -173,18 +187,23 @@ def step_batch(x: np.ndarray, v: np.ndarray, u_start: np.ndarray, u_end: np.ndar
     (ball (B, 6), touch (B, 3), ball_args, face_parts) for a beach ball per body
     (:mod:`animat.envs.physics.ball`), stepped with the bodies at every step.
 
-    ``kernel_args`` is :attr:`animat.envs.physics.system.System.kernel_args`. Bodies are independent
-    and go through the integrator in chunks of ``CHUNK`` (SIMD across bodies), chunks split over
-    threads when B >= ``PARALLEL_MIN_BATCH``; a batch of one runs the kernels compiled for one
-    body (``ONE_BODY``). Every body's arithmetic is the same whatever B is: a batch of one gives
-    bit for bit the numbers of its row in a batch.
+    ``kernel_args`` is :attr:`animat.envs.physics.system.System.kernel_args`. Bodies are
+    independent and go through the integrator in chunks (SIMD across bodies) of
+    :func:`chunk_width` lanes, split over Numba's threads when B >= ``PARALLEL_MIN_BATCH``; a
+    batch of one runs the kernels compiled for one body (``ONE_BODY``). Every body's arithmetic
+    is the same whatever B is: a batch of one gives bit for bit the numbers of its row in a
+    batch.
     """
-    if x.shape[0] == 1:
-        kernel = _step_one
-    else:
-        kernel = _step_parallel if x.shape[0] >= PARALLEL_MIN_BATCH else _step_serial
     if splash is None:
         splash = np.zeros(x.shape[0])
     if ball is None:
         ball = NO_BALL
-    kernel(x, v, u_start, u_end, fin_angles, int(substeps), kernel_args, splash, *ball)
+    batch = x.shape[0]
+    if batch == 1:
+        _step_one(x, v, u_start, u_end, fin_angles, int(substeps), kernel_args, splash, *ball)
+    elif batch >= PARALLEL_MIN_BATCH:
+        _step_parallel(x, v, u_start, u_end, fin_angles, int(substeps), kernel_args, splash,
+                       *ball, chunk_width(batch, numba.get_num_threads()))
+    else:
+        _step_serial(x, v, u_start, u_end, fin_angles, int(substeps), kernel_args, splash,
+                     *ball, chunk_width(batch, 1))

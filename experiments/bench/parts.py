@@ -45,8 +45,9 @@ def fins_loop(n, c, x, v, frames, sin_cos, f, scratch, one_body):
 
 @njit(cache=True)
 def gravity_loop(n, c, x, f, one_body):
+    radii = forces.sphere_radii(c.volumes)
     for _ in range(n):
-        forces.add_gravity_buoyancy(x, c.masses, c.volumes, c.lungs, c.water[DENSITY],
+        forces.add_gravity_buoyancy(x, c.masses, c.volumes, radii, c.lungs, c.water[DENSITY],
                                     c.water[GRAVITY], c.water[SURFACE_Z], c.water[AIR_PRESSURE],
                                     f, one_body)
 

@@ -9,8 +9,9 @@ actions, and prints the ratios (the reactive water's throughput against the resi
 too).
 Simulated seconds per wall second of a vector env count every sub-env's time.
 ``--breakdown`` prints where an integration step's time goes instead: each force term, the
-kick-drift and the whole fused step, in ns per body and step, for one body and for a SIMD
-chunk of 32 bodies, each part timed in a compiled loop (:mod:`animat.experiments.bench.parts`).
+kick-drift and the whole fused step, in ns per body and step, for one body and for SIMD
+chunks of 32 and 128 bodies, each part timed in a compiled loop
+(:mod:`animat.experiments.bench.parts`).
 """
 
 from __future__ import annotations
@@ -23,7 +24,7 @@ import numpy as np
 
 import animat  # noqa: F401  (registers Animat/*)
 from animat.envs.physics import forces, reactive
-from animat.envs.physics.integrator import CHUNK, NO_BALL, step_chunk
+from animat.envs.physics.integrator import CHUNK, MAX_CHUNK, NO_BALL, step_chunk
 
 from . import parts
 
@@ -162,9 +163,15 @@ def breakdown(lanes: int, reps: int = 20000) -> dict[str, float]:
 
 
 def report_breakdown(reps: int = 20000) -> str:
-    one, wide = breakdown(1, reps), breakdown(CHUNK, reps)
-    lines = [f"{'part of a step':<26} {'1 body':>10} {f'chunk of {CHUNK}':>14}  (ns per body-step)"]
-    lines += [f"{name:<26} {one[name]:>10.0f} {wide[name]:>14.0f}" for name in one]
+    """The breakdown's table: one body, and chunks of CHUNK and MAX_CHUNK lanes (the narrowest
+    and the widest a batch runs in, :func:`~animat.envs.physics.integrator.chunk_width`: the
+    batch of 256 on 2 threads runs chunks of 128)."""
+    columns = {"1 body": breakdown(1, reps), f"chunk of {CHUNK}": breakdown(CHUNK, reps),
+               f"chunk of {MAX_CHUNK}": breakdown(MAX_CHUNK, reps)}
+    lines = [f"{'part of a step':<26}" + "".join(f"{name:>14}" for name in columns)
+             + "  (ns per body-step)"]
+    lines += [f"{part:<26}" + "".join(f"{times[part]:>14.0f}" for times in columns.values())
+              for part in columns["1 body"]]
     return "\n".join(lines)
 
 

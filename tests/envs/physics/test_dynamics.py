@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from animat.envs.bodies.fish import fish_body
-from animat.envs.physics.integrator import step_batch
+from animat.envs.physics.integrator import CHUNK, MAX_CHUNK, SIMD_LANES, chunk_width, step_batch
 from animat.envs.physics.observe import body_state, momenta
 from animat.envs.physics.system import STABILITY_MARGIN, System, Water, stable_step, vacuum
 
@@ -212,8 +212,9 @@ def test_random_fin_angles_keep_the_batch_finite(water):
                          ids=["resistive", "reactive", "reactive-surface"])
 def test_a_batch_row_matches_a_batch_of_one_bit_for_bit(water):
     """A batch of one runs the kernels compiled for one body (ONE_BODY), a batch of 70 the lane
-    kernels over threads (chunks of 32, 32 and 6): every term, fins and the surface included,
-    gives the same numbers."""
+    kernels over threads (on 2 threads, chunks of 40 and 30: rows 7 and 69 each in one, 69
+    among the lanes past the last full SIMD vector): every term, fins and the surface
+    included, gives the same numbers."""
     system = System(fish_body(), water)
     x, v = _batch(system.body, 70)
     rng = np.random.default_rng(3)
@@ -234,6 +235,18 @@ def test_a_batch_row_matches_a_batch_of_one_bit_for_bit(water):
         assert np.array_equal(x[r], one_x[0]) and np.array_equal(v[r], one_v[0])
         assert splash[r] == one_splash[0]
     assert np.isfinite(x).all()
+
+
+@pytest.mark.parametrize("batch", [2, 33, 64, 70, 256, 1000])
+@pytest.mark.parametrize("threads", [1, 2, 8])
+def test_chunks_are_simd_multiples_within_bounds_and_every_thread_gets_one(batch, threads):
+    """A batch splits into chunks of a multiple of SIMD_LANES lanes in [CHUNK, MAX_CHUNK],
+    few enough that no thread has two while another has none, and as few as that allows."""
+    width = chunk_width(batch, threads)
+    chunks = -(-batch // width)
+    assert width % SIMD_LANES == 0 and CHUNK <= width <= MAX_CHUNK
+    assert chunks <= max(threads, -(-batch // MAX_CHUNK))
+    assert width == CHUNK or chunks >= min(threads, -(-batch // SIMD_LANES))
 
 
 def test_above_the_surface_a_body_falls_ballistically():
