@@ -145,15 +145,45 @@ def evaluate(run_dir: str | Path, seeds: list[int] | None = None, episodes: int 
 
 def shipped_comparison(path: Path, result: dict) -> str:
     """How ``result`` compares with the shipped scores in ``path`` (the same seeds' metrics, to
-    1e-9 relative): a line for ``animat eval`` to print."""
+    1e-9 relative): a line for ``animat eval`` to print, with the largest move when they differ
+    (:func:`largest_move`)."""
     if not path.is_file():
         return f"a shipped result, left as it is ({path.name} not written)"
     shipped = read_json(path)
     if shipped.get("seeds") != result["seeds"]:
         return f"a shipped result, left as it is ({path.name} scores other seeds)"
     old, new = _flat(shipped.get("metrics", {})), _flat(result["metrics"])
-    same = len(old) == len(new) and np.allclose(old, new, rtol=1e-9, atol=0)
-    return (f"{'the same as' if same else 'DIFFERENT from'} the shipped {path}")
+    if len(old) == len(new) and np.allclose(old, new, rtol=1e-9, atol=0):
+        return f"the same as the shipped {path}"
+    if len(old) != len(new):
+        return f"DIFFERENT from the shipped {path} (other figures)"
+    name, relative, in_spread = largest_move(shipped["metrics"], result["metrics"])
+    return (f"DIFFERENT from the shipped {path} (the largest move: {name} by {relative:.2g} of "
+            f"its value, {in_spread:.2g} of its spread over the starts)")
+
+
+def largest_move(shipped: dict, scored: dict) -> tuple[str, float, float]:
+    """Of two metrics tables of the same figures (per skill for a repertoire), the mean figure
+    that moved most relative to its value: (its name, ``|new - old| / |old|``, and the move
+    over the figure's std over the starts, ``<name>_std``; inf where that std is 0 and it
+    moved). The second number says whether a move is noise: a learned figure's spread over
+    the starts is the scale its comparisons are read at."""
+    worst = ("", 0.0, 0.0)
+    for name, old, new, std in _mean_figures(shipped, scored):
+        relative = abs(new - old) / abs(old) if old else (0.0 if new == old else np.inf)
+        in_spread = abs(new - old) / std if std > 0 else (0.0 if new == old else np.inf)
+        if (relative, in_spread) > worst[1:]:
+            worst = (name, relative, in_spread)
+    return worst
+
+
+def _mean_figures(shipped: dict, scored: dict, prefix: str = ""):
+    for key, old in sorted(shipped.items()):
+        if isinstance(old, dict):
+            yield from _mean_figures(old, scored[key], f"{prefix}{key}/")
+        elif not key.endswith("_std"):
+            yield (prefix + key, float(old), float(scored[key]),
+                   float(shipped.get(f"{key}_std", 0.0)))
 
 
 def _flat(metrics: dict) -> list[float]:

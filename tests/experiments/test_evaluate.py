@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from animat.envs.tasks.start import FISH_START, POINT_START
-from animat.experiments.evaluate import evaluate, load
+from animat.experiments.evaluate import evaluate, largest_move, load
 from animat.experiments.figures.repertoire_table import repertoire_markdown, repertoire_rows
 from animat.experiments.launch.lock import RunError
 from animat.learners.agents import OpenLoopAgent, PolicyAgent, SkillSet
@@ -200,8 +200,51 @@ def test_a_shipped_result_is_re_scored_against_what_it_quotes_and_never_written(
     quoted["metrics"]["eval/return"] += 1e-3
     (folder / "eval.json").write_text(json.dumps(quoted))
     before = (folder / "eval.json").read_bytes()
-    assert evaluate(folder)["shipped"].startswith("DIFFERENT from the shipped")
+    line = evaluate(folder)["shipped"]
+    assert line.startswith("DIFFERENT from the shipped") and "eval/return by" in line
     assert (folder / "eval.json").read_bytes() == before
+
+
+def test_the_rescore_table_says_which_shipped_folder_moved_and_by_how_much(
+        tmp_path, monkeypatch, capsys):
+    """``rescore_table``: a row a shipped folder, the one whose eval.json no longer matches
+    named with its figure and move; exit 1 then, 0 when all match; nothing written; a folder
+    outside results/ refused."""
+    from animat.experiments.figures import rescore_table
+    from animat.experiments.launch import shipped
+
+    monkeypatch.setattr(shipped, "RESULTS", tmp_path)
+    monkeypatch.setattr(rescore_table, "RESULTS", tmp_path)
+    folders = [_run(tmp_path, "handmc"), shutil.copytree(tmp_path / "handmc", tmp_path / "b")]
+    for folder in folders:
+        quoted = evaluate(folder, episodes=2)
+        (folder / "eval.json").write_text(json.dumps(
+            {k: quoted[k] for k in ("seeds", "metric", "episodes", "metrics")}))
+    assert rescore_table.main([]) == 0
+    moved = json.loads((folders[1] / "eval.json").read_text())
+    moved["metrics"]["eval/speed_bl_per_s"] *= 1.01
+    (folders[1] / "eval.json").write_text(json.dumps(moved))
+    before = {p: p.read_bytes() for p in tmp_path.rglob("*") if p.is_file()}
+    assert rescore_table.main([]) == 1
+    rows = capsys.readouterr().out.splitlines()
+    assert any(r.startswith("| handmc | yes |") for r in rows)
+    assert any(r.startswith("| b | NO | eval/speed_bl_per_s | 0.0099 |") for r in rows)
+    assert "1 of 2 folders re-score" in rows[-1]
+    assert {p: p.read_bytes() for p in tmp_path.rglob("*") if p.is_file()} == before
+    assert rescore_table.main([str(tmp_path.parent)]) == 2
+
+
+def test_largest_move_names_the_figure_and_weighs_it_by_its_spread():
+    shipped = {"turn": {"eval/a": 2.0, "eval/a_std": 0.5, "eval/b": 10.0, "eval/b_std": 4.0},
+               "swim": {"eval/c": 1.0, "eval/c_std": 0.0}}
+    scored = {"turn": {"eval/a": 2.1, "eval/a_std": 0.5, "eval/b": 10.0, "eval/b_std": 9.0},
+              "swim": {"eval/c": 1.0, "eval/c_std": 0.0}}
+    name, relative, in_spread = largest_move(shipped, scored)
+    assert name == "turn/eval/a" and relative == pytest.approx(0.05) and in_spread == (
+        pytest.approx(0.2))
+    scored["swim"]["eval/c"] = 1.5  # no spread to weigh it by
+    assert largest_move(shipped, scored) == ("swim/eval/c", 0.5, np.inf)
+    assert largest_move(shipped, shipped) == ("", 0.0, 0.0)
 
 
 def test_the_unseen_table_groups_runs_by_learner_with_own_and_unseen_figures(tmp_path, capsys):
