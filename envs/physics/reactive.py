@@ -214,8 +214,8 @@ def _normal_and_rate(r0, r1, r2, q0, q1, q2, u0, u1, u2):
 def _section_terms(front, back, own, frame, density_area, length, c0, c1, c2, out,
                    one_body) -> None:
     """:func:`_section_terms_inline`, called: in a batch, inlined into the loop over the
-    sections, its lane loops ran 3x slower (measured); for one body, inlined is faster (0.75
-    against 1.0 us a step), so :func:`add_reactive_forces` inlines it there."""
+    sections, its lane loops ran 3x slower (measured); for one body, inlined is faster, so
+    :func:`add_reactive_forces` inlines it there."""
     _section_terms_inline(front, back, own, frame, density_area, length, c0, c1, c2, out,
                           one_body)
 
@@ -226,42 +226,46 @@ def _section_terms_inline(front, back, own, frame, density_area, length, c0, c1,
     """A section's normal e (out[0:3]), added mass l m (out[3]), momentum flux Phi (out[4:7])
     and the explicit part of -e d/dt(l m w) (out[7:10]), (SECTION_ROWS, L), from its means and wet
     shares ``own`` and those of the sections in ``front`` of it and ``back`` of it
-    (MEAN_ROWS, L); ``frame`` (3, L) the section's axis across the plane of undulation. Two
-    lane loops, each calling no function that takes an array and writing few rows, so that
-    both run in SIMD."""
+    (MEAN_ROWS, L); ``frame`` (3, L) the section's axis across the plane of undulation
+    (:func:`_lane_terms`). In a batch, two lane loops, each writing few rows, so that both run
+    in SIMD (each keeps only the terms it writes); for one body, one pass."""
+    if one_body is not None:
+        terms = _lane_terms(front, back, own, frame, density_area, length, c0, c1, c2, 0)
+        for row in range(SECTION_ROWS):
+            out[row, 0] = terms[row]
+        return
     for lane in range(lane_count(out, one_body)):
-        r0 = front[0, lane] - back[0, lane]
-        r1 = front[1, lane] - back[1, lane]
-        r2 = front[2, lane] - back[2, lane]
-        e0, e1, e2, _, _, _ = _normal_and_rate(
-            r0, r1, r2, front[3, lane] - back[3, lane], front[4, lane] - back[4, lane],
-            front[5, lane] - back[5, lane], frame[0, lane], frame[1, lane], frame[2, lane])
-        t0, t1, t2 = _normalised(r0, r1, r2)
-        m = density_area * own[6, lane]
-        w0, w1, w2 = own[3, lane] - c0, own[4, lane] - c1, own[5, lane] - c2
-        side = e0 * w0 + e1 * w1 + e2 * w2  # w, m/s
-        forward = max(t0 * w0 + t1 * w1 + t2 * w2, 0.0) * m * side
-        energy = 0.5 * m * side * side  # 1/2 m w^2, J/m
-        out[4, lane] = forward * e0 - energy * t0
-        out[5, lane] = forward * e1 - energy * t1
-        out[6, lane] = forward * e2 - energy * t2
+        e0, e1, e2, added, p0, p1, p2, _, _, _ = _lane_terms(
+            front, back, own, frame, density_area, length, c0, c1, c2, lane)
+        out[4, lane], out[5, lane], out[6, lane] = p0, p1, p2
         out[0, lane], out[1, lane], out[2, lane] = e0, e1, e2
-        out[3, lane] = length * m
+        out[3, lane] = added
     for lane in range(lane_count(out, one_body)):
-        e0, e1, e2, g0, g1, g2 = _normal_and_rate(
-            front[0, lane] - back[0, lane], front[1, lane] - back[1, lane],
-            front[2, lane] - back[2, lane], front[3, lane] - back[3, lane],
-            front[4, lane] - back[4, lane], front[5, lane] - back[5, lane], frame[0, lane],
-            frame[1, lane], frame[2, lane])
-        m = density_area * own[6, lane]
-        gain = density_area * own[7, lane]  # water taken on, kg/m/s
-        w0, w1, w2 = own[3, lane] - c0, own[4, lane] - c1, own[5, lane] - c2
-        side = e0 * w0 + e1 * w1 + e2 * w2  # w, m/s
-        rate = g0 * w0 + g1 * w1 + g2 * w2  # (de/dt).w, m/s^2
-        push = -length * (m * rate + gain * side)  # -l d(m w)/dt less m dw/dt (implicit), N
-        out[7, lane] = push * e0
-        out[8, lane] = push * e1
-        out[9, lane] = push * e2
+        _, _, _, _, _, _, _, q0, q1, q2 = _lane_terms(
+            front, back, own, frame, density_area, length, c0, c1, c2, lane)
+        out[7, lane], out[8, lane], out[9, lane] = q0, q1, q2
+
+
+@njit(cache=True, inline="always")
+def _lane_terms(front, back, own, frame, density_area, length, c0, c1, c2, lane):
+    """Lane ``lane``'s ten section terms, in :func:`_section_terms_inline`'s row order."""
+    r0 = front[0, lane] - back[0, lane]
+    r1 = front[1, lane] - back[1, lane]
+    r2 = front[2, lane] - back[2, lane]
+    e0, e1, e2, g0, g1, g2 = _normal_and_rate(
+        r0, r1, r2, front[3, lane] - back[3, lane], front[4, lane] - back[4, lane],
+        front[5, lane] - back[5, lane], frame[0, lane], frame[1, lane], frame[2, lane])
+    t0, t1, t2 = _normalised(r0, r1, r2)
+    m = density_area * own[6, lane]
+    gain = density_area * own[7, lane]  # water taken on, kg/m/s
+    w0, w1, w2 = own[3, lane] - c0, own[4, lane] - c1, own[5, lane] - c2
+    side = e0 * w0 + e1 * w1 + e2 * w2  # w, m/s
+    forward = max(t0 * w0 + t1 * w1 + t2 * w2, 0.0) * m * side
+    energy = 0.5 * m * side * side  # 1/2 m w^2, J/m
+    rate = g0 * w0 + g1 * w1 + g2 * w2  # (de/dt).w, m/s^2
+    push = -length * (m * rate + gain * side)  # -l d(m w)/dt less m dw/dt (implicit), N
+    return (e0, e1, e2, length * m, forward * e0 - energy * t0, forward * e1 - energy * t1,
+            forward * e2 - energy * t2, push * e0, push * e1, push * e2)
 
 
 @njit(**FAST)

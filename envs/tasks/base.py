@@ -33,10 +33,10 @@ def wrap_angle(angle: np.ndarray) -> np.ndarray:
     return (angle + np.pi) % (2.0 * np.pi) - np.pi
 
 
-def start_heading(world: World) -> np.ndarray:
-    """(B, 3) the unit vector of each episode's start heading, horizontal (``World.start_yaw``)."""
-    yaw = world.start_yaw
-    return np.stack([np.cos(yaw), np.sin(yaw), np.zeros_like(yaw)], axis=1)
+def along_start_heading(vectors: np.ndarray, start_yaw: np.ndarray) -> np.ndarray:
+    """(B,) the component of world-frame ``vectors`` (B, 3) along each episode's start heading,
+    the horizontal unit vector at yaw ``start_yaw`` (B,) rad (``World.start_yaw``)."""
+    return vectors[:, 0] * np.cos(start_yaw) + vectors[:, 1] * np.sin(start_yaw)
 
 
 def from_start_frame(vectors: np.ndarray, start_yaw: np.ndarray) -> np.ndarray:

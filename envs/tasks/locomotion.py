@@ -16,9 +16,9 @@ from .base import (
     Task,
     Terms,
     World,
+    along_start_heading,
     from_start_frame,
     heading_yaw,
-    start_heading,
     world_to_body,
     wrap_angle,
 )
@@ -57,7 +57,7 @@ class SwimTask(Task):
     def terms(self, world: World, last: np.ndarray) -> Terms:
         com, length = world.com, world.length
         yaw = wrap_angle(heading_yaw(world.frames) - world.start_yaw)
-        speed = np.einsum("bk,bk->b", world.com_vel, start_heading(world)) / length
+        speed = along_start_heading(world.com_vel, world.start_yaw) / length
         if self.target_speed is None:
             e_v = -speed
         else:
