@@ -121,7 +121,9 @@ def add_fin_forces(x, v, frame_nodes, fin_nodes, fin_areas, fin_mass, sin_cos, w
     for p in range(fin_nodes.shape[0]):
         nodes = fin_nodes[p]
         share = 1.0 / nodes.shape[0]
-        scratch[9:13] = 0.0
+        for row in range(9, 13):
+            for lane in range(lanes):
+                scratch[row, lane] = 0.0
         for q in range(nodes.shape[0]):
             node = nodes[q]
             for lane in range(lanes):

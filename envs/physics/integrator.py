@@ -91,7 +91,8 @@ def step_chunk(x, v, u_start, u_end, fin_angles, substeps, c, splash, ball, touc
                 xl[i, a, b], vl[i, a, b] = x[b, i, a], v[b, i, a]
     rest = np.empty((c.rest_lengths.shape[0], lanes))
     for e in range(rest.shape[0]):
-        rest[e, :] = c.rest_lengths[e]
+        for b in range(lanes):
+            rest[e, b] = c.rest_lengths[e]
     sin_cos = np.empty((fin_angles.shape[1], 2, lanes))
     for b in range(lanes):
         for p in range(fin_angles.shape[1]):
@@ -108,7 +109,10 @@ def step_chunk(x, v, u_start, u_end, fin_angles, substeps, c, splash, ball, touc
     for s in range(substeps):
         ramp_rest_lengths(c.rest_lengths, c.actuator, c.max_contraction, u_start, u_end,
                           s / substeps, rest, one_body)
-        fl[:] = 0.0
+        for i in range(n):
+            for a in range(3):
+                for b in range(lanes):
+                    fl[i, a, b] = 0.0
         add_element_forces(xl, vl, c.elements, c.stiffness, c.damping, rest, fl, one_body)
         add_face_forces(xl, vl, c.faces, c.face_weights, c.face_mass, c.water, c.dt, fl,
                         face_scratch, splash_lanes, one_body)

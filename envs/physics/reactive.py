@@ -131,7 +131,9 @@ def _add_nodes(x, nodes, share, out, one_body) -> None:
 def _body_up(x, up, down, out, one_body) -> None:
     """out (3, L): a section's axis across the plane of undulation (the ``up`` nodes'
     centroid minus the ``down`` nodes', m)."""
-    out[:] = 0.0
+    for a in range(3):
+        for lane in range(lane_count(out, one_body)):
+            out[a, lane] = 0.0
     _add_nodes(x, up, 1.0 / up.shape[0], out, one_body)
     _add_nodes(x, down, -1.0 / down.shape[0], out, one_body)
 
@@ -169,8 +171,8 @@ def add_reactive_forces(x, v, up, down, nodes, weights, lengths, areas, water, d
         if surface_z < np.inf:
             _wet_shares(means, j, np.sqrt(areas[j] / np.pi), surface_z, dt, one_body)
         else:
-            means[j, 6, :] = 1.0
-            means[j, 7, :] = 0.0
+            for lane in range(lane_count(means, one_body)):
+                means[j, 6, lane], means[j, 7, lane] = 1.0, 0.0
     for j in range(count):
         if j == 0 or not _same_axis(up, down, j):  # the fish's sections share one: once
             _body_up(x, up[j], down[j], frame, one_body)
