@@ -65,7 +65,8 @@ def body_frame_into(x, lane, front, back, up, down, frame) -> None:
 def _sum_nodes(x, nodes, axis, out, row) -> None:
     """out[row] (L,) = the sum of the ``nodes``' coordinate ``axis`` (x (N, 3, L)), in order
     from 0 (as :func:`_centroid` sums)."""
-    out[row, :] = 0.0
+    for lane in range(x.shape[2]):
+        out[row, lane] = 0.0
     for k in range(nodes.shape[0]):
         node = nodes[k]
         for lane in range(x.shape[2]):

@@ -233,8 +233,8 @@ def _section_terms_inline(front, back, own, frame, density_area, length, c0, c1,
     in SIMD (each keeps only the terms it writes); for one body, one pass."""
     if one_body is not None:
         terms = _lane_terms(front, back, own, frame, density_area, length, c0, c1, c2, 0)
-        for row in range(SECTION_ROWS):
-            out[row, 0] = terms[row]
+        out[0, 0], out[1, 0], out[2, 0], out[3, 0], out[4, 0] = terms[:5]
+        out[5, 0], out[6, 0], out[7, 0], out[8, 0], out[9, 0] = terms[5:]
         return
     for lane in range(lane_count(out, one_body)):
         e0, e1, e2, added, p0, p1, p2, _, _, _ = _lane_terms(
