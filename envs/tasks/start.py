@@ -69,7 +69,7 @@ class StartSpread:
     @property
     def is_point(self) -> bool:
         """Whether every field is 0: the placement alone, drawing no random numbers."""
-        return not any(asdict(self).values())
+        return not any(getattr(self, field.name) for field in fields(self))
 
     def as_dict(self) -> dict[str, float]:
         """The fields by name (what a run folder records)."""
