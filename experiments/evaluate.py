@@ -152,14 +152,22 @@ def shipped_comparison(path: Path, result: dict) -> str:
     shipped = read_json(path)
     if shipped.get("seeds") != result["seeds"]:
         return f"a shipped result, left as it is ({path.name} scores other seeds)"
-    old, new = _flat(shipped.get("metrics", {})), _flat(result["metrics"])
-    if len(old) == len(new) and np.allclose(old, new, rtol=1e-9, atol=0):
-        return f"the same as the shipped {path}"
-    if len(old) != len(new):
+    if _names(shipped.get("metrics", {})) != _names(result["metrics"]):
         return f"DIFFERENT from the shipped {path} (other figures)"
+    if np.allclose(_flat(shipped["metrics"]), _flat(result["metrics"]), rtol=1e-9, atol=0):
+        return f"the same as the shipped {path}"
     name, relative, in_spread = largest_move(shipped["metrics"], result["metrics"])
+    if not name:
+        return f"DIFFERENT from the shipped {path} (only the spreads over the starts moved)"
     return (f"DIFFERENT from the shipped {path} (the largest move: {name} by {relative:.2g} of "
             f"its value, {in_spread:.2g} of its spread over the starts)")
+
+
+def _names(metrics: dict, prefix: str = "") -> list[str]:
+    """A metrics table's figure names, sorted (per skill for a repertoire: ``skill/name``)."""
+    return sorted(name for key, value in metrics.items()
+                  for name in (_names(value, f"{prefix}{key}/") if isinstance(value, dict)
+                               else [prefix + key]))
 
 
 def largest_move(shipped: dict, scored: dict) -> tuple[str, float, float]:

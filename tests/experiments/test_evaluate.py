@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from animat.envs.tasks.start import FISH_START, POINT_START
-from animat.experiments.evaluate import evaluate, largest_move, load
+from animat.experiments.evaluate import evaluate, largest_move, load, shipped_comparison
 from animat.experiments.figures.repertoire_table import repertoire_markdown, repertoire_rows
 from animat.experiments.launch.lock import RunError
 from animat.learners.agents import OpenLoopAgent, PolicyAgent, SkillSet
@@ -245,6 +245,18 @@ def test_largest_move_names_the_figure_and_weighs_it_by_its_spread():
     scored["swim"]["eval/c"] = 1.5  # no spread to weigh it by
     assert largest_move(shipped, scored) == ("swim/eval/c", 0.5, np.inf)
     assert largest_move(shipped, shipped) == ("", 0.0, 0.0)
+
+
+def test_a_shipped_comparison_says_when_only_spreads_or_the_figures_themselves_differ(tmp_path):
+    path = tmp_path / "eval.json"
+    metrics = {"eval/a": 1.0, "eval/a_std": 0.5}
+    path.write_text(json.dumps({"seeds": [1], "metrics": metrics}))
+    assert "the same as" in shipped_comparison(path, {"seeds": [1], "metrics": metrics})
+    spread = {"eval/a": 1.0, "eval/a_std": 0.6}
+    assert shipped_comparison(path, {"seeds": [1], "metrics": spread}).endswith(
+        "(only the spreads over the starts moved)")
+    other = {"eval/b": 1.0, "eval/b_std": 0.5}
+    assert shipped_comparison(path, {"seeds": [1], "metrics": other}).endswith("(other figures)")
 
 
 def test_the_unseen_table_groups_runs_by_learner_with_own_and_unseen_figures(tmp_path, capsys):
