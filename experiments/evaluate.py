@@ -152,7 +152,7 @@ def shipped_comparison(path: Path, result: dict) -> str:
     shipped = read_json(path)
     if shipped.get("seeds") != result["seeds"]:
         return f"a shipped result, left as it is ({path.name} scores other seeds)"
-    if _names(shipped.get("metrics", {})) != _names(result["metrics"]):
+    if figure_names(shipped.get("metrics", {})) != figure_names(result["metrics"]):
         return f"DIFFERENT from the shipped {path} (other figures)"
     if np.allclose(_flat(shipped["metrics"]), _flat(result["metrics"]), rtol=1e-9, atol=0):
         return f"the same as the shipped {path}"
@@ -163,10 +163,10 @@ def shipped_comparison(path: Path, result: dict) -> str:
             f"its value, {in_spread:.2g} of its spread over the starts)")
 
 
-def _names(metrics: dict, prefix: str = "") -> list[str]:
+def figure_names(metrics: dict, prefix: str = "") -> list[str]:
     """A metrics table's figure names, sorted (per skill for a repertoire: ``skill/name``)."""
     return sorted(name for key, value in metrics.items()
-                  for name in (_names(value, f"{prefix}{key}/") if isinstance(value, dict)
+                  for name in (figure_names(value, f"{prefix}{key}/") if isinstance(value, dict)
                                else [prefix + key]))
 
 

@@ -7,10 +7,10 @@ seeds of its ``eval.json`` (:func:`animat.experiments.evaluate.evaluate`, which 
 into a shipped folder) and prints a Markdown table, a row a folder: whether it re-scores to
 what it quotes (to 1e-9 relative, as ``tests/experiments/test_results.py`` asks), and the mean
 figure that moved most, by how much of its value and of its spread over the starts
-(:func:`animat.experiments.evaluate.largest_move`); then the largest move of all, in the same
-two units. A move well inside the spread over the starts is noise to every comparison the docs
-read; one that is not means the result must be learned again. It exits 1 if any folder
-differs, 0 if none does.
+(:func:`animat.experiments.evaluate.largest_move`), and the wall seconds it took; then the
+largest move of all, in the same two units. A move well inside the spread over the starts
+is noise to every comparison the docs read; one that is not means the result must be learned
+again. It exits 1 if any folder differs, 0 if none does.
 """
 
 from __future__ import annotations
@@ -22,7 +22,7 @@ from pathlib import Path
 
 from animat.learners.storage.files import read_json
 
-from ..evaluate import evaluate, largest_move
+from ..evaluate import evaluate, figure_names, largest_move
 from ..launch.lock import RunError
 from ..launch.shipped import RESULTS, is_shipped_result
 
@@ -45,7 +45,10 @@ def rescore_row(folder: Path) -> dict:
     start = time.perf_counter()
     shipped = read_json(folder / "eval.json")
     result = evaluate(folder, seeds=shipped["seeds"])
-    name, relative, in_spread = largest_move(shipped["metrics"], result["metrics"])
+    if figure_names(shipped["metrics"]) == figure_names(result["metrics"]):
+        name, relative, in_spread = largest_move(shipped["metrics"], result["metrics"])
+    else:
+        name, relative, in_spread = "(other figures)", float("inf"), float("inf")
     return {"folder": folder, "same": result.get("shipped", "").startswith("the same as"),
             "figure": name, "relative": relative, "in_spread": in_spread,
             "seconds": time.perf_counter() - start}
@@ -54,11 +57,12 @@ def rescore_row(folder: Path) -> dict:
 def rescore_markdown(rows: list[dict], root: Path) -> str:
     """The rows as a Markdown table, then the largest moves of all."""
     lines = ["| folder | re-scores to what it quotes | the figure that moved most | "
-             "by, of its value | by, of its spread over the starts |", "|---|---|---|---|---|"]
+             "by, of its value | by, of its spread over the starts | wall s |",
+             "|---|---|---|---|---|---|"]
     for r in rows:
         shown = r["folder"].relative_to(root)
         lines.append(f"| {shown} | {'yes' if r['same'] else 'NO'} | {r['figure'] or '-'} | "
-                     f"{r['relative']:.2g} | {r['in_spread']:.2g} |")
+                     f"{r['relative']:.2g} | {r['in_spread']:.2g} | {r['seconds']:.0f} |")
     moved = sum(not r["same"] for r in rows)
     lines.append(f"\n{len(rows) - moved} of {len(rows)} folders re-score to what they quote; "
                  f"the largest move: {max((r['relative'] for r in rows), default=0.0):.2g} of "
