@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from .forces import BATCH, FAST, lane_count, limited_drag, submerged
+from .forces import BATCH, FAST, add_nodes, lane_count, limited_drag, submerged
 from .system import AIR_COEFFICIENT, CURRENT_X, CURRENT_Y, CURRENT_Z, FLUID_COEFFICIENT, SURFACE_Z
 
 
@@ -62,29 +62,16 @@ def body_frame_into(x, lane, front, back, up, down, frame) -> None:
 
 
 @njit(**FAST)
-def _sum_nodes(x, nodes, axis, out, row) -> None:
-    """out[row] (L,) = the sum of the ``nodes``' coordinate ``axis`` (x (N, 3, L)), in order
-    from 0 (as :func:`_centroid` sums)."""
-    for lane in range(x.shape[2]):
-        out[row, lane] = 0.0
-    for k in range(nodes.shape[0]):
-        node = nodes[k]
-        for lane in range(x.shape[2]):
-            out[row, lane] += x[node, axis, lane]
-
-
-@njit(**FAST)
 def _frames_into_lanes(x, front, back, up, down, out) -> None:
     """out[0:9] (9, L): every lane's :func:`body_frame_into` rows, forward, left, up, in lane
     loops that run in SIMD (in a chunk of 128, the fins cost 41 ns a body-step with it, 68
     with the frame computed body by body; measured). The same operations in the same order,
     so the same numbers."""
-    sums = np.empty((12, x.shape[2]))
-    for axis in range(3):
-        _sum_nodes(x, front, axis, sums, axis)
-        _sum_nodes(x, back, axis, sums, 3 + axis)
-        _sum_nodes(x, up, axis, sums, 6 + axis)
-        _sum_nodes(x, down, axis, sums, 9 + axis)
+    sums = np.zeros((12, x.shape[2]))  # each node group's coordinates summed, in order from 0
+    add_nodes(x, front, 1.0, sums[0:3])  # (as _centroid sums them: times 1.0 is exact)
+    add_nodes(x, back, 1.0, sums[3:6])
+    add_nodes(x, up, 1.0, sums[6:9])
+    add_nodes(x, down, 1.0, sums[9:12])
     n_front, n_back, n_up, n_down = front.shape[0], back.shape[0], up.shape[0], down.shape[0]
     for lane in range(x.shape[2]):
         rows = _frame_rows(sums[0, lane] / n_front - sums[3, lane] / n_back,

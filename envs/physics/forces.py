@@ -75,6 +75,18 @@ def _lane_count(lanes_array, one_body):
     raise TypingError(f"one_body must be BATCH (None) or ONE_BODY (True), got {one_body}")
 
 
+@njit(**FAST)
+def add_nodes(x, nodes, share, out, one_body=BATCH) -> None:
+    """out (3, L) += ``share`` times each of the ``nodes``' positions (x (N, 3, L)), node by
+    node in order (a function of its own: inlined, its lane loop did not run in SIMD)."""
+    lanes = lane_count(x, one_body)
+    for k in range(nodes.shape[0]):
+        node = nodes[k]
+        for a in range(3):
+            for lane in range(lanes):
+                out[a, lane] += share * x[node, a, lane]
+
+
 @njit(cache=True, inline="always")
 def submerged(z: float, surface_z: float) -> float:
     """1 below the water surface, 0 above it (for a point: a fin)."""

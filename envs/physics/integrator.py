@@ -105,7 +105,8 @@ def step_chunk(x, v, u_start, u_end, fin_angles, substeps, c, splash, ball, touc
     sections = np.empty((c.section_nodes.shape[0], SECTION_ROWS, lanes))
     section_means = np.empty((c.section_nodes.shape[0], MEAN_ROWS, lanes))
     up_scratch = np.empty((3, lanes))
-    radii = sphere_radii(c.volumes)
+    # the nodes' buoyancy spheres: read only with a water surface
+    radii = sphere_radii(c.volumes) if c.water[SURFACE_Z] < np.inf else c.volumes[:0]
     for s in range(substeps):
         ramp_rest_lengths(c.rest_lengths, c.actuator, c.max_contraction, u_start, u_end,
                           s / substeps, rest, one_body)
@@ -139,7 +140,7 @@ def step_chunk(x, v, u_start, u_end, fin_angles, substeps, c, splash, ball, touc
                 x[b, i, a], v[b, i, a] = xl[i, a, b], vl[i, a, b]
 
 
-CHUNK = 32  # the fewest lanes a chunk of a batch has (a smaller batch is one chunk)
+CHUNK = 32  # the narrowest chunk width (a batch's last chunk may hold fewer bodies)
 MAX_CHUNK = 128  # the most (a batch of 256 on 2 threads, per body-step: 0.21-0.26 us in
 # chunks of 128, 0.28-0.30 in chunks of 64, 0.33-0.39 in chunks of 32, measured)
 SIMD_LANES = 8  # chunk widths are multiples of it (doubles in an AVX-512 register)

@@ -88,7 +88,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from .forces import BATCH, FAST, lane_count, wet_fraction
+from .forces import BATCH, FAST, add_nodes, lane_count, wet_fraction
 from .system import ADDED_MASS, CURRENT_X, CURRENT_Y, CURRENT_Z, DENSITY, SURFACE_Z
 
 SECTION_ROWS = 10  # rows of the sections' terms per section (add_reactive_forces's ``s``)
@@ -116,17 +116,6 @@ def _section_means(x, v, nodes, weights, j, means, one_body) -> None:
                 means[j, 3 + a, lane] += share * v[node, a, lane]
 
 
-@njit(**FAST)
-def _add_nodes(x, nodes, share, out, one_body) -> None:
-    """out (3, L) += ``share`` times each of the ``nodes``' positions (x (N, 3, L)), in order."""
-    lanes = lane_count(x, one_body)
-    for k in range(nodes.shape[0]):
-        node = nodes[k]
-        for a in range(3):
-            for lane in range(lanes):
-                out[a, lane] += share * x[node, a, lane]
-
-
 @njit(inline="always", **FAST)
 def _body_up(x, up, down, out, one_body) -> None:
     """out (3, L): a section's axis across the plane of undulation (the ``up`` nodes'
@@ -134,8 +123,8 @@ def _body_up(x, up, down, out, one_body) -> None:
     for a in range(3):
         for lane in range(lane_count(out, one_body)):
             out[a, lane] = 0.0
-    _add_nodes(x, up, 1.0 / up.shape[0], out, one_body)
-    _add_nodes(x, down, -1.0 / down.shape[0], out, one_body)
+    add_nodes(x, up, 1.0 / up.shape[0], out, one_body)
+    add_nodes(x, down, -1.0 / down.shape[0], out, one_body)
 
 
 @njit(cache=True, inline="always")
