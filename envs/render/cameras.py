@@ -7,7 +7,8 @@ split over threads.
 depth buffer, the water and its haze: :func:`~animat.envs.render.raster.draw_picture`), so a
 camera gives bit for bit the picture :class:`~animat.envs.render.camera.Camera` gives, whatever
 else is in the batch. What it saves is the Python around each camera (about half of a retina's
-time when drawn one camera at a time) and one core's idleness: ``prange`` over the cameras.
+time when drawn one camera at a time) and one core's idleness: ``prange`` over chunks of
+cameras, each chunk drawn on one work space (:func:`~animat.envs.render.raster.canvas`).
 
 The fish's and the scenery's colours are flat-shaded by
 :func:`~animat.envs.render.camera.shade`, as :meth:`~animat.envs.render.camera.Scene.prepare`
@@ -16,23 +17,30 @@ shades them.
 
 from __future__ import annotations
 
+import numba
 import numpy as np
 from numba import njit, prange
 
 from .camera import FAR, NEAR, SAND, SHADOW_COLOUR, WATER_BOTTOM, WATER_TOP
-from .raster import draw_picture
+from .raster import canvas, draw_picture_into
+
+CHUNKS_PER_THREAD = 4  # chunks of cameras per thread: few canvases, and the threads balanced
 
 
 @njit(cache=True, parallel=True)
 def _draw(triangles, colours, world, eyes, rotations, focals, seabed_z, tiles, visibility,
-          sand, top, bottom, far, near, images) -> None:
+          sand, top, bottom, far, near, images, chunks) -> None:
     levels, height, width = images.shape[3], images.shape[1], images.shape[2]
-    for c in prange(len(world)):
-        w = world[c]
+    per = -(-len(world) // chunks)
+    for k in prange(chunks):  # each chunk of cameras on one canvas
         image = np.empty((height, width, 3), np.uint8)  # contiguous while it is drawn
-        draw_picture(triangles[w], colours[w], eyes[c], rotations[c], focals[c], seabed_z[w],
-                     tiles[w], visibility[w], sand, top, bottom, far, near, image)
-        images[c // levels, :, :, c % levels] = image
+        work = canvas(height, width, triangles.shape[1])
+        for c in range(k * per, min((k + 1) * per, len(world))):
+            w = world[c]
+            draw_picture_into(triangles[w], colours[w], eyes[c], rotations[c], focals[c],
+                              seabed_z[w], tiles[w], visibility[w], sand, top, bottom, far,
+                              near, image, work)
+            images[c // levels, :, :, c % levels] = image
 
 
 def draw_cameras(triangles: np.ndarray, colours: np.ndarray, world: np.ndarray,
@@ -56,7 +64,7 @@ def draw_cameras(triangles: np.ndarray, colours: np.ndarray, world: np.ndarray,
           np.ascontiguousarray(rotations, float), np.ascontiguousarray(focals, float),
           np.ascontiguousarray(seabed_z, float), np.ascontiguousarray(tiles, float),
           np.ascontiguousarray(visibility, float), SAND, WATER_TOP, WATER_BOTTOM, FAR, NEAR,
-          images)
+          images, max(1, min(count, CHUNKS_PER_THREAD * numba.get_num_threads())))
     return images
 
 
