@@ -31,11 +31,10 @@ CHUNKS_PER_THREAD = 4  # chunks of cameras per thread: few canvases, and the thr
 def _draw(triangles, colours, world, eyes, rotations, focals, seabed_z, tiles, visibility,
           sand, top, bottom, far, near, images, chunks) -> None:
     levels, height, width = images.shape[3], images.shape[1], images.shape[2]
-    per = -(-len(world) // chunks)
     for k in prange(chunks):  # each chunk of cameras on one canvas
         image = np.empty((height, width, 3), np.uint8)  # contiguous while it is drawn
         work = canvas(height, width, triangles.shape[1])
-        for c in range(k * per, min((k + 1) * per, len(world))):
+        for c in range(k, len(world), chunks):  # every chunks-th camera: worlds mixed
             w = world[c]
             draw_picture_into(triangles[w], colours[w], eyes[c], rotations[c], focals[c],
                               seabed_z[w], tiles[w], visibility[w], sand, top, bottom, far,
