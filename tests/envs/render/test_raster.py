@@ -2,6 +2,7 @@
 picture drawn on a fresh one, bit for bit, whatever the cameras before it saw."""
 
 import numpy as np
+import pytest
 
 from animat.envs.bodies.fish import fish_body
 from animat.envs.render.camera import (
@@ -49,3 +50,11 @@ def test_a_kept_canvas_draws_what_a_fresh_one_draws():
         assert len(np.unique(fresh.reshape(-1, 3), axis=0)) > 20  # fish, seabed and water
         pictures.append(fresh)
     assert not np.array_equal(pictures[1], pictures[2])  # the crowd is in the picture
+
+
+def test_a_canvas_too_small_is_refused():
+    frame = _frame(2)
+    with pytest.raises(ValueError, match="canvas is for fewer triangles"):
+        _draw(frame, np.array([-0.1, -0.9, 0.1]), canvas(64, 64, frame.triangles.shape[0] - 1))
+    with pytest.raises(ValueError, match="other pixels"):
+        _draw(frame, np.array([-0.1, -0.9, 0.1]), canvas(32, 64, frame.triangles.shape[0]))
