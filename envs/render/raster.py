@@ -202,13 +202,13 @@ def water_into(image, zbuffer, rays, top, bottom, visibility, keeps, ups) -> Non
         keep = HAZE_TABLE[k] + (u - k) * (HAZE_TABLE[k + 1] - HAZE_TABLE[k])
         keeps[p] = 0.0 if u >= 16.0 * HAZE_STEPS else keep
     t0, t1, t2, b0, b1, b2 = top[0], top[1], top[2], bottom[0], bottom[1], bottom[2]
-    bytes_ = image.reshape(3 * pixels)  # the three channels in one loop: it runs in SIMD
+    channels = image.reshape(3 * pixels)  # the three channels in one loop: it runs in SIMD
     for p in range(pixels):
         up, keep = ups[p], keeps[p]
         w0, w1, w2 = b0 + up * (t0 - b0), b1 + up * (t1 - b1), b2 + up * (t2 - b2)
-        bytes_[3 * p] = np.uint8(w0 + keep * (np.float64(bytes_[3 * p]) - w0) + 0.5)
-        bytes_[3 * p + 1] = np.uint8(w1 + keep * (np.float64(bytes_[3 * p + 1]) - w1) + 0.5)
-        bytes_[3 * p + 2] = np.uint8(w2 + keep * (np.float64(bytes_[3 * p + 2]) - w2) + 0.5)
+        channels[3 * p] = np.uint8(w0 + keep * (np.float64(channels[3 * p]) - w0) + 0.5)
+        channels[3 * p + 1] = np.uint8(w1 + keep * (np.float64(channels[3 * p + 1]) - w1) + 0.5)
+        channels[3 * p + 2] = np.uint8(w2 + keep * (np.float64(channels[3 * p + 2]) - w2) + 0.5)
 
 
 @njit(cache=True)
