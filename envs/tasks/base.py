@@ -114,6 +114,13 @@ class Task:
     # the documented spread of its episodes' starts (:mod:`animat.envs.tasks.start`)
     start_spread: ClassVar[StartSpread] = POINT_START
 
+    def __post_init__(self) -> None:
+        """Checks of the task's arguments: none here. Every task's ``__post_init__`` calls
+        its parent's first (``super().__post_init__()``), so that a task adds to the checks
+        it inherits and never drops one; each refusal is a ValueError of one line naming the
+        argument (:mod:`animat.envs.checks`)."""
+        return None
+
     def check_start_spread(self, spread: StartSpread) -> None:
         """A ValueError of one line if this task cannot start from ``spread`` (the default
         takes any)."""

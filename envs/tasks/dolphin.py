@@ -22,7 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..checks import check_number
+from ..checks import check_number, shown
 from ..motor.dolphin import dolphin_calibrated, dolphin_swim_mc, dolphin_turn_mc
 from ..physics.observe import momenta
 from .base import Task, Terms, World, heading_yaw, wrap_angle
@@ -37,6 +37,13 @@ MAX_START_SPEED = 20.0  # m/s
 # little.
 DOLPHIN_START = StartSpread(pitch_deg=5.0, bend_deg=10.0, speed_bl=0.2, drift_bl=0.05,
                             yaw_rate_deg=10.0, depth_bl=0.1)
+
+
+def check_pitch_direction(direction: object) -> None:
+    """``direction`` up or down (a pitch's: the arc's and the spin's); else a ValueError of
+    one line."""
+    if not (isinstance(direction, str) and direction in ("up", "down")):
+        raise ValueError(f"direction must be up or down, got {shown(direction)}")
 
 
 def placed(body, depth: float, pitch_deg: float) -> np.ndarray:
@@ -65,6 +72,14 @@ class Underwater:
     start_pitch_deg: float
     start_speed: float
     start_spread = DOLPHIN_START
+
+    def __post_init__(self) -> None:
+        """The start's checks (:meth:`check_start`), then the task's own (the next class in
+        the method resolution order: the fish's swim or turn task, or :class:`Task`): the
+        start first, since a task's checks may read it (the dolphin turn's angle limit reads
+        ``start_pitch_deg``)."""
+        self.check_start()
+        super().__post_init__()
 
     def check_start_spread(self, spread: StartSpread) -> None:
         """The dolphin's tasks are set in the pool's frame: no heading spread."""
@@ -100,10 +115,6 @@ class DolphinForwardTask(Underwater, SwimTask):
     name = "dolphin_forward"
     default_duration = 4.0
 
-    def __post_init__(self) -> None:
-        super().__post_init__()
-        self.check_start()
-
     def hand_controller(self, speed: float = 1.0, model: str = "reactive"):
         swim = dolphin_calibrated(model).swim
         return lambda t: dolphin_swim_mc(speed, t, swim)
@@ -114,7 +125,9 @@ class DolphinTurnTask(Underwater, TurnTask):
     """Turn ``direction`` (up, down, left, right) by ``angle_deg``: E_v of the error of the
     pitch (up, down) or of the yaw (left, right) and of the pitch or yaw rate, as the fish's
     (:meth:`TurnTask.objective`: by default the squared error, rad^2); observation: the
-    error's sine and cosine (the fish's turn task, in both planes)."""
+    error's sine and cosine (the fish's turn task, in both planes). Its arguments are
+    checked as the fish's (:meth:`TurnTask.__post_init__`: the weights' ranges as there),
+    in its own directions and, up or down, within a pitch of 90 deg."""
 
     angle_deg: float = 45.0
     direction: str = "up"
@@ -125,11 +138,17 @@ class DolphinTurnTask(Underwater, TurnTask):
     memory_size = 0  # its error is the pitch's, or the heading's within a half turn
     default_duration = 4.0
 
-    def __post_init__(self) -> None:
-        if self.direction not in ("up", "down", "left", "right"):
+    def check_direction(self) -> None:
+        """``direction`` up, down, left or right; else a ValueError of one line."""
+        if not (isinstance(self.direction, str)
+                and self.direction in ("up", "down", "left", "right")):
             raise ValueError(f"direction must be up, down, left or right, got "
-                             f"{self.direction!r}")
-        self.check_start()
+                             f"{shown(self.direction)}")
+
+    def check_angle(self) -> None:
+        """``angle_deg`` in (0, 180] deg left or right, and up or down at most to a vertical
+        pitch from ``start_pitch_deg`` (checked before: :meth:`Underwater.__post_init__`);
+        else a ValueError of one line."""
         limit = 180.0
         if self.direction in ("up", "down"):  # a pitch beyond +-90 deg is not a pitch
             sign = 1.0 if self.direction == "up" else -1.0
@@ -188,10 +207,11 @@ class DolphinArcTask(Underwater, Task):
     mean_metrics = ("arc_speed_bl_per_s",)
 
     def __post_init__(self) -> None:
-        if self.direction not in ("up", "down"):
-            raise ValueError(f"direction must be up or down, got {self.direction!r}")
+        """The start's checks (inherited), then ``direction`` up or down and ``radius_bl`` in
+        (0, 100] BL; else a ValueError of one line."""
+        super().__post_init__()
+        check_pitch_direction(self.direction)
         check_number("radius_bl", self.radius_bl, 0.0, 100.0, "BL", low_open=True)
-        self.check_start()
 
     def terms(self, world: World, last: np.ndarray) -> Terms:
         com, length = world.com, world.length
@@ -239,9 +259,10 @@ class DolphinSpinTask(Underwater, Task):
     mean_metrics = ("spin_deg_per_s",)
 
     def __post_init__(self) -> None:
-        if self.direction not in ("up", "down"):
-            raise ValueError(f"direction must be up or down, got {self.direction!r}")
-        self.check_start()
+        """The start's checks (inherited), then ``direction`` up or down; else a ValueError
+        of one line."""
+        super().__post_init__()
+        check_pitch_direction(self.direction)
 
     def terms(self, world: World, last: np.ndarray) -> Terms:
         sign = 1.0 if self.direction == "up" else -1.0

@@ -9,7 +9,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..checks import check_number, check_range
+from ..checks import check_number, check_range, shown
 from ..motor.fish import calibrated, swim_mc, turn_mc
 from ..physics.observe import momenta
 from .base import (
@@ -44,6 +44,7 @@ class SwimTask(Task):
     mean_metrics = ("speed_bl_per_s",)
 
     def __post_init__(self) -> None:
+        super().__post_init__()
         if self.target_speed is not None:
             check_number("target_speed", self.target_speed, 0.0, 10.0, "BL/s")
         self.obs_size = 0 if self.target_speed is None else 1
@@ -107,9 +108,27 @@ class TurnTask(Task):
     default_duration = 5.0
 
     def __post_init__(self) -> None:
-        if self.direction not in ("left", "right"):
-            raise ValueError(f"direction must be 'left' or 'right', got {self.direction!r}")
+        """The arguments' checks (the ranges of the class docstring): the direction, the
+        angle, then the weights. A subclass that turns other ways (the dolphin's) overrides
+        :meth:`check_direction` and :meth:`check_angle` and inherits the rest."""
+        super().__post_init__()
+        self.check_direction()
+        self.check_angle()
+        self.check_weights()
+
+    def check_direction(self) -> None:
+        """``direction`` 'left' or 'right'; else a ValueError of one line."""
+        if not (isinstance(self.direction, str) and self.direction in ("left", "right")):
+            raise ValueError(f"direction must be 'left' or 'right', got {shown(self.direction)}")
+
+    def check_angle(self) -> None:
+        """``angle_deg`` in (0, 180] deg; else a ValueError of one line."""
         check_number("angle_deg", self.angle_deg, 0.0, 180.0, "deg", low_open=True)
+
+    def check_weights(self) -> None:
+        """``path_weight`` and ``final_weight`` in [0, 1000], ``settle_s`` in [0, 10] s: E_v's
+        weights (:meth:`objective`), finite so that every reward is; else a ValueError of one
+        line naming the argument."""
         check_number("path_weight", self.path_weight, 0.0, 1000.0)
         check_number("final_weight", self.final_weight, 0.0, 1000.0)
         check_number("settle_s", self.settle_s, 0.0, 10.0, "s")
@@ -192,6 +211,7 @@ class ReachTask(Task):
     default_duration = 20.0
 
     def __post_init__(self) -> None:
+        super().__post_init__()
         check_range("distance_bl", self.distance_bl, 0.0, 1000.0, "BL")
         check_range("bearing_deg", self.bearing_deg, -360.0, 360.0, "deg")
         for name in ("final_weight", "path_weight", "closest_weight"):

@@ -97,9 +97,6 @@ class StuntTask(Underwater, Task):
     obs_size = 1
     default_duration = 8.0
 
-    def __post_init__(self) -> None:
-        self.check_start()
-
     def initial_memory(self) -> np.ndarray:
         memory = np.zeros(self.memory_size)
         memory[[APEX, NOSE_GAP, TAIL_GAP]] = -np.inf, np.inf, np.inf
