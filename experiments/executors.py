@@ -7,8 +7,8 @@ it, runs it there with the one CPU it holds, and returns the finished folder pac
 driver puts it in place of the prepared one (:func:`place`), under the folder's lock, the files
 first and ``result.json`` last, so an interrupted return leaves the folder as it was
 prepared, to run again with ``animat run --resume``. The nodes therefore need no shared file
-system. What comes back is data only: the archive is read with tarfile's ``data`` filter (no
-absolute paths, no links out of the folder, no devices), and a run folder holds no code. The
+system. What comes back is read as untrusted data (:mod:`.launch.archive`: regular files and
+folders only, each member checked before anything is written), and a run folder holds no code. The
 tasks are spread over the nodes (Ray's ``SPREAD``); a task Ray loses (a node gone) leaves its
 folder as prepared and its row ``failed``.
 
@@ -21,85 +21,17 @@ trial's folder is written under OUT where its worker runs.
 
 from __future__ import annotations
 
-import io
-import json
 import multiprocessing
 import os
-import tarfile
 import tempfile
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
+from .launch.archive import pack, place, unpack
 from .launch.execute import execute
 from .launch.folders import read_status
-from .launch.lock import LOCK_NAME, RunError, run_lock
+from .launch.lock import RunError
 from .launch.machine import available_cpus
-
-
-def pack(folder: Path) -> bytes:
-    """A run folder as an uncompressed tar archive (its lock file left out)."""
-    buffer = io.BytesIO()
-    with tarfile.open(fileobj=buffer, mode="w") as archive:
-        for path in sorted(Path(folder).iterdir()):
-            if path.name != LOCK_NAME:
-                archive.add(path, arcname=path.name)
-    return buffer.getvalue()
-
-
-def unpack(data: bytes, folder: Path) -> None:
-    """Extract a :func:`pack` archive into ``folder`` (made if missing) with tarfile's
-    ``data`` filter: RunError in one line for a member that would leave the folder, a link
-    out of it, or a device."""
-    Path(folder).mkdir(parents=True, exist_ok=True)
-    try:
-        with tarfile.open(fileobj=io.BytesIO(data), mode="r") as archive:
-            archive.extractall(folder, filter="data")
-    except (tarfile.TarError, OSError) as error:
-        raise RunError(f"{folder}: the returned run folder could not be unpacked ({error})"
-                       ) from None
-
-
-def place(data: bytes, folder: Path) -> dict:
-    """Put a finished run folder returned by a task (:func:`pack`) in place of the prepared
-    ``folder``, under its lock: unpacked beside it, then moved in entry by entry, the
-    ``result.json`` last; returns the folder's status."""
-    folder = Path(folder)
-    with run_lock(folder), tempfile.TemporaryDirectory(dir=folder.parent,
-                                                       prefix=f".{folder.name}.") as staging:
-        unpack(data, Path(staging))
-        entries = sorted(Path(staging).iterdir(), key=lambda p: p.name == "result.json")
-        if not entries or entries[-1].name != "result.json":
-            raise RunError(f"{folder}: the returned run folder has no result.json")
-        _check_result(entries[-1], folder)
-        for entry in entries:
-            target = folder / entry.name
-            if target.is_dir() and entry.is_dir():
-                _merge(entry, target)
-            else:
-                os.replace(entry, target)
-    return read_status(folder)
-
-
-def _check_result(path: Path, folder: Path) -> None:
-    """RunError in one line unless ``path`` is a run's result.json (a JSON object with a
-    ``status``), so a bad return never replaces the prepared folder's."""
-    try:
-        status = json.loads(path.read_text()).get("status")
-    except (OSError, ValueError, AttributeError):
-        status = None
-    if not isinstance(status, str):
-        raise RunError(f"{folder}: the returned result.json is not a run's (no status)")
-
-
-def _merge(source: Path, target: Path) -> None:
-    """Move ``source``'s tree into the folder ``target``, file by file (what a run adds to a
-    folder the driver prepared: new files, and the newer versions of its own)."""
-    for entry in source.iterdir():
-        there = target / entry.name
-        if entry.is_dir() and there.is_dir():
-            _merge(entry, there)
-        else:
-            os.replace(entry, there)
 
 
 def _run_packed(name: str, data: bytes) -> tuple[bytes, str]:
@@ -108,7 +40,7 @@ def _run_packed(name: str, data: bytes) -> tuple[bytes, str]:
     import ray
 
     with tempfile.TemporaryDirectory() as scratch:
-        folder = Path(scratch) / name
+        folder = Path(os.path.realpath(scratch)) / name
         unpack(data, folder)
         try:
             execute(folder, threads=1)  # the one CPU the task holds

@@ -14,10 +14,13 @@ through to the file at once (a kill loses none of what was logged before the che
 from __future__ import annotations
 
 import csv
+import io
 import math
 import os
 from pathlib import Path
 from typing import Protocol
+
+from .storage.files import check_size, make_dirs, open_file, open_read
 
 
 class Sink(Protocol):
@@ -79,14 +82,17 @@ class MemorySink:
         return [(step, value) for t, value, step in self.records if t == tag]
 
 
-def _csv_held(path: Path) -> set[tuple[str, int]]:
-    """The (tag, step) of every row of a CSV sink's file, after cutting off a last row a kill
-    left unfinished (no newline); ValueError naming the file when it is not such a file."""
-    data = path.read_bytes()
+def _csv_held(handle: int, path: Path) -> set[tuple[str, int]]:
+    """The (tag, step) of every row of a CSV sink's open file, after cutting off a last row a
+    kill left unfinished (no newline); ValueError naming the file when it is not such a file."""
+    data = os.pread(handle, check_size(handle, path, "scalars"), 0)
     if data and not data.endswith(b"\n"):
-        os.truncate(path, data.rfind(b"\n") + 1)
-    with path.open(newline="") as file:
-        rows = list(csv.reader(file))
+        data = data[:data.rfind(b"\n") + 1]
+        os.ftruncate(handle, len(data))
+    try:
+        rows = list(csv.reader(io.StringIO(data.decode(), newline="")))
+    except (UnicodeDecodeError, csv.Error) as error:
+        raise ValueError(f"{path}: not a scalars file ({error})") from None
     if rows[:1] not in ([], [["step", "tag", "value"]]):
         raise ValueError(f"{path}: not a scalars file (its header is {rows[0]})")
     try:
@@ -97,16 +103,21 @@ def _csv_held(path: Path) -> set[tuple[str, int]]:
 
 class CsvSink:
     """Appends ``step,tag,value`` rows to a CSV file (flushed every row), each (tag, step)
-    once (see the module's docstring)."""
+    once (see the module's docstring); the file opened as a run folder's files are
+    (:func:`~animat.learners.storage.files.open_file`: no link followed)."""
 
     def __init__(self, path: str | Path) -> None:
         path = Path(path)
-        path.parent.mkdir(parents=True, exist_ok=True)
-        self._held = _csv_held(path) if path.exists() else set()
-        new = not path.exists() or path.stat().st_size == 0
-        self._file = path.open("a", newline="")
+        make_dirs(path.parent)
+        handle = open_file(path, os.O_RDWR | os.O_APPEND | os.O_CREAT)
+        try:
+            self._held = _csv_held(handle, path)
+        except BaseException:
+            os.close(handle)
+            raise
+        self._file = os.fdopen(handle, "a", newline="")
         self._writer = csv.writer(self._file)
-        if new:
+        if os.fstat(handle).st_size == 0:
             self._writer.writerow(["step", "tag", "value"])
 
     def scalar(self, tag: str, value: float, step: int) -> None:
@@ -130,6 +141,7 @@ def _events_held(log_dir: Path) -> set[tuple[str, int]]:
 
     held: set[tuple[str, int]] = set()
     for path in sorted(Path(log_dir).glob("events.out.tfevents.*")):
+        open_read(path, "events").close()  # a regular file, no link, within the bound
         for event in EventFileLoader(str(path)).Load():
             held.update((value.tag, int(event.step)) for value in event.summary.value)
     return held
@@ -142,7 +154,7 @@ class TensorBoardSink:
     def __init__(self, log_dir: str | Path) -> None:
         from torch.utils.tensorboard import SummaryWriter
 
-        self._held = _events_held(Path(log_dir))
+        self._held = _events_held(make_dirs(log_dir))
         self._writer = SummaryWriter(log_dir=str(log_dir))
 
     def _new(self, tag: str, step: int) -> bool:

@@ -14,7 +14,7 @@ from pathlib import Path
 
 from animat.learners.logger import CsvSink, Logger, TensorBoardSink
 from animat.learners.registry import make_learner
-from animat.learners.storage.files import atomic_write
+from animat.learners.storage.files import atomic_write, open_file, run_folder
 
 from .config import ExperimentConfig, learner_params, load_run_config
 from .folders import clear_debris, make_status, one_line, read_status, write_json
@@ -47,7 +47,7 @@ def execute(folder: Path, progress=None, threads: int | None = None,
     """Run (or continue) the experiment of a run folder with ``threads`` Numba threads (the
     CPUs it was given; default all this process may use), holding the folder's lock; returns
     the final result.json. RunError if another process holds the lock or the run is done."""
-    folder = Path(folder)
+    folder = run_folder(folder)
     with run_lock(folder):
         if read_status(folder)["status"] == "done":  # finished by whoever held the lock
             raise RunError(f"{folder}: the run is done; nothing to resume")
@@ -92,8 +92,8 @@ def _record(folder: Path, status: dict) -> bool:
     brief = json.dumps({k: v for k, v in status.items() if k != "traceback"},
                        default=str).encode()
     try:
-        handle = os.open(path, os.O_WRONLY)
-    except OSError:
+        handle = open_file(path, os.O_WRONLY)
+    except (OSError, ValueError):  # gone, or not a regular file of the folder's own
         return False
     try:
         stat = os.fstat(handle)

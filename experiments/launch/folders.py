@@ -26,7 +26,14 @@ import time
 from pathlib import Path
 
 from animat.learners.base import LearnResult
-from animat.learners.storage.files import TMP_SUFFIX, atomic_write, read_json
+from animat.learners.storage.files import (
+    TMP_SUFFIX,
+    UnsafeFile,
+    atomic_write,
+    make_dirs,
+    read_json,
+    run_folder,
+)
 
 from .config import ExperimentConfig, record_env, to_yaml
 from .lock import LOCK_NAME, UNWRITABLE, RunError, lock_held, run_lock
@@ -93,11 +100,11 @@ def create_run(config: ExperimentConfig, out: Path | None, command: list[str]) -
     in between may be the one that runs it (still one run). A folder that cannot be made
     (a file in its path, a read-only disk) is a RunError; any OS error (a full disk) leaves
     nothing of it behind."""
-    folder = Path(out) if out else default_run_dir(config)
+    folder = run_folder(Path(out) if out else default_run_dir(config))
     _refuse_if_used(folder)  # before anything, even a lock file, is written into it
     made = [p for p in (folder, *folder.parents) if not p.exists()]  # deepest first
     try:
-        folder.mkdir(parents=True, exist_ok=True)
+        make_dirs(folder)
         with run_lock(folder):
             _refuse_if_used(folder)  # made meanwhile by another process
             clear_debris(folder)  # a killed making's
@@ -106,6 +113,9 @@ def create_run(config: ExperimentConfig, out: Path | None, command: list[str]) -
             except OSError:
                 _unmake(folder, made)  # still holding the lock: no other process writes here
                 raise
+    except UnsafeFile:  # a link planted on the way
+        _remove_empty(made)
+        raise
     except OSError as error:
         _remove_empty(made)  # what is left of them: only empty folders are removed
         if error.errno not in UNWRITABLE:
@@ -164,8 +174,8 @@ def read_status(folder: Path) -> dict:
     died without a word (killed, or its last result.json could not be written on a full or
     read-only disk); where the lock cannot tell (an older folder), the recorded pid on this
     host."""
-    path = Path(folder) / "result.json"
-    if not path.exists():
+    path = run_folder(folder) / "result.json"
+    if not os.path.lexists(path):
         raise RunError(f"{folder}: no result.json: not a run folder")
     data = read_json(path)
     if data.get("status") == "running" and not _still_running(Path(folder), data):

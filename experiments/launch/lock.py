@@ -1,7 +1,8 @@
 """A run folder's lock: one process makes or runs a folder at a time.
 
 ``fcntl.flock`` on the folder's ``.lock`` file, taken without waiting and released by the
-kernel when the process ends however it ends, so a killed run leaves no stale lock;
+kernel when the process ends however it ends, so a killed run leaves no stale lock (opened as
+every run-folder file is: a planted link, FIFO or hard link there is refused, never written);
 :func:`lock_held` asks, for an instant, whether a process holds it (what tells a killed run
 from a running one). What cannot be locked, or written, is a :class:`RunError` in one line.
 """
@@ -14,6 +15,8 @@ import os
 import time
 from contextlib import contextmanager
 from pathlib import Path
+
+from animat.learners.storage.files import UnsafeFile, open_file
 
 
 class RunError(RuntimeError):
@@ -35,7 +38,7 @@ def run_lock(folder: Path):
     no stale lock. Held while a folder is made and while it runs: one run per folder. A folder
     that cannot be written (read-only) or a file system without locks is a RunError too."""
     try:
-        handle = os.open(Path(folder) / LOCK_NAME, os.O_RDWR | os.O_CREAT, 0o644)
+        handle = open_file(Path(folder) / LOCK_NAME, os.O_RDWR | os.O_CREAT)
     except OSError as error:
         if error.errno not in UNWRITABLE:
             raise  # a full disk: the OS error itself
@@ -90,8 +93,8 @@ def lock_held(folder: Path) -> bool | None:
     nothing and works on a read-only folder; what a recorded pid cannot tell across hosts or
     after the pid is reused."""
     try:
-        handle = os.open(Path(folder) / LOCK_NAME, os.O_RDONLY)
-    except OSError:
+        handle = open_file(Path(folder) / LOCK_NAME)
+    except (OSError, UnsafeFile):
         return None
     try:
         fcntl.flock(handle, fcntl.LOCK_SH | fcntl.LOCK_NB)

@@ -31,12 +31,21 @@ import pickle
 import random
 import re
 import shutil
+import zipfile
 from pathlib import Path
 
 import numpy as np
 
 from ..storage import checkpoint_data
-from ..storage.files import CorruptFile, atomic_write, read_json
+from ..storage.files import (
+    CorruptFile,
+    UnsafeFile,
+    atomic_write,
+    is_regular,
+    make_dirs,
+    open_read,
+    read_json,
+)
 
 FOLDER = "ppo"
 LATEST = "latest.json"
@@ -69,13 +78,15 @@ def _stats(venv) -> dict[str, np.ndarray]:
 def _restore_stats(venv, path: Path) -> None:
     """Set VecNormalize's statistics from ``normalize.npz``."""
     try:
-        with np.load(path, allow_pickle=False) as saved:
+        with open_read(path, "arrays") as file, np.load(file, allow_pickle=False) as saved:
             data = {k: saved[k] for k in saved.files}
         for key, stats in _running(venv):
             stats.mean, stats.var = data[f"{key}:mean"], data[f"{key}:var"]
             stats.count = float(data[f"{key}:count"])
         venv.returns = data["returns"]
-    except (OSError, ValueError, KeyError, EOFError) as error:
+    except (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile) as error:
+        if isinstance(error, UnsafeFile | FileNotFoundError):
+            raise
         raise CorruptFile(path, f"not the run's normalisation statistics ({error})") from None
 
 
@@ -84,8 +95,7 @@ def save(checkpoint_dir: Path, model, venv, state: dict) -> Path:
     returns its folder."""
     import torch
 
-    root = Path(checkpoint_dir) / FOLDER
-    root.mkdir(parents=True, exist_ok=True)
+    root = make_dirs(Path(checkpoint_dir) / FOLDER)
     index = 1 + max((int(match[1]) for p in root.glob("save-*")
                      if (match := SAVE_NAME.fullmatch(p.name))), default=0)
     final, partial = root / f"save-{index:06d}", root / f"save-{index:06d}.partial"
@@ -211,12 +221,12 @@ def restore_progress(model, venv, folder: Path) -> bool:
 def latest(checkpoint_dir: Path) -> Path | None:
     """The latest complete checkpoint's folder, or None when the run has none."""
     pointer = Path(checkpoint_dir) / FOLDER / LATEST
-    if not pointer.exists():
+    if not os.path.lexists(pointer):
         return None
     name = read_json(pointer).get("folder")
     folder = pointer.parent / str(name)
     if not (isinstance(name, str) and SAVE_NAME.fullmatch(name) and not name.endswith(".partial")
-            and (folder / "state.json").exists()):
+            and is_regular(folder / "state.json")):
         raise CorruptFile(pointer, f"names no checkpoint of this run ({name!r})")
     return folder
 
@@ -233,15 +243,18 @@ def restore(model, venv, folder: Path, with_optimizer: bool = True) -> dict:
         targets.append(("optimizer.pt", model.policy.optimizer))
     for name, target in targets:
         try:
-            target.load_state_dict(torch.load(folder / name, map_location="cpu",
-                                              weights_only=True))
+            with open_read(folder / name, "weights") as file:
+                weights = torch.load(file, map_location="cpu", weights_only=True)
+            target.load_state_dict(weights)
+        except UnsafeFile:
+            raise
         except (OSError, RuntimeError, ValueError, KeyError, EOFError,
                 pickle.UnpicklingError) as error:
             text = ANSI.sub("", str(error)).strip()
             message = text.splitlines()[0] if text else ""
             raise CorruptFile(folder / name, f"not this run's weights ({type(error).__name__}"
                                              f": {message[:200]})") from None
-    if (folder / "normalize.npz").exists():
+    if os.path.lexists(folder / "normalize.npz"):
         _restore_stats(venv, folder / "normalize.npz")
     state = read_json(folder / "state.json")
     try:

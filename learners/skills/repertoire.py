@@ -11,7 +11,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from ..controllers.abstraction import AbstractController
-from ..storage.files import atomic_write
+from ..storage.files import atomic_write, read_text
 
 FORMAT = "artificial-animals repertoire 1"  # a repertoire file's "format"
 
@@ -64,7 +64,7 @@ class Repertoire:
         """The repertoire file at ``path``; a ValueError in one line naming it for anything
         else (not JSON, another format, no skills, a skill named twice or unreadable)."""
         try:
-            data = json.loads(Path(path).read_text())
+            data = json.loads(read_text(path, "json"))
         except json.JSONDecodeError as error:
             raise ValueError(f"{path}: not a repertoire file: not valid JSON ({error.msg} at "
                              f"line {error.lineno})") from None

@@ -14,12 +14,13 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import os
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from .files import CorruptFile, atomic_write
+from .files import CorruptFile, atomic_write, read_bytes
 
 FORMAT = "artificial-animals black-box checkpoint 1"
 # Fields a checkpoint written before they existed takes: what its run did then (the annealing
@@ -106,10 +107,11 @@ def load(path: str | Path, kind: str = FORMAT, types: dict[str, type] | None = N
     ``types`` (default: a black-box learner's) and the FFT abstraction, or None when there is
     none; CorruptFile naming the file when it is not one of these checkpoints."""
     path = Path(path)
-    if not path.exists():
+    if not os.path.lexists(path):
         return None
+    raw = read_bytes(path, "json")  # a link, a FIFO or a huge file: UnsafeFile naming it
     try:
-        data = json.loads(path.read_text())
+        data = json.loads(raw.decode())
         if not isinstance(data, dict) or data.get("format") != kind:
             raise ValueError(f"not a checkpoint of the format {kind!r}")
         return from_data(data["run"], types)

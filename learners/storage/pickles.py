@@ -5,11 +5,12 @@ data (:mod:`animat.learners.storage.checkpoint_data`)."""
 
 from __future__ import annotations
 
+import os
 import pickle
 from pathlib import Path
 from typing import Any
 
-from .files import CorruptFile, atomic_write
+from .files import CorruptFile, atomic_write, open_read
 
 
 class UntrustedPickle(RuntimeError):
@@ -33,9 +34,9 @@ def load_checkpoint(path: str | Path) -> Any | None:
     """The payload pickled at ``path``, or None when there is none. Unpickling runs whatever
     code the file's writer put in it: only for folders the caller trusts (``--trust-pickles``)."""
     path = Path(path)
-    if not path.exists():
+    if not os.path.lexists(path):
         return None
-    with path.open("rb") as file:
+    with open_read(path, "pickle") as file:
         try:
             return _Unpickler(file).load()
         except (pickle.UnpicklingError, EOFError, ValueError, AttributeError, ImportError,
