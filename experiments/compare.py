@@ -13,13 +13,17 @@ return."""
 from __future__ import annotations
 
 import csv
+import io
 import json
+import os
 import sys
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 import yaml
+
+from animat.learners.storage.files import check_tree, listing, read_text
 
 from .figures.abstraction_table import abstraction_markdown, abstraction_rows
 from .launch.config import load_config
@@ -41,7 +45,7 @@ def find_runs(paths: list[str | Path]) -> list[Path]:
     """Run folders given directly or found below parent folders (any depth)."""
     found = []
     for path in map(Path, paths):
-        if (path / "result.json").exists():
+        if os.path.lexists(path / "result.json"):
             found.append(path)
         else:
             found.extend(sorted(p.parent for p in path.rglob("result.json")))
@@ -55,7 +59,7 @@ def read_scalars(folder: Path) -> dict[str, tuple[np.ndarray, np.ndarray]]:
     where a resumed run logged a step twice; from its TensorBoard events, or from its
     ``scalars.csv`` when it has none (a run with ``logging.tensorboard: false``)."""
     series: dict[str, dict[int, float]] = {}
-    events = sorted((folder / "tb").glob("events.out.tfevents.*"))
+    events = listing(folder / "tb", "events.out.tfevents.*", "events")  # no link, bounded
     if events:
         from tensorboard.backend.event_processing.event_accumulator import EventAccumulator
 
@@ -65,16 +69,18 @@ def read_scalars(folder: Path) -> dict[str, tuple[np.ndarray, np.ndarray]]:
             for tag in accumulator.Tags()["scalars"]:
                 for event in accumulator.Scalars(tag):
                     series.setdefault(tag, {})[event.step] = event.value
-    elif (folder / "scalars.csv").exists():
-        with (folder / "scalars.csv").open(newline="") as file:
-            for row in csv.DictReader(file):
-                series.setdefault(row["tag"], {})[int(row["step"])] = float(row["value"])
+    elif os.path.lexists(folder / "scalars.csv"):
+        text = read_text(folder / "scalars.csv", "scalars")
+        for row in csv.DictReader(io.StringIO(text, newline="")):
+            series.setdefault(row["tag"], {})[int(row["step"])] = float(row["value"])
     return {tag: (np.array(sorted(v)), np.array([v[s] for s in sorted(v)]))
             for tag, v in series.items()}
 
 
 def load_run(folder: Path) -> RunCurves:
-    """A run's curves, its config read and validated as ``animat run`` reads one (not built)."""
+    """A run's curves, its config read and validated as ``animat run`` reads one (not built);
+    a folder holding a link or a FIFO is not read (UnsafeFile)."""
+    check_tree(folder)
     config = load_config(folder / "config.yaml", build=False)
     return RunCurves(folder, config.learner.display_name, config.env.id, config.seed,
                      read_status(folder), read_scalars(folder))

@@ -34,7 +34,7 @@ import animat  # noqa: F401
 from animat.learners.agents import SkillSet
 from animat.learners.registry import make_learner
 from animat.learners.rollout import score_episode, spread, unseen_seeds
-from animat.learners.storage.files import read_json
+from animat.learners.storage.files import CorruptFile, UnsafeFile, check_tree, read_json, run_folder
 
 from .launch.config import learner_params, load_run_config
 from .launch.folders import read_status, write_json
@@ -45,7 +45,8 @@ from .launch.shipped import is_shipped_result
 def load(run_dir: str | Path, trust_pickles: bool = False):
     """The agent of the finished run in ``run_dir`` (``trust_pickles``: also from an older
     version's pickled checkpoint, which runs its writer's code)."""
-    folder = Path(run_dir)
+    folder = run_folder(run_dir)
+    check_tree(folder)
     status = read_status(folder)
     if status["status"] != "done":
         raise RunError(f"{folder}: the run is {status['status']}; only a finished run can be "
@@ -54,7 +55,13 @@ def load(run_dir: str | Path, trust_pickles: bool = False):
     artefacts = read_json(folder / "artefacts.json")
     learner = _learner(folder, config)
     learner.trust_pickles = trust_pickles
-    return learner.agent(artefacts, folder)
+    try:
+        return learner.agent(artefacts, folder)
+    except (CorruptFile, UnsafeFile, OSError):  # a file of its own, named
+        raise
+    except (ValueError, TypeError, KeyError) as error:
+        raise CorruptFile(folder / "artefacts.json", "not this run's artefacts "
+                          f"({' '.join(str(error).split())[:200]})") from None
 
 
 def _learner(folder: Path, config):
@@ -112,7 +119,8 @@ def evaluate(run_dir: str | Path, seeds: list[int] | None = None, episodes: int 
     ``eval.json``: the seeds, every episode's figures, and ``metrics`` (``eval/<figure>``
     means with ``_std``) - per skill for a repertoire; with ``refine`` k > 1, at the physics
     step over k, into ``eval_step_over_<k>.json``."""
-    folder = Path(run_dir)
+    folder = run_folder(run_dir)
+    check_tree(folder)  # a folder from someone else: no link or FIFO in it is read
     config = load_run_config(folder)
     if not seeds:
         count = episodes or _learner(folder, config).scored_episodes()

@@ -26,10 +26,11 @@ from __future__ import annotations
 
 import hashlib
 import json
+import os
 import time
 from pathlib import Path
 
-from animat.learners.storage.files import atomic_write
+from animat.learners.storage.files import atomic_write, make_dirs, open_file, run_folder
 
 from .launch.config import (
     ConfigError,
@@ -139,6 +140,9 @@ def storage(optuna, out: Path, url: str | None):
     older study left one; else a journal file, ``OUT/journal.log``."""
     if url:
         return url
+    for name in ("study.db", "journal.log"):  # a shared OUT's: no link or FIFO written through
+        if os.path.lexists(out / name):
+            os.close(open_file(out / name, os.O_RDWR))
     if (out / "study.db").exists():
         return f"sqlite:///{out / 'study.db'}"
     from optuna.storages.journal import JournalFileBackend
@@ -198,8 +202,8 @@ def tune(path: str | Path, trials: int, out: str | Path | None = None,
         raise RunError(f"{path}: no tune.space: say which fields to search, e.g. "
                        "tune: {space: {learner.params.cooling: {low: 0.8, high: 0.99}}}")
     stamp = time.strftime("%Y%m%d-%H%M%S")
-    out = Path(out) if out else Path("runs") / "tune" / f"{path.stem}-{stamp}"
-    out.mkdir(parents=True, exist_ok=True)
+    out = run_folder(Path(out) if out else Path("runs") / "tune" / f"{path.stem}-{stamp}")
+    make_dirs(out)
     name = study_name or default_study_name(optuna, path, overrides, storage_url, out)
     study = open_study(optuna, config, out, storage_url, name)
     for stale in study.get_trials(states=(optuna.trial.TrialState.RUNNING,)):

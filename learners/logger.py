@@ -20,7 +20,7 @@ import os
 from pathlib import Path
 from typing import Protocol
 
-from .storage.files import check_size, make_dirs, open_file, open_read
+from .storage.files import check_size, listing, make_dirs, open_file
 
 
 class Sink(Protocol):
@@ -140,8 +140,7 @@ def _events_held(log_dir: Path) -> set[tuple[str, int]]:
     from tensorboard.backend.event_processing.event_file_loader import EventFileLoader
 
     held: set[tuple[str, int]] = set()
-    for path in sorted(Path(log_dir).glob("events.out.tfevents.*")):
-        open_read(path, "events").close()  # a regular file, no link, within the bound
+    for path in listing(log_dir, "events.out.tfevents.*", "events"):
         for event in EventFileLoader(str(path)).Load():
             held.update((value.tag, int(event.step)) for value in event.summary.value)
     return held

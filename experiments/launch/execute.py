@@ -14,7 +14,7 @@ from pathlib import Path
 
 from animat.learners.logger import CsvSink, Logger, TensorBoardSink
 from animat.learners.registry import make_learner
-from animat.learners.storage.files import atomic_write, open_file, run_folder
+from animat.learners.storage.files import atomic_write, check_tree, open_file, run_folder
 
 from .config import ExperimentConfig, learner_params, load_run_config
 from .folders import clear_debris, make_status, one_line, read_status, write_json
@@ -46,9 +46,12 @@ def execute(folder: Path, progress=None, threads: int | None = None,
             trust_pickles: bool = False) -> dict:
     """Run (or continue) the experiment of a run folder with ``threads`` Numba threads (the
     CPUs it was given; default all this process may use), holding the folder's lock; returns
-    the final result.json. RunError if another process holds the lock or the run is done."""
+    the final result.json. RunError if another process holds the lock or the run is done;
+    UnsafeFile, before anything is written, for a folder holding anything but regular files
+    and folders (:func:`~animat.learners.storage.files.check_tree`)."""
     folder = run_folder(folder)
     with run_lock(folder):
+        check_tree(folder)  # a link or FIFO planted in a shared folder: refused, nothing written
         if read_status(folder)["status"] == "done":  # finished by whoever held the lock
             raise RunError(f"{folder}: the run is done; nothing to resume")
         try:

@@ -101,9 +101,10 @@ def create_run(config: ExperimentConfig, out: Path | None, command: list[str]) -
     (a file in its path, a read-only disk) is a RunError; any OS error (a full disk) leaves
     nothing of it behind."""
     folder = run_folder(Path(out) if out else default_run_dir(config))
-    _refuse_if_used(folder)  # before anything, even a lock file, is written into it
-    made = [p for p in (folder, *folder.parents) if not p.exists()]  # deepest first
+    made: list[Path] = []
     try:
+        _refuse_if_used(folder)  # before anything, even a lock file, is written into it
+        made = [p for p in (folder, *folder.parents) if not p.exists()]  # deepest first
         make_dirs(folder)
         with run_lock(folder):
             _refuse_if_used(folder)  # made meanwhile by another process

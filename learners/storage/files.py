@@ -15,6 +15,7 @@ file that cannot be read back, named in one line) read.
 
 from __future__ import annotations
 
+import fnmatch
 import json
 import os
 import secrets
@@ -25,8 +26,8 @@ from pathlib import Path
 from typing import IO, Any, NoReturn
 
 MiB = 1 << 20
-# The most bytes a file of each kind is read up to: far above what a run writes (its largest
-# shipped JSON is a 0.2 MiB repertoire, its largest weights 0.3 MiB), far below a machine's memory.
+# The most bytes a file of each kind is read up to: far above what a run writes, far below what
+# a machine's memory holds.
 LIMITS = {"json": 64 * MiB, "config": 1 * MiB, "text": 16 * MiB, "scalars": 512 * MiB,
           "events": 1024 * MiB, "weights": 1024 * MiB, "arrays": 256 * MiB,
           "pickle": 1024 * MiB, "lock": 4096}
@@ -201,6 +202,47 @@ def is_regular(path: str | Path) -> bool:
         return False
 
 
+def listing(folder: str | Path, pattern: str, kind: str) -> list[Path]:
+    """The files of ``folder`` whose names match ``pattern`` (``fnmatch``), sorted, each
+    checked to be a regular file within the bound of ``kind`` (UnsafeFile otherwise, and for a
+    ``folder`` reached through a link); none when ``folder`` does not exist. For readers that
+    open files by their paths (TensorBoard's)."""
+    try:
+        handle = open_dir(folder)
+    except FileNotFoundError:
+        return []
+    try:
+        names = sorted(fnmatch.filter(os.listdir(handle), pattern))
+    finally:
+        os.close(handle)
+    paths = [Path(folder) / name for name in names]
+    for path in paths:
+        open_read(path, kind).close()
+    return paths
+
+
+def check_tree(folder: str | Path) -> None:
+    """UnsafeFile naming the first entry below ``folder`` that is neither a folder nor a regular
+    file of one name (a link, a FIFO, a device, a socket, a hard link to another file): what a
+    run folder received from someone else is asked before anything in it is read or written."""
+    for root, folders, names in os.walk(folder, followlinks=False, onerror=_raise):
+        for name in (*folders, *names):
+            try:
+                info = os.lstat(os.path.join(root, name))
+            except FileNotFoundError:  # gone since listed (a temporary file renamed)
+                continue
+            if stat.S_ISDIR(info.st_mode) or (stat.S_ISREG(info.st_mode) and info.st_nlink == 1):
+                continue
+            problem = (f"has {info.st_nlink - 1} other hard link(s)" if stat.S_ISREG(info.st_mode)
+                       else f"is {_what(info.st_mode)}")
+            raise UnsafeFile(os.path.join(root, name), f"{problem}; a run folder holds only "
+                             "folders and regular files of its own")
+
+
+def _raise(error: OSError) -> NoReturn:
+    raise error
+
+
 def make_dirs(path: str | Path) -> Path:
     """Make the folder ``path`` and its parents as needed, following no link (UnsafeFile for
     one on the way); returns ``path``."""
@@ -213,7 +255,7 @@ def run_folder(path: str | Path) -> Path:
     the user keeps runs may be a link), the folder itself no link (UnsafeFile: a shared folder
     replaced by a link would lead everything written into it elsewhere)."""
     path = Path(path)
-    if path.is_symlink():
+    if os.path.islink(path):
         raise UnsafeFile(path, f"is a symbolic link (to {os.readlink(path)}); a run folder is "
                                "used where it is: name the folder itself")
     return Path(os.path.realpath(path.parent)) / path.name
