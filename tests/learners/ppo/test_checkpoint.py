@@ -5,6 +5,7 @@ checkpoint loads only when the caller says it trusts the folder."""
 import json
 import pickle
 import shutil
+from types import SimpleNamespace
 
 import pytest
 import torch
@@ -233,3 +234,25 @@ def test_a_run_plays_back_from_its_policy_and_statistics_alone(tmp_path):
     for name in ("optimizer.pt", "resume.json"):
         (saved / name).unlink()
     assert evaluate(folder, episodes=2)["metrics"] == whole
+
+
+def test_truncated_normalisation_statistics_are_named_in_one_line(tmp_path):
+    import numpy as np
+
+    path = tmp_path / "normalize.npz"
+    np.savez(path, **{"obs:mean": np.zeros(3), "obs:var": np.ones(3)})
+    path.write_bytes(path.read_bytes()[:40])  # a zip cut short
+    with pytest.raises(CorruptFile, match="normalize.npz: not the run's normalisation") as error:
+        ppo_checkpoint._restore_stats(None, path)
+    assert len(str(error.value).splitlines()) == 1
+
+
+def test_weights_behind_a_link_are_refused_not_read(tmp_path):
+    from animat.learners.storage.files import UnsafeFile
+
+    (tmp_path / "outside.pt").write_bytes(b"x")
+    (tmp_path / "save").mkdir()
+    (tmp_path / "save" / "policy.pt").symlink_to(tmp_path / "outside.pt")
+    with pytest.raises(UnsafeFile, match="policy.pt: is a symbolic link"):
+        ppo_checkpoint.restore(SimpleNamespace(policy=None), None, tmp_path / "save",
+                               with_optimizer=False)

@@ -8,9 +8,19 @@ import threading
 import pytest
 
 from animat.learners.storage import files
-from animat.learners.storage.files import (CorruptFile, UnsafeFile, atomic_write, check_tree,
-                                           listing, make_dirs, open_file, read_bytes, read_json,
-                                           read_text, run_folder)
+from animat.learners.storage.files import (
+    CorruptFile,
+    UnsafeFile,
+    atomic_write,
+    check_tree,
+    listing,
+    make_dirs,
+    open_file,
+    read_bytes,
+    read_json,
+    read_text,
+    run_folder,
+)
 
 
 @pytest.fixture
