@@ -72,12 +72,17 @@ def _refuse_link(name: str, parent: int, path: str, error: OSError) -> NoReturn:
     raise OSError(error.errno, error.strerror, path) from None
 
 
+# A folder on the way is opened to be walked through, not read: O_PATH (Linux) needs only the
+# permission to pass through it, as a plain path lookup does.
+WALK = getattr(os, "O_PATH", os.O_RDONLY) | os.O_DIRECTORY | os.O_CLOEXEC
+
+
 def open_dir(path: str | Path, create: bool = False) -> int:
-    """A descriptor of the folder ``path``, opened component by component from the root with no
-    link followed (UnsafeFile naming the first link or non-folder met); ``create``: the missing
-    folders made on the way. The caller closes it."""
+    """A descriptor of the folder ``path`` (to open files below it, ``dir_fd``), opened
+    component by component from the root with no link followed (UnsafeFile naming the first
+    link met); ``create``: the missing folders made on the way. The caller closes it."""
     parts = Path(os.path.abspath(path)).parts
-    handle = os.open("/", os.O_RDONLY | os.O_DIRECTORY | os.O_CLOEXEC)
+    handle = os.open("/", WALK)
     try:
         for depth, name in enumerate(parts[1:], start=2):
             here = str(Path(*parts[:depth]))
@@ -87,8 +92,7 @@ def open_dir(path: str | Path, create: bool = False) -> int:
                         os.mkdir(name, 0o755, dir_fd=handle)
                     except FileExistsError:
                         pass
-                child = os.open(name, os.O_RDONLY | os.O_DIRECTORY | os.O_NOFOLLOW
-                                | os.O_CLOEXEC, dir_fd=handle)
+                child = os.open(name, WALK | os.O_NOFOLLOW, dir_fd=handle)
             except OSError as error:
                 _refuse_link(name, handle, here, error)
             os.close(handle)
@@ -208,9 +212,13 @@ def listing(folder: str | Path, pattern: str, kind: str) -> list[Path]:
     ``folder`` reached through a link); none when ``folder`` does not exist. For readers that
     open files by their paths (TensorBoard's)."""
     try:
-        handle = open_dir(folder)
+        walked = open_dir(folder)
     except FileNotFoundError:
         return []
+    try:
+        handle = os.open(".", os.O_RDONLY | os.O_DIRECTORY | os.O_CLOEXEC, dir_fd=walked)
+    finally:
+        os.close(walked)
     try:
         names = sorted(fnmatch.filter(os.listdir(handle), pattern))
     finally:
