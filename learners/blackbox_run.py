@@ -17,7 +17,7 @@ import numpy as np
 from .logger import Logger
 from .storage import checkpoint_data
 from .storage.pickles import UntrustedPickle, load_checkpoint, save_checkpoint
-from .validation import unknown_params
+from .validation import check_finite, unknown_params
 
 REFINE_KEYS = {"share", "threshold", "max_parameters"}
 
@@ -39,6 +39,8 @@ def refine_settings(refine: dict | None, learner: str, optimizer: ModuleType,
                          "refine.share, the fraction of budget.env_steps it gets (e.g. 0.25)")
     option_names = {f.name for f in fields(opt_params)}
     unknown_params(refine, REFINE_KEYS | option_names, f"{learner}.refine")
+    for name, value in refine.items():
+        check_finite(f"refine.{name}", value, f"learner {learner!r}")
     share, threshold = refine.get("share"), refine.get("threshold", 0.5)
     if not (type(share) in (float, int) and 0.0 < share < 1.0
             and type(threshold) in (float, int) and 0.0 <= threshold < 1.0):

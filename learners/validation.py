@@ -1,15 +1,51 @@
-"""What a learner checks before any work, each refusal one line: its params typed
-(:func:`typed_params`, :func:`unknown_params`), its budget (:class:`BudgetError`,
+"""What a learner checks before any work, each refusal one line: the env, one it can drive
+(:data:`DRIVES`, :func:`check_drives`), its params typed and finite (:func:`typed_params`,
+:func:`unknown_params`, :func:`check_finite`), its budget (:class:`BudgetError`,
 :func:`check_scoring_budget`) and the memory a size would take (:func:`check_memory`)."""
 
 from __future__ import annotations
 
+import math
 import os
 import types
 import typing
 from dataclasses import fields
 from pathlib import Path
 from typing import Any
+
+from animat.envs.registration import CORE, ENVS, MARINE, PURSUIT
+
+# The envs of the core (the fish's and the dolphin's bodies), which have a task and a native
+# batch: what the black-box learners' batched scoring (a vector env's ``task``) and the
+# hand-designed controllers need; a learner's own checks narrow them further (the reach task of
+# the steering learners, the dolphin's actuators of the stroke learners).
+CORE_ENVS = tuple(i for i, entry in ENVS.items() if entry["entry_point"] == CORE["entry_point"])
+PURSUIT_ENVS = tuple(i for i, e in ENVS.items() if e["entry_point"] == PURSUIT["entry_point"])
+MARINE_ENVS = tuple(i for i, entry in ENVS.items() if entry["entry_point"] == MARINE)
+# What each learner drives, and how its refusal says it: PPO steps any env of this project and
+# scores it by the env's own episode summary; basic training drives its regimen's envs (the
+# config's own is not stepped); the scorers of a policy made for one world drive that world.
+DRIVES: dict[str, tuple[tuple[str, ...], str]] = {
+    **{name: (CORE_ENVS, "the envs of the fish's and the dolphin's bodies")
+       for name in ("annealing", "cmaes", "handmc", "macro", "stroke", "stroke_cmaes",
+                    "steering", "switching", "switching_coordinate")},
+    "ppo": (tuple(ENVS), "this project's envs"),
+    "basic_training": (tuple(ENVS), "this project's envs"),
+    "active_vision": (PURSUIT_ENVS, "the pursuit"),
+    "behaviours": (MARINE_ENVS, "the living world"),
+}
+
+
+def check_drives(name: str, env_id: str) -> None:
+    """ValueError in one line, naming what the learner ``name`` drives, when it cannot drive
+    the env ``env_id`` (e.g. a Gymnasium env of another project, which reports none of the
+    episode metrics every learner logs)."""
+    envs, what = DRIVES[name]
+    if env_id not in envs:
+        named = (", ".join(envs) if len(envs) <= 3 else
+                 f"all {len(envs)} envs animat list names" if len(envs) == len(ENVS) else
+                 f"{len(envs)} of the envs animat list names, e.g. {envs[0]}")
+        raise ValueError(f"learner {name!r} drives {what} ({named}), not {env_id}")
 
 
 class BudgetError(ValueError):
@@ -91,17 +127,32 @@ def _kind_name(kind) -> str:
     return _KIND_NAMES.get(typing.get_origin(kind) or kind, getattr(kind, "__name__", str(kind)))
 
 
+def check_finite(name: str, value: Any, owner: str) -> None:
+    """ValueError in one line naming ``owner`` and the param ``name`` (``name[k]`` within a
+    list) when ``value``, or a number in the lists it holds, is a float that is not finite
+    (``.inf``, ``.nan``): no learner param means infinity, and a NaN passes every range check
+    written as a comparison."""
+    if isinstance(value, float) and not math.isfinite(value):
+        raise ValueError(f"{owner}: {name} must be a finite number, got {value!r}")
+    if isinstance(value, list | tuple):
+        for k, item in enumerate(value):
+            check_finite(f"{name}[{k}]", item, owner)
+
+
 def typed_params(cls: type, values: dict, owner: str):
-    """A frozen params dataclass ``cls`` from a config mapping: unknown names and values of
-    the wrong kind are refused in one line naming ``owner`` (e.g. ``learner 'annealing'``) and
-    the field; integers given for floats become floats; ``cls.__post_init__`` then checks
-    ranges."""
+    """A frozen params dataclass ``cls`` from a config mapping: unknown names, values of the
+    wrong kind and numbers that are not finite (:func:`check_finite`) are refused in one line
+    naming ``owner`` (e.g. ``learner 'annealing'``) and the field; integers given for floats
+    become floats; ``cls.__post_init__`` then checks ranges."""
+    if not isinstance(values, dict):
+        raise ValueError(f"{owner}: params must be a mapping, got {values!r:.80}")
     unknown_params(values, {f.name for f in fields(cls)}, owner)
     hints = typing.get_type_hints(cls)
     converted = {}
     for name, value in values.items():
         if not _kind_ok(value, hints[name]):
             raise ValueError(f"{owner}: {name} must be {_kind_name(hints[name])}, got {value!r}")
+        check_finite(name, value, owner)
         converted[name] = float(value) if hints[name] is float else value
     try:
         return cls(**converted)

@@ -26,6 +26,7 @@ candidate (with its metrics); the optimiser does not.
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
+from math import inf
 
 import numpy as np
 
@@ -83,14 +84,16 @@ class AnnealingParams:
                    f"it must be below initial_temperature ({self.initial_temperature:g})"),
                   (self.rounds >= 0, "rounds must be >= 0"),
                   (self.chains >= 1, "chains must be >= 1"),
-                  (self.initial_temperature > 0, "initial_temperature must be > 0"),
+                  (0 < self.initial_temperature < inf, "initial_temperature must be finite, > 0"),
                   (0 < self.cooling < 1, "cooling must be in (0, 1)"),
                   (self.moves_per_temperature >= 1, "moves_per_temperature must be >= 1"),
-                  (self.min_temperature > 0, "min_temperature must be > 0"),
-                  (self.step_size > 0 and self.min_step_size > 0, "step sizes must be > 0"),
+                  (0 < self.min_temperature < inf, "min_temperature must be finite, > 0"),
+                  (0 < self.step_size < inf and 0 < self.min_step_size < inf,
+                   "step sizes must be finite, > 0"),
                   (0 < self.mutation_rate <= 1, "mutation_rate must be in (0, 1]"),
-                  (self.lower < self.upper, "lower must be < upper"),
-                  (self.smoothing >= 0 and self.block >= 0, "smoothing and block must be >= 0")]
+                  (-inf < self.lower < self.upper < inf, "lower must be < upper, both finite"),
+                  (0 <= self.smoothing < inf and self.block >= 0,
+                   "smoothing (finite) and block must be >= 0")]
         for ok, message in checks:
             if not ok:
                 raise ValueError(f"AnnealingParams: {message}")

@@ -8,6 +8,7 @@ from __future__ import annotations
 import hashlib
 import warnings
 from dataclasses import dataclass, field, replace
+from math import inf
 
 import numpy as np
 
@@ -26,8 +27,10 @@ class CMAESParams:
     tolfun: float = 1e-8
 
     def __post_init__(self) -> None:
-        if self.popsize < 2 or self.sigma0 <= 0 or self.lower >= self.upper:
-            raise ValueError("CMAESParams: need popsize >= 2, sigma0 > 0, lower < upper")
+        if not (self.popsize >= 2 and 0 < self.sigma0 < inf and -inf < self.lower < self.upper
+                < inf and -inf < self.tolfun < inf):
+            raise ValueError("CMAESParams: need popsize >= 2, sigma0 > 0, lower < upper, each "
+                             "finite, and a finite tolfun")
 
 
 @dataclass

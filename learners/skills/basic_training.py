@@ -24,7 +24,7 @@ from ..base import Learner, LearnResult, episode_timing
 from ..blackbox import AnnealingLearner, CMAESLearner
 from ..controllers.abstraction import AbstractController
 from ..logger import Logger
-from ..validation import typed_params
+from ..validation import check_drives, typed_params
 from .regimens import REGIMENS
 from .repertoire import Repertoire, Skill
 
@@ -36,11 +36,15 @@ def skill_learner(spec: dict, annealing: dict, seed: int, threshold: float | Non
                   logger: Logger | None = None) -> AnnealingLearner | CMAESLearner:
     """The learner of one regimen skill: its ``learner`` (annealing, with the run's shared
     ``annealing`` params under the skill's own, or CMA-ES with the skill's own), on the skill's
-    env; ``threshold`` the FFT abstraction's."""
+    env (one that learner drives); ``threshold`` the FFT abstraction's."""
     name = spec.get("learner", "annealing")
     if name not in SKILL_LEARNERS:
         raise ValueError(f"regimen skill {spec['name']!r}: learner {name!r} is not one of "
                          f"{sorted(SKILL_LEARNERS)}")
+    try:
+        check_drives(name, spec["env_id"])
+    except ValueError as error:
+        raise ValueError(f"regimen skill {spec['name']!r}: {error}") from None
     shared = annealing if name == "annealing" else {}
     params = {**shared, **spec.get("params", {})}
     if threshold is not None:
