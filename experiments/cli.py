@@ -20,8 +20,10 @@
 
 CONFIG is a YAML file, or a shipped config by name (``quickstart``, ``tune/fish_swim_ppo``;
 ``animat list`` names them all), from any directory. A bad config or override stops before any
-work with one line naming the file, the field path and what is wrong, and exit status 2. Any
-other failure is one line too, exit status 1 (a run's traceback is in its folder's
+work with one line naming the file, the field path and what is wrong, and exit status 2; so
+does a file given that will not be read (a link in a run folder, a FIFO, a device, one too
+large: ``UnsafeFile``; one truncated or corrupt: ``CorruptFile``). Any other failure is one
+line too, exit status 1 (a run's traceback is in its folder's
 ``error.log``; ``--debug`` shows it instead). The options and their help are
 :mod:`animat.experiments.parser`'s; this module runs the commands.
 """
@@ -34,6 +36,8 @@ import sys
 import threading
 from contextlib import contextmanager
 from pathlib import Path
+
+from animat.learners.storage.files import CorruptFile, UnsafeFile
 
 from .launch.config import ConfigError, load_config, load_run_config
 from .launch.folders import create_run, one_line
@@ -51,9 +55,11 @@ def _progress(args, config):
 
 
 def _config_path(name: str) -> Path:
-    """The config file a user names (a path, or a shipped config's name); RunError if none."""
+    """The config file a user names (a path, or a shipped config's name); RunError if none.
+    A path that is there but no regular file (a device, a FIFO) is left to the config's
+    reader, which refuses it naming what it is."""
     path = find_config(name)
-    if not path.is_file():
+    if not os.path.lexists(path):
         raise RunError(f"{name}: no such file, nor a shipped config (animat list names them)")
     return path
 
@@ -303,7 +309,8 @@ def main(argv: list[str] | None = None) -> int:
 
 def _dispatch(args) -> int:
     """Run the command; a failure is one line on stderr and its exit status (2: what the user
-    gave, 1: while working, 130: interrupted)."""
+    gave, a config or a file that will not be read, unless a run recorded it as its failure;
+    1: while working; 130: interrupted)."""
     handlers = {"run": cmd_run, "sweep": cmd_sweep, "compare": cmd_compare, "list": cmd_list,
                 "bench": cmd_bench, "demo": cmd_demo, "figures": cmd_figures,
                 "stunt-figures": cmd_stunt_figures,
@@ -323,7 +330,8 @@ def _dispatch(args) -> int:
         if args.debug:
             raise
         folder = getattr(error, "run_folder", None)
-        if folder is None and isinstance(error, ConfigError | RunError | FileNotFoundError):
+        if folder is None and isinstance(error, ConfigError | RunError | FileNotFoundError
+                                         | UnsafeFile | CorruptFile):
             print(f"animat: error: {error}", file=sys.stderr)  # what the user gave
             return 2
         log = getattr(error, "error_log", None)  # None where the disk would not take it

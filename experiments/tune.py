@@ -30,7 +30,13 @@ import os
 import time
 from pathlib import Path
 
-from animat.learners.storage.files import atomic_write, make_dirs, open_file, run_folder
+from animat.learners.storage.files import (
+    atomic_write,
+    make_dirs,
+    open_file,
+    read_text,
+    run_folder,
+)
 
 from .launch.config import (
     ConfigError,
@@ -168,7 +174,7 @@ def default_study_name(optuna, path: Path, overrides: list[str], url: str | None
     folders are in OUT) is continued."""
     if not url:
         return LOCAL_STUDY
-    text = "\n".join([path.read_text(), *overrides])
+    text = "\n".join([read_text(path, "config", follow_links=True), *overrides])
     name = f"{path.stem}-{hashlib.sha256(text.encode()).hexdigest()[:8]}"
     names = optuna.study.get_all_study_names(storage=url)
     if name not in names and LOCAL_STUDY in names and any(out.glob("trial[0-9]*")):

@@ -17,6 +17,20 @@ from typing import Any
 import yaml
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
 
+# The seeds every learner takes: NumPy's legacy generator (SB3's PPO seeds it) and pycma take
+# no seed above 2**32 - 1.
+MAX_SEED = 2**32 - 1
+# The largest budget a config may ask for: years of simulation at any speed this simulator
+# reaches, and below 2**53, so that the learners' float arithmetic on budgets (a refinement's
+# share, rounds of a population) stays exact.
+MAX_ENV_STEPS = 10**15
+# How deep a config's YAML may nest (a config needs a handful of levels): its reader and its
+# checks recurse, and a file of thousands of nested ``[`` would exhaust the stack.
+MAX_DEPTH = 64
+# The characters an integer of a config may be written in (2**64 takes 20 digits): a longer
+# one is refused before Python converts it, which takes time growing with its square.
+MAX_INT_CHARS = 100
+
 
 class ConfigError(ValueError):
     """A config problem: ``file: field.path: what is wrong``."""
@@ -24,6 +38,125 @@ class ConfigError(ValueError):
     def __init__(self, source: str, path: str, message: str) -> None:
         self.source, self.path, self.message = source, path, message
         super().__init__(f"{source}: {path}: {message}" if path else f"{source}: {message}")
+
+
+class _Refused(yaml.constructor.ConstructorError):
+    """What :class:`_ConfigLoader` refuses: ``problem`` at the node of ``node_mark`` (the
+    field it names is found from that mark)."""
+
+    def __init__(self, problem: str, node_mark: yaml.Mark) -> None:
+        super().__init__(None, None, problem, node_mark)
+        self.node_mark = node_mark
+
+
+# YAML's safe loader on libyaml's parser where PyYAML has it (far faster on a config near its
+# size bound), else on the pure-Python one.
+_SAFE_LOADER: type = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
+
+
+class _ConfigLoader(_SAFE_LOADER):
+    """YAML's safe loader that refuses a key given twice in one mapping (the safe loader keeps
+    the last, silently) and an integer too long to be a value (:data:`MAX_INT_CHARS`)."""
+
+    def construct_mapping(self, node: yaml.Node, deep: bool = False) -> dict:
+        seen: dict[Any, yaml.Node] = {}
+        for key_node, _ in node.value if isinstance(node, yaml.MappingNode) else ():
+            if key_node.tag == "tag:yaml.org,2002:merge":
+                continue
+            key = self.construct_object(key_node, deep=True)
+            try:
+                first = seen.setdefault(key, key_node)
+            except TypeError:  # an unhashable key: the safe loader's own error
+                continue
+            if first is not key_node:
+                lines = sorted({first.start_mark.line + 1, key_node.start_mark.line + 1})
+                raise _Refused(f"duplicate key {key!r} (line{'s' * (len(lines) > 1)} "
+                               f"{' and '.join(map(str, lines))})", key_node.start_mark)
+        return super().construct_mapping(node, deep)
+
+    def construct_yaml_int(self, node: yaml.ScalarNode) -> int:
+        text = self.construct_scalar(node)
+        if len(text) > MAX_INT_CHARS:
+            raise _Refused(f"an integer written in {len(text):,} characters, more than the "
+                           f"{MAX_INT_CHARS} a config's integers may take", node.start_mark)
+        return super().construct_yaml_int(node)
+
+
+_ConfigLoader.add_constructor("tag:yaml.org,2002:int", _ConfigLoader.construct_yaml_int)
+
+
+def _problem(error: yaml.YAMLError) -> str:
+    """A YAML error in one line: what is wrong and where (line and column)."""
+    if not isinstance(error, yaml.MarkedYAMLError):
+        return " ".join(str(error).split())
+    mark = error.problem_mark or error.context_mark
+    where = f" (line {mark.line + 1}, column {mark.column + 1})" if mark else ""
+    return " ".join(f"{error.problem or error.context}{where}".split())
+
+
+def _check_events(text: str, source: str, field: str) -> None:
+    """Scan ``text``'s YAML events, which the parser yields without recursing: ConfigError on
+    an alias (a few nested ones expand to gigabytes) or on nesting deeper than
+    :data:`MAX_DEPTH`, which stops the scan there, before anything recursive reads it."""
+    depth = 0
+    try:
+        for event in yaml.parse(text, Loader=_ConfigLoader):
+            if isinstance(event, yaml.AliasEvent):
+                raise ConfigError(source, field, "YAML aliases (*name) are not accepted: a few "
+                                  "nested ones expand to gigabytes; write the values out")
+            depth += isinstance(event, yaml.CollectionStartEvent)
+            depth -= isinstance(event, yaml.CollectionEndEvent)
+            if depth > MAX_DEPTH:
+                raise _too_deep(source, field, event.start_mark)
+    except yaml.MarkedYAMLError as error:  # libyaml's own bound, met while it reads ahead
+        if "nesting depth" not in str(error.problem) or error.problem_mark is None:
+            raise
+        raise _too_deep(source, field, error.problem_mark) from None
+
+
+def _too_deep(source: str, field: str, mark: yaml.Mark) -> ConfigError:
+    """The refusal of a config nested deeper than :data:`MAX_DEPTH`, at ``mark``."""
+    return ConfigError(source, field, f"nested deeper than {MAX_DEPTH} levels (line "
+                       f"{mark.line + 1}); a config needs a few")
+
+
+def _field_at(node: yaml.Node, index: int, path: tuple[str, ...] = ()) -> tuple[str, ...]:
+    """The field path, from ``node``, of the key or value that starts at character ``index``
+    (``()`` where none does): the deepest node holding it names it."""
+    children: list[tuple[str, yaml.Node, yaml.Node | None]] = []
+    if isinstance(node, yaml.MappingNode):
+        children = [(str(k.value), k, v) for k, v in node.value]
+    elif isinstance(node, yaml.SequenceNode):
+        children = [(str(i), v, None) for i, v in enumerate(node.value)]
+    for name, *nodes in children:
+        for child in nodes:
+            if child is not None and child.start_mark.index <= index < child.end_mark.index:
+                return _field_at(child, index, (*path, name)) or (*path, name)
+    return ()
+
+
+def read_yaml(text: str, source: str, field: str = "") -> Any:
+    """The data of the YAML ``text`` (a config file's, or a ``--set`` value for ``field``),
+    read safely: no aliases, nesting, duplicate keys or huge integers (:func:`_check_events`,
+    :class:`_ConfigLoader`); else ConfigError naming ``source`` and the field, in one line."""
+    try:
+        _check_events(text, source, field)
+        return yaml.load(text, Loader=_ConfigLoader)
+    except ConfigError:
+        raise
+    except _Refused as error:
+        inner = _field_at(yaml.compose(text, Loader=_ConfigLoader), error.node_mark.index)
+        path = ".".join(p for p in (field, *inner) if p)
+        raise ConfigError(source, path, str(error.problem)) from None
+    except (yaml.YAMLError, ValueError, TypeError, OverflowError) as error:
+        # a constructor's own error (a date such as 2001-13-45, a !!float that is no number)
+        # is not a YAMLError, and is said as it is
+        problem = _problem(error) if isinstance(error, yaml.YAMLError) else " ".join(
+            str(error).split())
+        if field:
+            shown = text if len(text) <= 40 else f"{text[:40]}..."
+            raise ConfigError(source, field, f"cannot read value {shown!r}: {problem}") from None
+        raise ConfigError(source, "", f"not valid YAML: {problem}") from None
 
 
 class _Strict(BaseModel):
@@ -71,7 +204,7 @@ class LearnerConfig(_Strict):
 
 
 class BudgetConfig(_Strict):
-    env_steps: int = Field(gt=0)
+    env_steps: int = Field(gt=0, le=MAX_ENV_STEPS)
 
 
 class EvalConfig(_Strict):
@@ -79,7 +212,7 @@ class EvalConfig(_Strict):
     to reach it"; optional)."""
 
     metric: str = "eval/return"
-    threshold: float | None = None
+    threshold: float | None = Field(default=None, allow_inf_nan=False)
 
 
 class LoggingConfig(_Strict):
@@ -124,7 +257,7 @@ class ExperimentConfig(_Strict):
     env: EnvConfig
     learner: LearnerConfig
     budget: BudgetConfig
-    seed: int = Field(default=0, ge=0)
+    seed: int = Field(default=0, ge=0, le=MAX_SEED)
     eval: EvalConfig = Field(default_factory=EvalConfig)
     logging: LoggingConfig = Field(default_factory=LoggingConfig)
     tune: TuneConfig | None = None
@@ -138,12 +271,7 @@ def apply_override(data: dict, override: str, source: str) -> None:
     keys = path.strip().split(".")
     if not all(keys):
         raise ConfigError(source, path, f"override {override!r} has an empty key")
-    try:
-        if any(isinstance(event, yaml.AliasEvent) for event in yaml.parse(raw)):
-            raise ConfigError(source, path, "YAML aliases (*name) are not accepted")
-        value = yaml.safe_load(raw)
-    except yaml.YAMLError as error:
-        raise ConfigError(source, path, f"cannot read value {raw!r}: {error}") from None
+    value = read_yaml(raw, source, path.strip())
     node = data
     for key in keys[:-1]:
         child = node.get(key)
@@ -160,7 +288,7 @@ def validate(data: Any, source: str) -> ExperimentConfig:
     if not isinstance(data, dict):
         raise ConfigError(source, "", "the config must be a YAML mapping")
     try:
-        return ExperimentConfig.model_validate(data)
+        config = ExperimentConfig.model_validate(data)
     except ValidationError as error:
         first = error.errors()[0]
         path = ".".join(str(p) for p in first["loc"])
@@ -170,6 +298,13 @@ def validate(data: Any, source: str) -> ExperimentConfig:
         elif first["type"] == "missing":
             message = "required field is missing"
         raise ConfigError(source, path, message) from None
+    from animat.learners.validation import check_drives
+
+    try:
+        check_drives(config.learner.name, config.env.id)
+    except ValueError as error:
+        raise ConfigError(source, "env.id", str(error)) from None
+    return config
 
 
 def learner_params(folder: Path, config) -> dict:
@@ -186,16 +321,15 @@ def learner_params(folder: Path, config) -> dict:
 
 def check_buildable(config: ExperimentConfig, source: str, params: dict | None = None) -> None:
     """Build the env and the learner once (cheap: no learning, no files written) so that an env
-    keyword, a learner parameter or a budget that cannot be used stops the run before any
-    work, as ConfigError on ``env.kwargs``, ``learner.params`` or ``budget.env_steps``.
+    keyword, a learner parameter, a budget or an eval metric that cannot be used stops the run
+    before any work, as ConfigError on ``env.kwargs``, ``learner.params``,
+    ``budget.env_steps`` or ``eval.metric`` (one the env reports: :func:`reported_metrics`).
     ``params``: the learner params to build with (default the config's)."""
-    import gymnasium as gym
-
     from animat.learners.registry import make_learner
     from animat.learners.validation import BudgetError
 
     try:
-        gym.make(config.env.id, **config.env.kwargs).close()
+        metrics = reported_metrics(config.env.id, config.env.kwargs)
     except Exception as error:  # whatever the env's constructor refuses is its kwargs' fault
         raise ConfigError(source, "env.kwargs", _said(error)) from None
     try:
@@ -206,6 +340,30 @@ def check_buildable(config: ExperimentConfig, source: str, params: dict | None =
         raise ConfigError(source, "budget.env_steps", str(error)) from None
     except Exception as error:
         raise ConfigError(source, "learner.params", _said(error)) from None
+    if config.eval.metric not in metrics:
+        shown = ", ".join(m for m in metrics if not m.endswith("_std"))
+        raise ConfigError(source, "eval.metric", f"{config.eval.metric} is not a metric "
+                          f"{config.env.id} reports; it reports {shown} (each also as "
+                          f"<name>_std, its spread over the episodes)")
+
+
+def reported_metrics(env_id: str, env_kwargs: dict) -> tuple[str, ...]:
+    """The ``eval/`` metrics a run of the env reports: ``eval/return`` and each figure of the
+    env's episode summary (``env.unwrapped.episode_summary()``, the task's means and final
+    figures, or a world's own), each also with ``_std``, read off the summary of an episode
+    just reset (the env built, reset once and closed; its errors are its kwargs')."""
+    import gymnasium as gym
+
+    env = gym.make(env_id, **env_kwargs)
+    try:
+        _, info = env.reset(seed=0)
+        unwrapped: Any = env.unwrapped  # every env of this project sums its episodes up
+        summary = unwrapped.episode_summary()
+        summary.update(info)
+        names = ["return", *summary.summary()]
+    finally:
+        env.close()
+    return tuple(f"eval/{name}{end}" for name in names for end in ("", "_std"))
 
 
 def _said(error: Exception) -> str:
@@ -224,8 +382,10 @@ def _said(error: Exception) -> str:
 def migrate(data: dict) -> None:
     """Bring an older config's fields up to date in place (before any override): a refinement
     budget in env steps (``refine.env_steps``) becomes its share of the file's budget."""
-    params = (data.get("learner") or {}).get("params") or {}
-    refine, budget = params.get("refine"), (data.get("budget") or {}).get("env_steps")
+    learner, budget = data.get("learner"), data.get("budget")
+    params = learner.get("params") if isinstance(learner, dict) else None
+    refine = params.get("refine") if isinstance(params, dict) else None
+    budget = budget.get("env_steps") if isinstance(budget, dict) else None
     if (isinstance(refine, dict) and type(refine.get("env_steps")) is int
             and type(budget) is int and 0 < refine["env_steps"] < budget):
         refine["share"] = refine.pop("env_steps") / budget
@@ -248,25 +408,31 @@ def resolve_paths(data: dict, base: Path) -> None:
             params[name] = str((base / value).resolve())
 
 
-def load_config(path: str | Path, overrides: list[str] | None = None, build: bool = True
-                ) -> ExperimentConfig:
+def _config_text(path: str | Path, follow_links: bool) -> str:
+    """The text of the config file ``path``, read as :func:`animat.learners.storage.files.
+    read_text` reads a file: a regular file of at most a config's bound (UnsafeFile naming it
+    otherwise); ``follow_links``: a file the user named, its links resolved first (a run
+    folder's own is never followed). ConfigError where it cannot be read (missing,
+    unreadable, not UTF-8)."""
+    from animat.learners.storage.files import CorruptFile, read_text
+
+    try:
+        return read_text(path, "config", follow_links=follow_links)
+    except OSError as error:
+        raise ConfigError(str(path), "", f"cannot read the file: {error.strerror}") from None
+    except CorruptFile:  # what read_text finds corrupt: bytes that are not UTF-8
+        raise ConfigError(str(path), "", "not a text file (not UTF-8)") from None
+
+
+def load_config(path: str | Path, overrides: list[str] | None = None, build: bool = True,
+                follow_links: bool = True) -> ExperimentConfig:
     """Read, override and validate a YAML config file; with ``build``, also build its env and
     learner once (:func:`check_buildable`). A relative file path in the learner's params is
-    relative to the config file's folder, in an override to the current directory."""
+    relative to the config file's folder, in an override to the current directory.
+    ``follow_links``: whether the file may be reached through a link (a file the user names;
+    not a run folder's own, :func:`load_run_config`)."""
     source = str(path)
-    try:
-        text = Path(path).read_text()
-    except OSError as error:
-        raise ConfigError(source, "", f"cannot read the file: {error.strerror}") from None
-    except UnicodeDecodeError:
-        raise ConfigError(source, "", "not a text file (not UTF-8)") from None
-    try:
-        if any(isinstance(event, yaml.AliasEvent) for event in yaml.parse(text)):
-            raise ConfigError(source, "", "YAML aliases (*name) are not accepted: a few "
-                              "nested ones expand to gigabytes; write the values out")
-        data = yaml.safe_load(text)
-    except yaml.YAMLError as error:
-        raise ConfigError(source, "", f"not valid YAML: {str(error).splitlines()[0]}") from None
+    data = read_yaml(_config_text(path, follow_links), source)
     data = copy.deepcopy(data) if isinstance(data, dict) else data
     if isinstance(data, dict):
         migrate(data)
@@ -312,11 +478,16 @@ def load_run_config(folder: str | Path, build: bool = False) -> ExperimentConfig
     """A run folder's ``config.yaml`` with the water and the start it ran in: a folder made
     before run folders recorded them names neither and ran in the resistive water from the
     point start (:func:`record_env`), where its learner learned; with ``build``, checked as
-    :func:`load_config` checks it."""
-    path = Path(folder) / "config.yaml"
-    config = record_env(load_config(path, build=False), before_records=True)
+    :func:`load_config` checks it. The file is the folder's own: a link there (or the folder
+    a link) is refused (UnsafeFile), never followed out of it."""
+    from animat.learners.storage.files import run_folder
+
+    folder = run_folder(folder)  # UnsafeFile if the folder itself is a link
+    path = folder / "config.yaml"
+    config = record_env(load_config(path, build=False, follow_links=False),
+                        before_records=True)
     if build:
-        check_buildable(config, str(path), learner_params(Path(folder), config))
+        check_buildable(config, str(path), learner_params(folder, config))
     return config
 
 

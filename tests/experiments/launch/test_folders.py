@@ -103,7 +103,7 @@ def test_a_corrupt_file_of_a_run_folder_is_named_in_one_line_and_compare_goes_on
     good, broken = _finished(tmp_path, "good", "broken")
     (broken / "artefacts.json").write_text('{"controller": ')  # truncated
     refused = animat("eval", broken, "--episodes", "1", check=False)
-    assert refused.returncode == 1 and len(refused.stderr.strip().splitlines()) == 1
+    assert refused.returncode == 2 and len(refused.stderr.strip().splitlines()) == 1
     assert f"{broken / 'artefacts.json'}: not valid JSON" in refused.stderr
     (broken / "result.json").write_text("")  # empty
     compared = animat("compare", tmp_path / "runs", "--metric", "eval/speed_bl_per_s")
@@ -121,7 +121,7 @@ def test_a_corrupt_file_of_a_run_folder_is_named_in_one_line_and_compare_goes_on
         assert "checkpoint.json: cannot be read back" in resumed.stderr, resumed.stderr
     (good / "result.json").write_bytes(b"\xff\xfe{}")
     refused = animat("eval", good, check=False)
-    assert refused.returncode == 1 and "result.json: not JSON text" in refused.stderr
+    assert refused.returncode == 2 and "result.json: not JSON text" in refused.stderr
     (good / "config.yaml").write_bytes(b"\xff\xfe: 1")
     compared = animat("compare", good, check=False)
     assert "config.yaml: not a text file (not UTF-8)" in compared.stderr
