@@ -91,7 +91,7 @@ def test_macro_and_active_vision_runs_load_and_act(tmp_path):
     shutil.copyfile(ROOT / "repertoires" / "fish.json", repertoire)
     macro = _run(tmp_path, "macro", env=reach, params={
         "repertoire": str(repertoire), "slots": 2, "chains": 4, "max_duration": 1.0},
-        budget=800)
+        budget=800, metric="eval/final_distance_bl")
     repertoire.write_text("overwritten by a later basic training")  # the run kept its copy
     reported = json.loads((macro / "result.json").read_text())["metrics"]
     assert evaluate(macro, seeds=[0, 1, 2, 3])["metrics"]["eval/return"] == pytest.approx(

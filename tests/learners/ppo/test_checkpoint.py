@@ -71,7 +71,8 @@ def test_a_planted_pickle_in_a_run_folder_never_runs(tmp_path):
             if name == "optimizer.pt" and run_status == "done":
                 assert refused.returncode == 0  # played back from the policy alone
                 continue
-            assert refused.returncode == 1 and len(refused.stderr.strip().splitlines()) == 1
+            code = 2 if command[0] == "eval" else 1  # the folder given; the run's failure
+            assert refused.returncode == code and len(refused.stderr.strip().splitlines()) == 1
             assert f"{saved / name}: not " in refused.stderr and "\x1b" not in refused.stderr
         assert animat("compare", folder, check=False).returncode == 0
         assert not marker.exists()
