@@ -81,7 +81,7 @@ def load_run(folder: Path) -> RunCurves:
     """A run's curves, its config read and validated as ``animat run`` reads one (not built);
     a folder holding a link or a FIFO is not read (UnsafeFile)."""
     check_tree(folder)
-    config = load_config(folder / "config.yaml", build=False)
+    config = load_config(folder / "config.yaml", build=False, follow_links=False)
     return RunCurves(folder, config.learner.display_name, config.env.id, config.seed,
                      read_status(folder), read_scalars(folder))
 

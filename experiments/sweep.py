@@ -101,4 +101,4 @@ def summary_table(folders: list[Path], results: list[dict], metric: str | None) 
 def load_seed(folder: Path) -> int:
     """The seed a run folder's config.yaml holds, read as every config is (YAML aliases
     refused, the config validated; ConfigError naming the file otherwise)."""
-    return load_config(Path(folder) / "config.yaml", build=False).seed
+    return load_config(Path(folder) / "config.yaml", build=False, follow_links=False).seed

@@ -47,7 +47,7 @@ def pursuit_rows(folders: list[Path]) -> list[dict]:
             print(f"note: {folder} has no eval.json (animat eval RUN --episodes N)",
                   file=sys.stderr)
             continue
-        config = load_config(folder / "config.yaml", build=False)
+        config = load_config(folder / "config.yaml", build=False, follow_links=False)
         params = config.learner.params
         role = "blind" if params.get("blind") else "oracle" if params.get("oracle") else "policy"
         kwargs = {k: v for k, v in config.env.kwargs.items() if k not in AGENTS}

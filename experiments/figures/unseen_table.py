@@ -31,7 +31,7 @@ def run_rows(folders: list[Path], metric: str) -> list[dict]:
     no ``eval.json``), the unseen spread, env steps and wall seconds."""
     rows = []
     for folder in folders:
-        config = load_config(folder / "config.yaml", build=False)
+        config = load_config(folder / "config.yaml", build=False, follow_links=False)
         status = read_json(folder / "result.json")
         unseen = read_json(folder / "eval.json")["metrics"] if (
             folder / "eval.json").exists() else {}
