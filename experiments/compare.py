@@ -23,7 +23,7 @@ from pathlib import Path
 import numpy as np
 import yaml
 
-from animat.learners.storage.files import check_tree, listing, read_text
+from animat.learners.storage.files import check_tree, listing, read_text, run_folder
 
 from .figures.abstraction_table import abstraction_markdown, abstraction_rows
 from .launch.config import load_config
@@ -80,6 +80,7 @@ def read_scalars(folder: Path) -> dict[str, tuple[np.ndarray, np.ndarray]]:
 def load_run(folder: Path) -> RunCurves:
     """A run's curves, its config read and validated as ``animat run`` reads one (not built);
     a folder holding a link or a FIFO is not read (UnsafeFile)."""
+    folder = run_folder(folder)
     check_tree(folder)
     config = load_config(folder / "config.yaml", build=False, follow_links=False)
     return RunCurves(folder, config.learner.display_name, config.env.id, config.seed,

@@ -68,7 +68,7 @@ def _learner(folder: Path, config):
     """The run's learner, built from its config and its own copy of a repertoire
     (:func:`animat.experiments.launch.config.learner_params`)."""
     return make_learner(config.learner.name, config.env.id, config.env.kwargs,
-                        learner_params(folder, config), config.seed)
+                        learner_params(folder, config, own_files_only=True), config.seed)
 
 
 def _episodes(agent, seeds: list[int], video: Path | None, prefix: str) -> list[dict]:

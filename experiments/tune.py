@@ -149,6 +149,10 @@ def storage(optuna, out: Path, url: str | None):
     for name in ("study.db", "journal.log"):  # a shared OUT's: no link or FIFO written through
         if os.path.lexists(out / name):
             os.close(open_file(out / name, os.O_RDWR))
+    lock = out / "journal.log.lock"  # Optuna's lock, a link to the journal while it is held
+    if os.path.islink(lock) and os.path.realpath(lock) != os.path.realpath(out / "journal.log"):
+        raise RunError(f"{lock}: a lock that is not this study's (a link to "
+                       f"{os.readlink(lock)}); remove it if no tune is running")
     if (out / "study.db").exists():
         return f"sqlite:///{out / 'study.db'}"
     from optuna.storages.journal import JournalFileBackend

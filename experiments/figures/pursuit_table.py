@@ -24,7 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
-from animat.learners.storage.files import read_json
+from animat.learners.storage.files import read_json, run_folder
 
 from ..compare import find_runs, mean_std
 from ..launch.config import load_config
@@ -42,7 +42,7 @@ def pursuit_rows(folders: list[Path]) -> list[dict]:
     ``oracle``), role (``blind``, ``oracle`` or ``policy``), label, unseen metrics and
     episodes."""
     rows = []
-    for folder in folders:
+    for folder in map(run_folder, folders):  # its parents resolved, no link itself
         if not (folder / "eval.json").exists():
             print(f"note: {folder} has no eval.json (animat eval RUN --episodes N)",
                   file=sys.stderr)

@@ -20,7 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
-from animat.learners.storage.files import read_json
+from animat.learners.storage.files import read_json, run_folder
 
 from ..compare import find_runs, mean_std
 from ..launch.config import load_config
@@ -30,7 +30,7 @@ def run_rows(folders: list[Path], metric: str) -> list[dict]:
     """One dict per run: learner label, seed, own-start and unseen figure (None where it has
     no ``eval.json``), the unseen spread, env steps and wall seconds."""
     rows = []
-    for folder in folders:
+    for folder in map(run_folder, folders):  # its parents resolved, no link itself
         config = load_config(folder / "config.yaml", build=False, follow_links=False)
         status = read_json(folder / "result.json")
         unseen = read_json(folder / "eval.json")["metrics"] if (

@@ -21,7 +21,14 @@ import tarfile
 import tempfile
 from pathlib import Path
 
-from animat.learners.storage.files import LIMITS, UnsafeFile, read_bytes, read_json, run_folder
+from animat.learners.storage.files import (
+    LIMITS,
+    MAX_TREE_DEPTH,
+    UnsafeFile,
+    read_bytes,
+    read_json,
+    run_folder,
+)
 
 from .folders import read_status
 from .lock import LOCK_NAME, RunError, run_lock
@@ -52,6 +59,9 @@ def _member_problem(member: tarfile.TarInfo) -> str | None:
     if (not name or name.startswith("/") or posixpath.normpath(name) != name
             or name == ".." or name.startswith("../") or "\\" in name):
         return "is not a relative, normalised path inside the folder"
+    parts = name.split("/")
+    if len(parts) > MAX_TREE_DEPTH or max(map(len, parts)) > 255:
+        return f"is nested deeper than {MAX_TREE_DEPTH} folders or has a name over 255 characters"
     if name == LOCK_NAME:
         return "is the folder's lock file, which no archive carries"
     if member.size > MEMBER_BYTES:
@@ -89,19 +99,28 @@ def unpack(data: bytes, folder: Path, shown: Path | None = None) -> None:
     filter, then renamed into place whole. RunError in one line, naming ``shown`` (default
     ``folder``), for anything else, with nothing left behind."""
     folder = Path(folder)
-    shown = shown or folder
     staging = Path(tempfile.mkdtemp(dir=folder.parent, prefix=f".{folder.name[:100]}."))
     try:
         staging.chmod(0o755)  # a folder as any other, not the private one mkdtemp makes
+        _extract(data, staging, shown or folder)
+        os.rename(staging, folder)
+    except OSError as error:
+        raise RunError(f"{shown or folder}: the returned run folder could not be unpacked "
+                       f"({error})") from None
+    finally:
+        shutil.rmtree(staging, ignore_errors=True)
+
+
+def _extract(data: bytes, into: Path, shown: Path) -> None:
+    """Extract the archive ``data`` into the empty folder ``into``, its members checked first
+    (:func:`checked_members`), the ``data`` filter the second wall; RunError naming ``shown``."""
+    try:
         with tarfile.open(fileobj=io.BytesIO(data), mode="r:") as archive:
             members = checked_members(archive, shown)
-            archive.extractall(staging, members=members, filter="data")
-        os.rename(staging, folder)
+            archive.extractall(into, members=members, filter="data")
     except (tarfile.TarError, OSError) as error:
         raise RunError(f"{shown}: the returned run folder could not be unpacked ({error})"
                        ) from None
-    finally:
-        shutil.rmtree(staging, ignore_errors=True)
 
 
 def place(data: bytes, folder: Path) -> dict:
@@ -112,8 +131,8 @@ def place(data: bytes, folder: Path) -> dict:
     folder = run_folder(folder)
     with run_lock(folder), tempfile.TemporaryDirectory(dir=folder.parent,
                                                        prefix=f".{folder.name}.") as scratch:
-        returned = Path(scratch) / "returned"
-        unpack(data, returned, folder)
+        returned = Path(scratch)
+        _extract(data, returned, folder)
         _check_return(returned, folder)
         entries = sorted(returned.iterdir(), key=lambda p: p.name == "result.json")
         for entry in entries:

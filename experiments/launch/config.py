@@ -11,6 +11,7 @@ what is wrong (:mod:`.config_yaml` reads the YAML).
 from __future__ import annotations
 
 import copy
+import os
 from pathlib import Path
 from typing import Any
 
@@ -18,6 +19,7 @@ import yaml
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
 
 from .config_yaml import ConfigError, read_yaml
+from .lock import RunError
 
 # The seeds every learner takes: NumPy's legacy generator (SB3's PPO seeds it) and pycma take
 # no seed above 2**32 - 1.
@@ -174,15 +176,25 @@ def validate(data: Any, source: str) -> ExperimentConfig:
     return config
 
 
-def learner_params(folder: Path, config) -> dict:
+def learner_params(folder: Path, config, own_files_only: bool = False) -> dict:
     """The run's learner params; a repertoire it composes from is the run folder's own copy
     (``checkpoints/repertoire.json``) where it kept one (a resumed run, a finished one), so
     that neither the current directory nor a later rewrite of the repertoire file changes
-    what the run is."""
+    what the run is. ``own_files_only``: the folder may be someone else's (resumed,
+    re-scored), so its config reaches no file outside it: no ``output`` is written (the
+    run's repertoire stays in its folder) and a repertoire it kept no copy of is a RunError."""
     params = dict(config.learner.params)
     copy = Path(folder) / "checkpoints" / "repertoire.json"
-    if "repertoire" in params and copy.exists():
+    if "repertoire" in params and os.path.lexists(copy):
         params["repertoire"] = str(copy)
+    elif "repertoire" in params and own_files_only:
+        raise RunError(f"{folder}: learner.params.repertoire names {params['repertoire']}, "
+                       "outside the run folder, which a resumed or re-scored run does not "
+                       "read (it reads its own copy, checkpoints/repertoire.json, which this "
+                       "folder lacks); run its config again instead")
+    if own_files_only:
+        params.pop("output", None)
+        params.pop("force", None)
     return params
 
 
@@ -260,7 +272,8 @@ def migrate(data: dict) -> None:
 
 def resolve_paths(data: dict, base: Path) -> None:
     """Make the learner's file params (its ``path_params``: a repertoire, an output) absolute
-    in place, a relative one taken from ``base``; other fields are left for validation."""
+    and free of links in place (the user's own files, where a folder on the way may be a
+    link), a relative one taken from ``base``; other fields are left for validation."""
     from animat.learners.registry import LEARNERS
 
     learner = data.get("learner")
@@ -271,8 +284,8 @@ def resolve_paths(data: dict, base: Path) -> None:
         return
     for name in LEARNERS[learner["name"]].path_params:
         value = params.get(name)
-        if isinstance(value, str) and value and not Path(value).is_absolute():
-            params[name] = str((base / value).resolve())
+        if isinstance(value, str) and value:
+            params[name] = os.path.realpath(base / value)
 
 
 def _config_text(path: str | Path, follow_links: bool) -> str:
@@ -341,12 +354,14 @@ def record_env(config: ExperimentConfig, before_records: bool = False) -> Experi
     return config.model_copy(update={"env": config.env.model_copy(update={"kwargs": kwargs})})
 
 
-def load_run_config(folder: str | Path, build: bool = False) -> ExperimentConfig:
+def load_run_config(folder: str | Path, build: bool = False, own_files_only: bool = False
+                    ) -> ExperimentConfig:
     """A run folder's ``config.yaml`` with the water and the start it ran in: a folder made
     before run folders recorded them names neither and ran in the resistive water from the
     point start (:func:`record_env`), where its learner learned; with ``build``, checked as
     :func:`load_config` checks it. The file is the folder's own: a link there (or the folder
-    a link) is refused (UnsafeFile), never followed out of it."""
+    a link) is refused (UnsafeFile), never followed out of it; ``own_files_only``: built with
+    no file outside the folder (:func:`learner_params`)."""
     from animat.learners.storage.files import run_folder
 
     folder = run_folder(folder)  # UnsafeFile if the folder itself is a link
@@ -354,7 +369,7 @@ def load_run_config(folder: str | Path, build: bool = False) -> ExperimentConfig
     config = record_env(load_config(path, build=False, follow_links=False),
                         before_records=True)
     if build:
-        check_buildable(config, str(path), learner_params(folder, config))
+        check_buildable(config, str(path), learner_params(folder, config, own_files_only))
     return config
 
 

@@ -43,19 +43,24 @@ def flat_hparams(config: ExperimentConfig) -> dict[str, object]:
 
 
 def execute(folder: Path, progress=None, threads: int | None = None,
-            trust_pickles: bool = False) -> dict:
+            trust_pickles: bool = False, own_files_only: bool = False) -> dict:
     """Run (or continue) the experiment of a run folder with ``threads`` Numba threads (the
     CPUs it was given; default all this process may use), holding the folder's lock; returns
     the final result.json. RunError if another process holds the lock or the run is done;
     UnsafeFile, before anything is written, for a folder holding anything but regular files
-    and folders (:func:`~animat.learners.storage.files.check_tree`)."""
+    and folders (:func:`~animat.learners.storage.files.check_tree`). ``own_files_only``: the
+    folder may be someone else's (a resume), so its config reaches no file outside it
+    (:func:`~animat.experiments.launch.config.learner_params`: a RunError before anything is
+    written where it would have to)."""
     folder = run_folder(folder)
     with run_lock(folder):
-        check_tree(folder)  # a link or FIFO planted in a shared folder: refused, nothing written
+        check_tree(folder, writing=True)  # a link, FIFO or hard link planted in a shared folder
         if read_status(folder)["status"] == "done":  # finished by whoever held the lock
             raise RunError(f"{folder}: the run is done; nothing to resume")
+        if own_files_only:
+            learner_params(folder, load_run_config(folder), own_files_only=True)
         try:
-            return _execute_locked(folder, progress, threads, trust_pickles)
+            return _execute_locked(folder, progress, threads, trust_pickles, own_files_only)
         except BaseException as error:
             if getattr(error, "run_folder", None) is None:  # not recorded yet (e.g. an OS
                 _failed(folder, error, threads)  # error writing a status or the artefacts)
@@ -113,11 +118,12 @@ def _record(folder: Path, status: dict) -> bool:
         os.close(handle)
 
 
-def _execute_locked(folder: Path, progress, threads: int | None, trust_pickles: bool) -> dict:
+def _execute_locked(folder: Path, progress, threads: int | None, trust_pickles: bool,
+                    own_files_only: bool) -> dict:
     (folder / ERROR_LOG).unlink(missing_ok=True)  # an earlier attempt's
     clear_debris(folder)  # a killed attempt's
     try:  # a config its folder can no longer build (a file it needs gone) fails the run too
-        config = load_run_config(folder, build=True)
+        config = load_run_config(folder, build=True, own_files_only=own_files_only)
     except Exception as error:
         _failed(folder, error, threads)
         raise
@@ -133,7 +139,8 @@ def _execute_locked(folder: Path, progress, threads: int | None, trust_pickles: 
     logger = Logger(sinks)
     try:
         learner = make_learner(config.learner.name, config.env.id, config.env.kwargs,
-                               learner_params(folder, config), config.seed, logger)
+                               learner_params(folder, config, own_files_only), config.seed,
+                               logger)
         learner.trust_pickles = trust_pickles  # an older version's pickled checkpoint
         result = learner.learn(config.budget.env_steps, folder / "checkpoints")
     except BaseException as error:
@@ -156,10 +163,15 @@ def _execute_locked(folder: Path, progress, threads: int | None, trust_pickles: 
 def resume(folder: Path, progress=None, threads: int | None = None,
            trust_pickles: bool = False) -> dict:
     """Continue an unfinished run from its last checkpoint (``trust_pickles``: also from an
-    older version's pickled one)."""
+    older version's pickled one), as a folder that may be someone else's: its config reaches
+    no file outside it (``own_files_only``; a ``learner.params.output`` is not written)."""
     status = read_status(folder)
     if status["status"] == "done":
         raise RunError(f"{folder}: the run is done; nothing to resume")
     if status["status"] == "running" and folder_busy(folder):
         raise RunError(f"{folder}: the run is still running (pid {status.get('pid')})")
-    return execute(folder, progress, threads, trust_pickles)  # a "running" one that died
+    if "output" in load_run_config(folder).learner.params:
+        print(f"animat: warning: {folder}: a resumed run writes nothing outside its folder; "
+              "learner.params.output is left as it is, the repertoire kept in the folder",
+              file=sys.stderr)
+    return execute(folder, progress, threads, trust_pickles, own_files_only=True)

@@ -22,6 +22,7 @@ import json
 import os
 import shlex
 import socket
+import stat
 import time
 from pathlib import Path
 
@@ -31,8 +32,10 @@ from animat.learners.storage.files import (
     UnsafeFile,
     atomic_write,
     make_dirs,
+    read_bytes,
     read_json,
     run_folder,
+    walk,
 )
 
 from .config import ExperimentConfig, record_env, to_yaml
@@ -75,21 +78,26 @@ def _refuse_if_used(folder: Path) -> None:
 def _unfinished(folder: Path) -> bool:
     """Whether ``folder`` is empty, or holds the lock file :func:`create_run` makes first and
     nothing but the files :func:`_write_new_run` writes before its last, ``result.json`` (and
-    their temporary files): a folder whose making was killed, which no run has used. A folder
+    their temporary files, a kept repertoire among them): a folder whose making was killed, which no run has used. A folder
     without the lock file is a user's, whatever its files are called."""
     names = {p.name for p in folder.iterdir()}
     if not names:
         return True
+    kept = folder / KEPT_REPERTOIRE.parent
     return LOCK_NAME in names and "result.json" not in names and all(
-        name in RUN_FILES or name.endswith(TMP_SUFFIX) for name in names - {LOCK_NAME})
+        name in RUN_FILES or name.endswith(TMP_SUFFIX) or (
+            name == kept.name and kept.is_dir() and not kept.is_symlink() and all(
+                p.name == KEPT_REPERTOIRE.name or p.name.endswith(TMP_SUFFIX)
+                for p in kept.iterdir()))
+        for name in names - {LOCK_NAME})
 
 
 def clear_debris(folder: Path) -> None:
     """Remove the temporary files a killed process left in a run folder (``*.tmp``, which
     :func:`animat.learners.storage.files.atomic_write` writes before it renames one into
     place); only under the folder's lock, when no other process can be writing them."""
-    for path in Path(folder).rglob(f"*{TMP_SUFFIX}"):
-        if path.is_file():
+    for path, info in list(walk(folder)):
+        if path.name.endswith(TMP_SUFFIX) and stat.S_ISREG(info.st_mode):
             path.unlink(missing_ok=True)
 
 
@@ -126,10 +134,18 @@ def create_run(config: ExperimentConfig, out: Path | None, command: list[str]) -
 
 
 RUN_FILES = ("config.yaml", "command.txt", "versions.json", "result.json")
+KEPT_REPERTOIRE = Path("checkpoints") / "repertoire.json"  # where a run keeps the one it reads
 
 
 def _write_new_run(folder: Path, config: ExperimentConfig, command: list[str]) -> None:
-    """A new run folder's files, each written atomically, ``result.json`` ("pending") last."""
+    """A new run folder's files, each written atomically, ``result.json`` ("pending") last;
+    a repertoire the learner composes from is copied in first (``checkpoints/``), so that the
+    folder, once made, reads no file outside it (a resume reads none: it may be someone
+    else's, :func:`~animat.experiments.launch.config.learner_params`)."""
+    repertoire = config.learner.params.get("repertoire")
+    if isinstance(repertoire, str) and repertoire:
+        kept = read_bytes(repertoire, "json")  # the user's file, its links resolved by the config
+        atomic_write(folder / KEPT_REPERTOIRE, lambda file: file.write(kept), binary=True)
     atomic_write(folder / "config.yaml", lambda file: file.write(to_yaml(record_env(config))))
     atomic_write(folder / "command.txt", lambda file: file.write(shlex.join(command) + "\n"))
     write_json(folder / "versions.json", versions())
@@ -140,12 +156,13 @@ def _unmake(folder: Path, made: list[Path]) -> None:
     """Remove what :func:`create_run` wrote into ``folder`` (whose lock it holds), with the
     lock file if it made the folder (a folder it did not make keeps its lock file: another
     process may wait on it), then the folders it made. What cannot be removed is left."""
-    names = RUN_FILES + ((LOCK_NAME,) if folder in made else ())
+    names = RUN_FILES + (str(KEPT_REPERTOIRE),) + ((LOCK_NAME,) if folder in made else ())
     for name in names:
         try:
             (folder / name).unlink(missing_ok=True)
         except OSError:
             pass
+    _remove_empty([folder / KEPT_REPERTOIRE.parent])
     _remove_empty(made)
 
 

@@ -43,7 +43,7 @@ from ..storage.files import (
     atomic_write,
     is_regular,
     make_dirs,
-    open_read,
+    open_stored_zip,
     read_json,
 )
 
@@ -78,7 +78,7 @@ def _stats(venv) -> dict[str, np.ndarray]:
 def _restore_stats(venv, path: Path) -> None:
     """Set VecNormalize's statistics from ``normalize.npz``."""
     try:
-        with open_read(path, "arrays") as file, np.load(file, allow_pickle=False) as saved:
+        with open_stored_zip(path, "arrays") as file, np.load(file, allow_pickle=False) as saved:
             data = {k: saved[k] for k in saved.files}
         for key, stats in _running(venv):
             stats.mean, stats.var = data[f"{key}:mean"], data[f"{key}:var"]
@@ -243,12 +243,12 @@ def restore(model, venv, folder: Path, with_optimizer: bool = True) -> dict:
         targets.append(("optimizer.pt", model.policy.optimizer))
     for name, target in targets:
         try:
-            with open_read(folder / name, "weights") as file:
+            with open_stored_zip(folder / name, "weights") as file:
                 weights = torch.load(file, map_location="cpu", weights_only=True)
             target.load_state_dict(weights)
         except UnsafeFile:
             raise
-        except (OSError, RuntimeError, ValueError, KeyError, EOFError,
+        except (OSError, RuntimeError, ValueError, KeyError, EOFError, zipfile.BadZipFile,
                 pickle.UnpicklingError) as error:
             text = ANSI.sub("", str(error)).strip()
             message = text.splitlines()[0] if text else ""

@@ -11,6 +11,7 @@ repertoire file (:mod:`animat.learners.skills.repertoire`).
 
 from __future__ import annotations
 
+import os
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -176,12 +177,15 @@ class BasicTrainingLearner(Learner):
 
     def agent(self, artefacts: dict, folder: Path) -> SkillSet:
         """Each skill of the repertoire the run wrote (its run folder's copy, which a later
-        run cannot overwrite), played open loop in its own env."""
+        run cannot overwrite; or the one its artefacts name, if it is in the folder: a folder
+        may be someone else's), played open loop in its own env."""
         path = Path(folder) / "checkpoints" / "repertoire.json"
-        if not path.exists():
-            if not artefacts.get("repertoire"):
-                raise FileNotFoundError(f"{folder}: the run wrote no repertoire file")
-            path = Path(artefacts["repertoire"])
+        if not os.path.lexists(path):
+            named = os.path.realpath(Path(folder, artefacts.get("repertoire") or "."))
+            if not named.startswith(os.path.realpath(folder) + os.sep):
+                raise FileNotFoundError(f"{folder}: the run wrote no repertoire file in its "
+                                        "folder")
+            path = Path(named)
         agents = {}
         for name, skill in Repertoire.load(path).skills.items():
             env_id, kwargs = skill.metadata["env_id"], skill.metadata.get("env_kwargs", {})

@@ -20,7 +20,8 @@ import json
 import os
 import secrets
 import stat
-from collections.abc import Callable
+import zipfile
+from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
 from typing import IO, Any, NoReturn
@@ -30,7 +31,7 @@ MiB = 1 << 20
 # a machine's memory holds.
 LIMITS = {"json": 64 * MiB, "config": 1 * MiB, "text": 16 * MiB, "scalars": 512 * MiB,
           "events": 1024 * MiB, "weights": 1024 * MiB, "arrays": 256 * MiB,
-          "pickle": 1024 * MiB, "lock": 4096}
+          "pickle": 1024 * MiB}
 
 
 class CorruptFile(ValueError):
@@ -159,6 +160,26 @@ def open_read(path: str | Path, kind: str) -> IO[bytes]:
     return os.fdopen(handle, "rb")
 
 
+def open_stored_zip(path: str | Path, kind: str) -> IO[bytes]:
+    """:func:`open_read`, for a zip archive whose members are stored, not compressed: what
+    ``np.savez`` and ``torch.save`` write, and what unpacks to no more than the file's own
+    bounded size (a compressed member could unpack to any size: UnsafeFile; not a zip:
+    ``BadZipFile``)."""
+    file = open_read(path, kind)
+    try:
+        with zipfile.ZipFile(file) as archive:
+            members = archive.infolist()
+        packed = [m.filename for m in members if m.compress_type != zipfile.ZIP_STORED]
+        if packed:
+            raise UnsafeFile(path, f"holds a compressed member ({packed[0][:80]!r}); a run "
+                                   "writes its arrays and weights stored, not compressed")
+        file.seek(0)
+    except BaseException:
+        file.close()
+        raise
+    return file
+
+
 def read_bytes(path: str | Path, kind: str) -> bytes:
     """The bytes of the regular file ``path``, at most :data:`LIMITS` of ``kind`` (UnsafeFile
     for more, or a link, or not a regular file; FileNotFoundError when it is missing)."""
@@ -184,14 +205,18 @@ def read_text(path: str | Path, kind: str = "text", follow_links: bool = False) 
 def read_json(path: str | Path, kind: str = "json") -> dict:
     """A JSON object from ``path`` (:func:`read_bytes`); CorruptFile naming it when it is not one
     (FileNotFoundError when it is missing)."""
+    raw = read_bytes(path, kind)
     try:
-        data = json.loads(read_bytes(path, kind).decode())
+        data = json.loads(raw.decode())
     except UnicodeDecodeError:
         raise CorruptFile(path, "not JSON text (not UTF-8)") from None
     except json.JSONDecodeError as error:
         raise CorruptFile(path, f"not valid JSON ({error.msg} at line {error.lineno})") from None
     except RecursionError:
         raise CorruptFile(path, "not JSON text (nested too deep)") from None
+    except ValueError as error:  # an integer of more digits than Python converts
+        raise CorruptFile(path, f"not a run's JSON ({' '.join(str(error).split())[:120]})"
+                          ) from None
     if not isinstance(data, dict):
         raise CorruptFile(path, f"holds a JSON {type(data).__name__}, not an object")
     return data
@@ -229,26 +254,43 @@ def listing(folder: str | Path, pattern: str, kind: str) -> list[Path]:
     return paths
 
 
-def check_tree(folder: str | Path) -> None:
+MAX_TREE_DEPTH = 32  # folders below a run folder: its deepest (a skill's PPO save) is 4
+
+
+def walk(folder: str | Path) -> Iterator[tuple[Path, os.stat_result]]:
+    """Every entry below ``folder`` with its own ``lstat``, no link followed, the folders
+    walked without recursion; UnsafeFile for folders nested past :data:`MAX_TREE_DEPTH`. An
+    entry gone since it was listed (a temporary file renamed) is passed over."""
+    pending = [(Path(folder), 0)]
+    while pending:
+        here, depth = pending.pop()
+        with os.scandir(here) as entries:
+            for entry in entries:
+                try:
+                    info = entry.stat(follow_symlinks=False)
+                except FileNotFoundError:
+                    continue
+                yield Path(entry.path), info
+                if stat.S_ISDIR(info.st_mode):
+                    if depth + 1 >= MAX_TREE_DEPTH:
+                        raise UnsafeFile(entry.path, f"is nested more than {MAX_TREE_DEPTH} "
+                                                     "folders deep in a run folder")
+                    pending.append((Path(entry.path), depth + 1))
+
+
+def check_tree(folder: str | Path, writing: bool = False) -> None:
     """UnsafeFile naming the first entry below ``folder`` that is neither a folder nor a regular
-    file of one name (a link, a FIFO, a device, a socket, a hard link to another file): what a
-    run folder received from someone else is asked before anything in it is read or written."""
-    for root, folders, names in os.walk(folder, followlinks=False, onerror=_raise):
-        for name in (*folders, *names):
-            try:
-                info = os.lstat(os.path.join(root, name))
-            except FileNotFoundError:  # gone since listed (a temporary file renamed)
-                continue
-            if stat.S_ISDIR(info.st_mode) or (stat.S_ISREG(info.st_mode) and info.st_nlink == 1):
-                continue
-            problem = (f"has {info.st_nlink - 1} other hard link(s)" if stat.S_ISREG(info.st_mode)
-                       else f"is {_what(info.st_mode)}")
-            raise UnsafeFile(os.path.join(root, name), f"{problem}; a run folder holds only "
-                             "folders and regular files of its own")
-
-
-def _raise(error: OSError) -> NoReturn:
-    raise error
+    file (a link, a FIFO, a device, a socket), or, ``writing`` (a run that appends to its
+    files), a regular file with another hard link: what a run folder received from someone
+    else is asked before anything in it is read or written."""
+    for path, info in walk(folder):
+        if stat.S_ISDIR(info.st_mode) or (stat.S_ISREG(info.st_mode)
+                                          and (info.st_nlink == 1 or not writing)):
+            continue
+        problem = (f"has {info.st_nlink - 1} other hard link(s)" if stat.S_ISREG(info.st_mode)
+                   else f"is {_what(info.st_mode)}")
+        raise UnsafeFile(path, f"{problem}; a run folder holds only folders and regular files"
+                               + (" of its own" if writing else ""))
 
 
 def make_dirs(path: str | Path) -> Path:

@@ -2,6 +2,7 @@
 
 import json
 
+import pytest
 import yaml
 
 from animat.experiments.launch.config import load_config
@@ -129,3 +130,16 @@ def test_named_studies_share_a_storage_and_an_older_tune_study_there_continues(t
     assert json.loads((older / "tune.json").read_text())["study"] == "tune"
     refused = animat("tune", config, "--trials", "1", "--study", " ", check=False)
     assert refused.returncode == 2 and "--study must name the study" in refused.stderr
+
+
+def test_a_lock_left_by_another_study_is_refused_not_waited_on(tmp_path):
+    """Optuna's journal lock is a link to the journal; one that leads elsewhere (a moved OUT,
+    a planted link) would make every worker wait for ever."""
+    import optuna
+
+    from animat.experiments.launch.lock import RunError
+    from animat.experiments.tune import storage
+
+    (tmp_path / "journal.log.lock").symlink_to("/nonexistent/journal.log")
+    with pytest.raises(RunError, match="journal.log.lock: a lock that is not this study's"):
+        storage(optuna, tmp_path, None)

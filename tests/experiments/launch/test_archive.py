@@ -77,14 +77,30 @@ def test_the_path_max_chain_escapes_the_data_filter_alone_on_an_unfixed_python(t
     assert (tmp_path / "flag").read_text() == "overwritten"
 
 
-def test_the_path_max_chain_changes_nothing_outside_and_keeps_the_prepared_folder(tmp_path):
+def test_the_path_max_chain_changes_nothing_outside_the_extraction(tmp_path, monkeypatch):
+    """The chain built for the very folder it is extracted into (where, with the members'
+    checks taken out, it overwrites ``flag`` beside it on an unfixed Python)."""
+    staging = tmp_path / "staging"
+
+    def mkdtemp(dir, prefix):
+        staging.mkdir()
+        return str(staging)
+
+    monkeypatch.setattr(archive_module.tempfile, "mkdtemp", mkdtemp)
+    (tmp_path / "flag").write_text("original")
+    with pytest.raises(RunError, match="is a link; a run folder holds only"):
+        unpack(_path_max_chain(str(staging)), tmp_path / "copy")
+    assert (tmp_path / "flag").read_text() == "original"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["flag"]
+
+
+def test_the_path_max_chain_returned_to_place_keeps_the_prepared_folder(tmp_path):
     folder = _prepared(tmp_path)
     flag, sibling = folder.parent / "flag", _prepared(tmp_path / "other")
     flag.write_text("original")
     before = {p: p.read_bytes() for p in [*folder.iterdir(), *sibling.iterdir()] if p.is_file()}
     with pytest.raises(RunError, match="is a link; a run folder holds only"):
-        place(_path_max_chain(str(folder.parent / f".{folder.name}.xxxxxxxx" / "returned")),
-              folder)
+        place(_path_max_chain(str(folder.parent / f".{folder.name}.xxxxxxxx")), folder)
     assert flag.read_text() == "original"
     assert {p: p.read_bytes() for p in before} == before
     assert sorted(p.name for p in folder.parent.iterdir()) == sorted(["flag", folder.name])
@@ -120,6 +136,8 @@ BAD = {  # member(s) -> what the refusal says
     "fifo": ([_member("result.json", tarfile.FIFOTYPE)], "a device or FIFO"),
     "sparse": ([_member("big", tarfile.GNUTYPE_SPARSE)], "of tar type"),
     "twice": ([_file("scalars.csv", b"a"), _file("scalars.csv", b"b")], "is named twice"),
+    "deep": ([_file("/".join(["d"] * 40), b"x")], "nested deeper than 32"),
+    "long name": ([_file("n" * 300, b"x")], "a name over 255"),
     "not a result": ([], "not a run's"),
     "a changed config": ([_file("config.yaml", b"env: {}\n")], "config.yaml differs"),
     "a file for a folder": ([_file("checkpoints", b"x")], "is a file where the prepared"),

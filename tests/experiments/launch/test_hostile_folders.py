@@ -6,6 +6,7 @@ the folder itself left as it was."""
 import json
 import os
 import shutil
+import stat
 import subprocess
 import sys
 
@@ -72,7 +73,8 @@ PLANTS = {  # where, what -> the file the refusal names
     "tb link": ("tb", lambda o, at: _link(o, at)),
     "checkpoints link": ("checkpoints", lambda o, at: _link(o, at)),
     "config link": ("config.yaml", lambda o, at: _link(o / "notes.txt", at)),
-    "artefacts device": ("artefacts.json", lambda o, at: _link("/dev/zero", at)),
+    "artefacts link to a device": ("artefacts.json", lambda o, at: _link("/dev/zero", at)),
+    "artefacts device": ("artefacts.json", lambda o, at: _device(at)),
     "result FIFO": ("result.json", lambda o, at: os.mkfifo(at)),
 }
 
@@ -98,7 +100,18 @@ def test_resume_refuses_a_planted_entry_and_changes_nothing(finished_run, tmp_pa
     assert _snapshot(folder, outside) == before
 
 
-@pytest.mark.parametrize("case", sorted(PLANTS))
+def _device(at) -> None:
+    """A character device like /dev/null at ``at`` (making one takes root)."""
+    try:
+        os.mknod(at, 0o600 | stat.S_IFCHR, os.makedev(1, 3))
+    except PermissionError:
+        pytest.skip("making a device needs root")
+
+
+READ_ONLY_SAFE = {"lock hard link", "scalars hard link"}  # read, a hard link is a plain file
+
+
+@pytest.mark.parametrize("case", sorted(set(PLANTS) - READ_ONLY_SAFE))
 def test_eval_refuses_a_planted_entry_and_changes_nothing(finished_run, tmp_path, outside,
                                                           case):
     folder = _copy(finished_run, tmp_path)
@@ -178,3 +191,49 @@ def _poisoned(data):
             if json.dumps(changed) != json.dumps(value):
                 return {**data, key: changed}
     return data
+
+
+def test_eval_reads_a_hard_linked_copy_and_changes_nothing_outside(finished_run, tmp_path,
+                                                                   outside):
+    """A copy made with ``cp -al`` (rsync --link-dest, DVC's cache) is read as it is: reading
+    a hard link reads the folder's own file; a run that writes in place refuses it."""
+    folder = tmp_path / "copy"
+    subprocess.run(["cp", "-al", str(finished_run), str(folder)], check=True)
+    before = _snapshot(finished_run, outside)
+    assert "written:" in _cli("eval", folder, "--episodes", "1").stdout
+    assert _snapshot(finished_run, outside) == before
+    _set_status(folder, status="failed")
+    _refused(_cli("run", "--resume", folder), "other hard link")
+
+
+def test_resume_writes_no_output_and_reads_no_repertoire_outside_its_folder(
+        finished_run, tmp_path, outside):
+    import yaml
+
+    folder = _copy(finished_run, tmp_path, unfinished=True)
+    config = yaml.safe_load((folder / "config.yaml").read_text())
+    config["learner"] = {"name": "macro", "params": {
+        "chains": 8, "slots": 2, "repertoire": str(outside / "notes.txt")}}
+    config["env"]["id"] = "Animat/FishReach-v0"
+    (folder / "config.yaml").write_text(yaml.safe_dump(config))
+    before = _snapshot(folder, outside)
+    _refused(_cli("run", "--resume", folder), "learner.params.repertoire names")
+    assert _snapshot(folder, outside) == before
+
+
+def test_a_resumed_run_leaves_its_configs_output_alone(tmp_path, outside):
+    from animat.experiments.launch.config import learner_params, validate
+
+    config = validate({**TINY, "learner": {"name": "basic_training", "params": {
+        "output": str(outside / "notes.txt"), "force": True}}}, "test")
+    assert learner_params(tmp_path, config)["output"] == str(outside / "notes.txt")
+    resumed = learner_params(tmp_path, config, own_files_only=True)
+    assert "output" not in resumed and "force" not in resumed
+
+
+def test_compare_reads_a_folder_under_a_linked_parent(finished_run, tmp_path):
+    (tmp_path / "real").mkdir()
+    (tmp_path / "runs").symlink_to(tmp_path / "real")
+    shutil.copytree(finished_run, tmp_path / "real" / "run", symlinks=True)
+    compared = animat("compare", tmp_path / "runs" / "run", "--metric", "eval/speed_bl_per_s")
+    assert "| annealing |" in compared.stdout and "left out" not in compared.stderr

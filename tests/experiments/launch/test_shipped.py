@@ -147,7 +147,11 @@ def test_a_run_folder_that_can_no_longer_build_is_marked_failed_with_the_reason(
     config = load_config(CONFIGS / "fish_reach_macro.yaml",
                          [f"learner.params.repertoire={repertoire}", "budget.env_steps=20000"])
     folder = create_run(config, tmp_path / "run", ["test"])
-    repertoire.unlink()  # before the run first starts (and keeps its own copy)
+    repertoire.unlink()  # the folder keeps its own copy from the moment it is made
+    assert (folder / "checkpoints" / "repertoire.json").read_bytes() == (
+        ROOT / "repertoires" / "fish.json").read_bytes()
+    text = (folder / "config.yaml").read_text()
+    (folder / "config.yaml").write_text(text.replace("slots: ", "slots: -"))  # builds no more
     failed = animat("run", "--resume", folder, check=False)
     assert failed.returncode == 1 and len(failed.stderr.strip().splitlines()) == 1
     result = json.loads((folder / "result.json").read_text())

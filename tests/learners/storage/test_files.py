@@ -120,8 +120,32 @@ def test_check_tree_names_the_first_entry_that_is_not_a_plain_file_or_folder(fol
         check_tree(folder)
     (folder / "tb" / "events").unlink()
     os.link(_outside(folder), folder / "tb" / "events")
+    check_tree(folder)  # read, a hard-linked copy (cp -al, rsync --link-dest) is a plain file
     with pytest.raises(UnsafeFile, match="events: has 1 other hard link"):
+        check_tree(folder, writing=True)  # a run appends in place
+    (folder / "tb" / "events").unlink()
+    deep = folder.joinpath(*["d"] * files.MAX_TREE_DEPTH)
+    deep.mkdir(parents=True)
+    with pytest.raises(UnsafeFile, match="nested more than 32 folders deep"):
         check_tree(folder)
+
+
+def test_weights_and_arrays_are_read_only_from_stored_zips(folder):
+    import zipfile
+
+    with zipfile.ZipFile(folder / "policy.pt", "w", zipfile.ZIP_DEFLATED) as archive:
+        archive.writestr("bomb.npy", b"\0" * (1 << 20))  # a MiB in a kilobyte
+    with pytest.raises(UnsafeFile, match=r"holds a compressed member \('bomb.npy'\)"):
+        files.open_stored_zip(folder / "policy.pt", "weights")
+    with zipfile.ZipFile(folder / "stats.npz", "w", zipfile.ZIP_STORED) as archive:
+        archive.writestr("mean.npy", b"\0" * 64)
+    files.open_stored_zip(folder / "stats.npz", "arrays").close()
+
+
+def test_json_with_a_huge_integer_is_named(folder):
+    (folder / "result.json").write_text('{"status": ' + "9" * 5000 + "}")
+    with pytest.raises(CorruptFile, match="result.json: not a run's JSON"):
+        read_json(folder / "result.json")
 
 
 def test_listing_checks_each_file_and_its_folder(folder):
