@@ -125,8 +125,8 @@ def _extract(data: bytes, into: Path, shown: Path) -> None:
 
 def place(data: bytes, folder: Path) -> dict:
     """Put a finished run folder returned by a task (:func:`pack`) in place of the prepared
-    ``folder``, under its lock: unpacked beside it (:func:`unpack`), checked (a run's
-    ``result.json``, the prepared files unchanged), then moved in entry by entry, the
+    ``folder``, under its lock: extracted beside it as :func:`unpack` extracts, checked (a
+    run's ``result.json``, the prepared files unchanged), then moved in entry by entry, the
     ``result.json`` last; returns the folder's status."""
     folder = run_folder(folder)
     with run_lock(folder), tempfile.TemporaryDirectory(dir=folder.parent,
