@@ -23,7 +23,8 @@ from pathlib import Path
 import numpy as np
 import yaml
 
-from animat.learners.storage.files import check_tree, listing, read_text, run_folder
+from animat.learners.storage.files import read_text
+from animat.learners.storage.tree import check_tree, listing, run_folder
 
 from .figures.abstraction_table import abstraction_markdown, abstraction_rows
 from .launch.config import load_config

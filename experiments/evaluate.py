@@ -34,7 +34,8 @@ import animat  # noqa: F401
 from animat.learners.agents import SkillSet
 from animat.learners.registry import make_learner
 from animat.learners.rollout import score_episode, spread, unseen_seeds
-from animat.learners.storage.files import CorruptFile, UnsafeFile, check_tree, read_json, run_folder
+from animat.learners.storage.files import CorruptFile, UnsafeFile, read_json
+from animat.learners.storage.tree import check_tree, run_folder
 
 from .launch.config import learner_params, load_run_config
 from .launch.folders import read_status, write_json

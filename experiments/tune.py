@@ -35,8 +35,8 @@ from animat.learners.storage.files import (
     make_dirs,
     open_file,
     read_text,
-    run_folder,
 )
+from animat.learners.storage.tree import run_folder
 
 from .launch.config import (
     ConfigError,

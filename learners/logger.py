@@ -20,7 +20,8 @@ import os
 from pathlib import Path
 from typing import Protocol
 
-from .storage.files import check_size, listing, make_dirs, open_file
+from .storage.files import check_size, make_dirs, open_file
+from .storage.tree import listing
 
 
 class Sink(Protocol):

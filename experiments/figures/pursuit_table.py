@@ -24,7 +24,8 @@ from pathlib import Path
 
 import numpy as np
 
-from animat.learners.storage.files import read_json, run_folder
+from animat.learners.storage.files import read_json
+from animat.learners.storage.tree import run_folder
 
 from ..compare import find_runs, mean_std
 from ..launch.config import load_config

@@ -23,12 +23,11 @@ from pathlib import Path
 
 from animat.learners.storage.files import (
     LIMITS,
-    MAX_TREE_DEPTH,
     UnsafeFile,
     read_bytes,
     read_json,
-    run_folder,
 )
+from animat.learners.storage.tree import MAX_TREE_DEPTH, run_folder
 
 from .folders import read_status
 from .lock import LOCK_NAME, RunError, run_lock

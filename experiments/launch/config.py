@@ -362,7 +362,7 @@ def load_run_config(folder: str | Path, build: bool = False, own_files_only: boo
     :func:`load_config` checks it. The file is the folder's own: a link there (or the folder
     a link) is refused (UnsafeFile), never followed out of it; ``own_files_only``: built with
     no file outside the folder (:func:`learner_params`)."""
-    from animat.learners.storage.files import run_folder
+    from animat.learners.storage.tree import run_folder
 
     folder = run_folder(folder)  # UnsafeFile if the folder itself is a link
     path = folder / "config.yaml"

@@ -14,7 +14,8 @@ from pathlib import Path
 
 from animat.learners.logger import CsvSink, Logger, TensorBoardSink
 from animat.learners.registry import make_learner
-from animat.learners.storage.files import atomic_write, check_tree, open_file, run_folder
+from animat.learners.storage.files import atomic_write, open_file
+from animat.learners.storage.tree import check_tree, run_folder
 
 from .config import ExperimentConfig, learner_params, load_run_config
 from .folders import clear_debris, make_status, one_line, read_status, write_json
@@ -48,7 +49,7 @@ def execute(folder: Path, progress=None, threads: int | None = None,
     CPUs it was given; default all this process may use), holding the folder's lock; returns
     the final result.json. RunError if another process holds the lock or the run is done;
     UnsafeFile, before anything is written, for a folder holding anything but regular files
-    and folders (:func:`~animat.learners.storage.files.check_tree`). ``own_files_only``: the
+    and folders (:func:`~animat.learners.storage.tree.check_tree`). ``own_files_only``: the
     folder may be someone else's (a resume), so its config reaches no file outside it
     (:func:`~animat.experiments.launch.config.learner_params`: a RunError before anything is
     written where it would have to)."""

@@ -34,9 +34,8 @@ from animat.learners.storage.files import (
     make_dirs,
     read_bytes,
     read_json,
-    run_folder,
-    walk,
 )
+from animat.learners.storage.tree import run_folder, walk
 
 from .config import ExperimentConfig, record_env, to_yaml
 from .lock import LOCK_NAME, UNWRITABLE, RunError, lock_held, run_lock
@@ -78,8 +77,9 @@ def _refuse_if_used(folder: Path) -> None:
 def _unfinished(folder: Path) -> bool:
     """Whether ``folder`` is empty, or holds the lock file :func:`create_run` makes first and
     nothing but the files :func:`_write_new_run` writes before its last, ``result.json`` (and
-    their temporary files, a kept repertoire among them): a folder whose making was killed, which no run has used. A folder
-    without the lock file is a user's, whatever its files are called."""
+    their temporary files, a kept repertoire among them): a folder whose making was killed,
+    which no run has used. A folder without the lock file is a user's, whatever its files are
+    called."""
     names = {p.name for p in folder.iterdir()}
     if not names:
         return True

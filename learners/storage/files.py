@@ -6,22 +6,21 @@ folder is opened below the last with ``O_NOFOLLOW``), nothing but a regular file
 FIFO, a device or a folder is refused without blocking), a file opened for writing in place has
 no other hard link, and a read stops at a bound per kind of file (:data:`LIMITS`). A refusal is
 an :class:`UnsafeFile` naming the file in one line. Paths are taken as they are: callers resolve
-the run folder's own path once (:func:`run_folder`), so a link found below it was planted.
+the run folder's own path once (:func:`.tree.run_folder`), so a link found below it was planted.
 
 :func:`atomic_write` writes through the same folder descriptors (a reader or a crash never sees
 half a file, a failure leaves no temporary file); :func:`read_json` and :class:`CorruptFile` (a
-file that cannot be read back, named in one line) read.
+file that cannot be read back, named in one line) read. :mod:`.tree` asks a whole folder.
 """
 
 from __future__ import annotations
 
-import fnmatch
 import json
 import os
 import secrets
 import stat
 import zipfile
-from collections.abc import Callable, Iterator
+from collections.abc import Callable
 from contextlib import contextmanager
 from pathlib import Path
 from typing import IO, Any, NoReturn
@@ -56,7 +55,8 @@ KINDS = {stat.S_IFIFO: "a FIFO", stat.S_IFCHR: "a character device", stat.S_IFBL
          stat.S_IFLNK: "a symbolic link"}
 
 
-def _what(mode: int) -> str:
+def describe(mode: int) -> str:
+    """What a file of ``mode`` (``st_mode``) is, in words: a FIFO, a symbolic link, ..."""
     return KINDS.get(stat.S_IFMT(mode), "not a regular file")
 
 
@@ -128,7 +128,7 @@ def open_file(path: str | Path, flags: int = os.O_RDONLY, mode: int = 0o644) -> 
     try:
         info = os.fstat(handle)
         if not stat.S_ISREG(info.st_mode):
-            raise UnsafeFile(path, f"is {_what(info.st_mode)}, not a regular file")
+            raise UnsafeFile(path, f"is {describe(info.st_mode)}, not a regular file")
         if flags & (os.O_WRONLY | os.O_RDWR) and info.st_nlink > 1:
             raise UnsafeFile(path, f"has {info.st_nlink - 1} other hard link(s); a run folder's "
                                    "file is never written through to another")
@@ -231,84 +231,11 @@ def is_regular(path: str | Path) -> bool:
         return False
 
 
-def listing(folder: str | Path, pattern: str, kind: str) -> list[Path]:
-    """The files of ``folder`` whose names match ``pattern`` (``fnmatch``), sorted, each
-    checked to be a regular file within the bound of ``kind`` (UnsafeFile otherwise, and for a
-    ``folder`` reached through a link); none when ``folder`` does not exist. For readers that
-    open files by their paths (TensorBoard's)."""
-    try:
-        walked = open_dir(folder)
-    except FileNotFoundError:
-        return []
-    try:
-        handle = os.open(".", os.O_RDONLY | os.O_DIRECTORY | os.O_CLOEXEC, dir_fd=walked)
-    finally:
-        os.close(walked)
-    try:
-        names = sorted(fnmatch.filter(os.listdir(handle), pattern))
-    finally:
-        os.close(handle)
-    paths = [Path(folder) / name for name in names]
-    for path in paths:
-        open_read(path, kind).close()
-    return paths
-
-
-MAX_TREE_DEPTH = 32  # folders below a run folder: its deepest (a skill's PPO save) is 4
-
-
-def walk(folder: str | Path) -> Iterator[tuple[Path, os.stat_result]]:
-    """Every entry below ``folder`` with its own ``lstat``, no link followed, the folders
-    walked without recursion; UnsafeFile for folders nested past :data:`MAX_TREE_DEPTH`. An
-    entry gone since it was listed (a temporary file renamed) is passed over."""
-    pending = [(Path(folder), 0)]
-    while pending:
-        here, depth = pending.pop()
-        with os.scandir(here) as entries:
-            for entry in entries:
-                try:
-                    info = entry.stat(follow_symlinks=False)
-                except FileNotFoundError:
-                    continue
-                yield Path(entry.path), info
-                if stat.S_ISDIR(info.st_mode):
-                    if depth + 1 >= MAX_TREE_DEPTH:
-                        raise UnsafeFile(entry.path, f"is nested more than {MAX_TREE_DEPTH} "
-                                                     "folders deep in a run folder")
-                    pending.append((Path(entry.path), depth + 1))
-
-
-def check_tree(folder: str | Path, writing: bool = False) -> None:
-    """UnsafeFile naming the first entry below ``folder`` that is neither a folder nor a regular
-    file (a link, a FIFO, a device, a socket), or, ``writing`` (a run that appends to its
-    files), a regular file with another hard link: what a run folder received from someone
-    else is asked before anything in it is read or written."""
-    for path, info in walk(folder):
-        if stat.S_ISDIR(info.st_mode) or (stat.S_ISREG(info.st_mode)
-                                          and (info.st_nlink == 1 or not writing)):
-            continue
-        problem = (f"has {info.st_nlink - 1} other hard link(s)" if stat.S_ISREG(info.st_mode)
-                   else f"is {_what(info.st_mode)}")
-        raise UnsafeFile(path, f"{problem}; a run folder holds only folders and regular files"
-                               + (" of its own" if writing else ""))
-
-
 def make_dirs(path: str | Path) -> Path:
     """Make the folder ``path`` and its parents as needed, following no link (UnsafeFile for
     one on the way); returns ``path``."""
     os.close(open_dir(path, create=True))
     return Path(path)
-
-
-def run_folder(path: str | Path) -> Path:
-    """A run folder's path as every file of it is then opened: its parents resolved once (where
-    the user keeps runs may be a link), the folder itself no link (UnsafeFile: a shared folder
-    replaced by a link would lead everything written into it elsewhere)."""
-    path = Path(path)
-    if os.path.islink(path):
-        raise UnsafeFile(path, f"is a symbolic link (to {os.readlink(path)}); a run folder is "
-                               "used where it is: name the folder itself")
-    return Path(os.path.realpath(path.parent)) / path.name
 
 
 TMP_SUFFIX = ".tmp"  # atomic_write's temporary files: <name><random>.tmp beside the file

@@ -12,29 +12,12 @@ from animat.learners.storage.files import (
     CorruptFile,
     UnsafeFile,
     atomic_write,
-    check_tree,
-    listing,
     make_dirs,
     open_file,
     read_bytes,
     read_json,
     read_text,
-    run_folder,
 )
-
-
-@pytest.fixture
-def folder(tmp_path):
-    """A run folder beside a file and a folder outside it."""
-    (tmp_path / "outside").mkdir()
-    (tmp_path / "outside" / "notes.txt").write_text("my notes\n")
-    (tmp_path / "run").mkdir()
-    (tmp_path / "run" / "result.json").write_text('{"status": "done"}')
-    return tmp_path / "run"
-
-
-def _outside(folder):
-    return folder.parent / "outside" / "notes.txt"
 
 
 def test_a_regular_file_reads_and_writes_as_before(folder):
@@ -48,14 +31,14 @@ def test_a_regular_file_reads_and_writes_as_before(folder):
 
 @pytest.mark.parametrize("reader", [lambda p: read_json(p), lambda p: read_text(p),
                                     lambda p: os.close(open_file(p, os.O_RDWR))])
-def test_a_link_is_refused_at_the_file_and_on_the_way(folder, reader):
-    (folder / "linked.json").symlink_to(_outside(folder))
+def test_a_link_is_refused_at_the_file_and_on_the_way(folder, outside, reader):
+    (folder / "linked.json").symlink_to(outside)
     (folder / "tb").symlink_to(folder.parent / "outside")
     with pytest.raises(UnsafeFile, match="linked.json: is a symbolic link"):
         reader(folder / "linked.json")
     with pytest.raises(UnsafeFile, match="tb: is a symbolic link"):
         reader(folder / "tb" / "notes.txt")
-    assert _outside(folder).read_text() == "my notes\n"
+    assert outside.read_text() == "my notes\n"
 
 
 def test_a_fifo_and_a_device_are_refused_without_blocking(folder):
@@ -77,12 +60,12 @@ def _error(path) -> str:
     return ""
 
 
-def test_a_file_with_another_hard_link_is_never_written_in_place(folder):
-    os.link(_outside(folder), folder / ".lock")
+def test_a_file_with_another_hard_link_is_never_written_in_place(folder, outside):
+    os.link(outside, folder / ".lock")
     with pytest.raises(UnsafeFile, match="other hard link"):
         open_file(folder / ".lock", os.O_RDWR | os.O_CREAT)
     os.close(open_file(folder / ".lock"))  # read, it is a plain file
-    assert _outside(folder).read_text() == "my notes\n"
+    assert outside.read_text() == "my notes\n"
 
 
 def test_a_read_stops_at_its_kind_s_bound(folder, monkeypatch):
@@ -92,8 +75,8 @@ def test_a_read_stops_at_its_kind_s_bound(folder, monkeypatch):
         read_json(folder / "result.json")
 
 
-def test_atomic_write_replaces_a_link_and_makes_no_folder_through_one(folder):
-    (folder / "config.yaml").symlink_to(_outside(folder))
+def test_atomic_write_replaces_a_link_and_makes_no_folder_through_one(folder, outside):
+    (folder / "config.yaml").symlink_to(outside)
     atomic_write(folder / "config.yaml", lambda file: file.write("mine"))
     assert not (folder / "config.yaml").is_symlink()
     assert (folder / "config.yaml").read_text() == "mine"
@@ -103,31 +86,13 @@ def test_atomic_write_replaces_a_link_and_makes_no_folder_through_one(folder):
     with pytest.raises(UnsafeFile, match="checkpoints: is a symbolic link"):
         make_dirs(folder / "checkpoints" / "ppo")
     assert sorted(os.listdir(folder.parent / "outside")) == ["notes.txt"]
-    assert _outside(folder).read_text() == "my notes\n"
+    assert outside.read_text() == "my notes\n"
 
 
 def test_a_non_utf8_file_is_corrupt_and_named(folder):
     (folder / "result.json").write_bytes(b"\xff\xfe{}")
     with pytest.raises(CorruptFile, match="result.json: not JSON text"):
         read_json(folder / "result.json")
-
-
-def test_check_tree_names_the_first_entry_that_is_not_a_plain_file_or_folder(folder):
-    check_tree(folder)
-    (folder / "tb").mkdir()
-    os.mkfifo(folder / "tb" / "events")
-    with pytest.raises(UnsafeFile, match="events: is a FIFO"):
-        check_tree(folder)
-    (folder / "tb" / "events").unlink()
-    os.link(_outside(folder), folder / "tb" / "events")
-    check_tree(folder)  # read, a hard-linked copy (cp -al, rsync --link-dest) is a plain file
-    with pytest.raises(UnsafeFile, match="events: has 1 other hard link"):
-        check_tree(folder, writing=True)  # a run appends in place
-    (folder / "tb" / "events").unlink()
-    deep = folder.joinpath(*["d"] * files.MAX_TREE_DEPTH)
-    deep.mkdir(parents=True)
-    with pytest.raises(UnsafeFile, match="nested more than 32 folders deep"):
-        check_tree(folder)
 
 
 def test_weights_and_arrays_are_read_only_from_stored_zips(folder):
@@ -146,21 +111,3 @@ def test_json_with_a_huge_integer_is_named(folder):
     (folder / "result.json").write_text('{"status": ' + "9" * 5000 + "}")
     with pytest.raises(CorruptFile, match="result.json: not a run's JSON"):
         read_json(folder / "result.json")
-
-
-def test_listing_checks_each_file_and_its_folder(folder):
-    assert listing(folder / "tb", "events.*", "events") == []
-    (folder / "tb").mkdir()
-    (folder / "tb" / "events.1").write_bytes(b"x")
-    assert listing(folder / "tb", "events.*", "events") == [folder / "tb" / "events.1"]
-    (folder / "tb" / "events.2").symlink_to(_outside(folder))
-    with pytest.raises(UnsafeFile, match="events.2: is a symbolic link"):
-        listing(folder / "tb", "events.*", "events")
-
-
-def test_run_folder_resolves_its_parents_and_refuses_its_own_link(folder):
-    (folder.parent / "runs").symlink_to(folder.parent)
-    assert run_folder(folder.parent / "runs" / "run") == folder
-    (folder.parent / "alias").symlink_to(folder)
-    with pytest.raises(UnsafeFile, match="alias: is a symbolic link"):
-        run_folder(folder.parent / "alias")
