@@ -47,7 +47,12 @@ def load(run_dir: str | Path, trust_pickles: bool = False):
     """The agent of the finished run in ``run_dir`` (``trust_pickles``: also from an older
     version's pickled checkpoint, which runs its writer's code)."""
     folder = run_folder(run_dir)
-    check_tree(folder)
+    check_tree(folder)  # a folder from someone else: no link or FIFO in it is read
+    return _load(folder, trust_pickles)
+
+
+def _load(folder: Path, trust_pickles: bool):
+    """:func:`load` of a folder already checked (:func:`run_folder`, :func:`check_tree`)."""
     status = read_status(folder)
     if status["status"] != "done":
         raise RunError(f"{folder}: the run is {status['status']}; only a finished run can be "
@@ -128,7 +133,7 @@ def evaluate(run_dir: str | Path, seeds: list[int] | None = None, episodes: int 
         seeds = unseen_seeds(config.seed, count)
     if refine < 1:
         raise RunError(f"--refine must be at least 1, got {refine}")
-    agent = load(folder, trust_pickles)
+    agent = _load(folder, trust_pickles)
     video = Path(video) if video else None
     runs: dict[str, list[dict]] | list[dict]
     metrics: dict[str, dict[str, float]] | dict[str, float]

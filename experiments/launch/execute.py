@@ -59,13 +59,25 @@ def execute(folder: Path, progress=None, threads: int | None = None,
         if read_status(folder)["status"] == "done":  # finished by whoever held the lock
             raise RunError(f"{folder}: the run is done; nothing to resume")
         if own_files_only:
-            learner_params(folder, load_run_config(folder), own_files_only=True)
+            _check_own_files(folder)
         try:
             return _execute_locked(folder, progress, threads, trust_pickles, own_files_only)
         except BaseException as error:
             if getattr(error, "run_folder", None) is None:  # not recorded yet (e.g. an OS
                 _failed(folder, error, threads)  # error writing a status or the artefacts)
             raise
+
+
+def _check_own_files(folder: Path) -> None:
+    """RunError, before anything is written, where the folder's config would reach a file
+    outside it (:func:`~animat.experiments.launch.config.learner_params`); a warning where
+    it names an output, which the run leaves as it is."""
+    config = load_run_config(folder)
+    learner_params(folder, config, own_files_only=True)
+    if "output" in config.learner.params:
+        print(f"animat: warning: {folder}: a resumed run writes nothing outside its folder; "
+              "learner.params.output is left as it is, the repertoire kept in the folder",
+              file=sys.stderr)
 
 
 def _failed(folder: Path, error: BaseException, threads: int | None) -> None:
@@ -171,8 +183,4 @@ def resume(folder: Path, progress=None, threads: int | None = None,
         raise RunError(f"{folder}: the run is done; nothing to resume")
     if status["status"] == "running" and folder_busy(folder):
         raise RunError(f"{folder}: the run is still running (pid {status.get('pid')})")
-    if "output" in load_run_config(folder).learner.params:
-        print(f"animat: warning: {folder}: a resumed run writes nothing outside its folder; "
-              "learner.params.output is left as it is, the repertoire kept in the folder",
-              file=sys.stderr)
     return execute(folder, progress, threads, trust_pickles, own_files_only=True)

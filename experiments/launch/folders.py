@@ -83,13 +83,17 @@ def _unfinished(folder: Path) -> bool:
     names = {p.name for p in folder.iterdir()}
     if not names:
         return True
-    kept = folder / KEPT_REPERTOIRE.parent
     return LOCK_NAME in names and "result.json" not in names and all(
-        name in RUN_FILES or name.endswith(TMP_SUFFIX) or (
-            name == kept.name and kept.is_dir() and not kept.is_symlink() and all(
-                p.name == KEPT_REPERTOIRE.name or p.name.endswith(TMP_SUFFIX)
-                for p in kept.iterdir()))
+        name in RUN_FILES or name.endswith(TMP_SUFFIX)
+        or (name == KEPT_REPERTOIRE.parent.name and _only_kept(folder / name))
         for name in names - {LOCK_NAME})
+
+
+def _only_kept(kept: Path) -> bool:
+    """Whether ``kept`` is a folder (no link) holding at most the repertoire
+    :func:`_write_new_run` copies in (and its temporary files)."""
+    return kept.is_dir() and not kept.is_symlink() and all(
+        p.name == KEPT_REPERTOIRE.name or p.name.endswith(TMP_SUFFIX) for p in kept.iterdir())
 
 
 def clear_debris(folder: Path) -> None:
