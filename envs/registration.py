@@ -87,7 +87,7 @@ class Timing(NamedTuple):
 # and its stability bound on physics_dt, the water, the sensors, the task's fit to the body):
 # timing() builds the env when the user gives one of these.
 BUILT_FOR = frozenset({"render_mode", "max_episode_steps", "disable_env_checker", "task", "body",
-                       "physics_dt", "water", "base_water", "sensors"})
+                       "physics_dt", "water", "base_water", "sensors", "integrator"})
 # single envs of one body batch at the core's default step, whose clock is their duration alone
 WORLDS = frozenset({PURSUIT["entry_point"], MARINE})
 

@@ -63,6 +63,8 @@ class BodyBatch:
         fins: if True the actions carry the pectoral fin angles too: (B, A + P), the last P
             entries in [-1, 1] setting fin p to ``fin_max_angle`` (rad) times the entry.
         fin_max_angle: rad, the fin angle of an action entry of 1 (the fin-MC's gain).
+        integrator: ``"explicit"`` (symplectic Euler) or ``"implicit"`` (the linearised
+            theta-method), :class:`~envs.physics.system.System`'s.
 
     The numbers are checked (:func:`check_arguments`): a bad one is a ValueError of one line
     naming it.
@@ -74,13 +76,15 @@ class BodyBatch:
                  duration: float = 10.0, reset_noise_scale: float = 0.005,
                  weights: RewardWeights = RewardWeights(), fins: bool = False,
                  fin_max_angle: float = FinParams().max_angle,
-                 start_spread: StartSpread | dict | str | None = None) -> None:
+                 start_spread: StartSpread | dict | str | None = None,
+                 integrator: str = "explicit") -> None:
         check_arguments(num_envs, physics_dt, frame_skip, duration, reset_noise_scale, fins,
                         fin_max_angle)
         self.start_spread = task.start_spread.over(start_spread)
         task.check_start_spread(self.start_spread)
         self.task, self.weights = task, weights
-        self.system = System(body or fish_body(), Water.from_dict(water), dt=physics_dt)
+        self.system = System(body or fish_body(), Water.from_dict(water), dt=physics_dt,
+                             integrator=integrator)
         self.body = self.system.body
         self.frame_skip = int(frame_skip)
         self.dt = self.system.dt * self.frame_skip

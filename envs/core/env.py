@@ -61,6 +61,7 @@ No termination; truncation after ``duration`` simulated seconds.
 | ``duration`` | float, s | the task's | truncation time (swim 10, turn 5, reach 20) |
 | ``physics_dt`` | float, s | 1/800 | step; refused above 75% of the body's bound |
 | ``frame_skip`` | int | 40 | steps per env step (``dt = physics_dt * frame_skip``) |
+| ``integrator`` | str | ``"explicit"`` | or ``"implicit"`` (:class:`~envs.physics.system.System`) |
 | ``water`` | dict | reactive | ``Water`` fields (:mod:`~envs.physics.system`) over the base |
 | ``base_water`` | dict | none | a registered world's water (the dolphin's pool), field by field |
 | ``fins`` | bool | False | the pectoral fin angles in the action space |
@@ -140,11 +141,11 @@ class BodyEnv(PublicSurface, gym.Env):
                  reset_noise_scale: float = 0.005,
                  reward_weights: RewardWeights | dict | None = None,
                  base_water: dict | None = None, start_spread: dict | str | None = None,
-                 **task_kwargs: Any) -> None:
+                 integrator: str = "explicit", **task_kwargs: Any) -> None:
         check_render_mode(render_mode)
         self.core = make_core(1, task, task_kwargs, body, duration, physics_dt, frame_skip,
                               reset_noise_scale, reward_weights, water, fins, base_water,
-                              start_spread)
+                              start_spread, integrator)
         self.observer = Observer(self.core, sensors)
         self.action_space = action_space_of(self.core)
         self.observation_space = self.observer.single_space
@@ -226,7 +227,7 @@ class BodyVectorEnv(PublicSurface, VectorEnv):
                  reward_weights: RewardWeights | dict | None = None,
                  autoreset_mode: str | AutoresetMode = AutoresetMode.NEXT_STEP,
                  base_water: dict | None = None, start_spread: dict | str | None = None,
-                 **task_kwargs: Any) -> None:
+                 integrator: str = "explicit", **task_kwargs: Any) -> None:
         mode = parse_autoreset_mode(autoreset_mode)
         self.autoreset_mode = mode
         self.metadata = {**self.metadata, "autoreset_mode": mode}
@@ -234,7 +235,7 @@ class BodyVectorEnv(PublicSurface, VectorEnv):
         self.num_envs = check_integer("num_envs", num_envs, 1, MAX_NUM_ENVS)
         self.core = make_core(self.num_envs, task, task_kwargs, body, duration, physics_dt,
                               frame_skip, reset_noise_scale, reward_weights, water, fins,
-                              base_water, start_spread)
+                              base_water, start_spread, integrator)
         self.observer = Observer(self.core, sensors)
         self.single_action_space = action_space_of(self.core)
         self.single_observation_space = self.observer.single_space

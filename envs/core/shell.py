@@ -36,7 +36,8 @@ def make_core(num_envs: int, task: str, task_kwargs: dict, body: str | BodySpec 
               duration: float | None, physics_dt: float, frame_skip: int,
               reset_noise_scale: float, reward_weights: RewardWeights | dict | None,
               water: dict | None, fins: bool, base_water: dict | None = None,
-              start_spread: dict | str | None = None) -> BodyBatch:
+              start_spread: dict | str | None = None, integrator: str = "explicit"
+              ) -> BodyBatch:
     """The batch of an env's arguments: ``water`` changes fields of ``base_water``; the task
     by name with ``task_kwargs``; ``duration`` None is the task's; ``start_spread`` over the
     task's own."""
@@ -47,7 +48,8 @@ def make_core(num_envs: int, task: str, task_kwargs: dict, body: str | BodySpec 
                      physics_dt=physics_dt, frame_skip=frame_skip,
                      reset_noise_scale=reset_noise_scale,
                      duration=task_object.default_duration if duration is None else duration,
-                     weights=weights, fins=fins, start_spread=start_spread)
+                     weights=weights, fins=fins, start_spread=start_spread,
+                     integrator=integrator)
 
 
 class PublicSurface:

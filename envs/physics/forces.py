@@ -175,7 +175,7 @@ def _add_element_forces_lanes(x, v, elements, stiffness, damping, rest, f) -> No
 
 
 @njit(**FAST)
-def _face_forces_into(x, v, faces, weights, face_mass, water, dt, g, one_body) -> None:
+def _face_forces_into(x, v, faces, weights, face_mass, water, dt, g, one_body, limit_dt) -> None:
     """g (F, 4, L): the force the water exerts on each face of every body, negated (rows 0-2),
     and the impact momentum of the share of the face going under the surface this step (row
     3: the splash, :func:`add_face_forces`). The lane
@@ -190,13 +190,13 @@ def _face_forces_into(x, v, faces, weights, face_mass, water, dt, g, one_body) -
         _one_face_into(x, v, faces[k, 0], faces[k, 1], faces[k, 2], faces[k, 3], weights[k, 0],
                        weights[k, 1], weights[k, 2], weights[k, 3], face_mass[k], kappa_water,
                        kappa_air, friction_water, friction_air, cross, surface_z, c0, c1, c2,
-                       density, dt, g[k], one_body)
+                       density, dt, g[k], one_body, limit_dt)
 
 
 @njit(inline="always", **FAST)
 def _one_face_into(x, v, a, b, c, d, s0, s1, s2, s3, mass, kappa_water, kappa_air,
                    friction_water, friction_air, cross, surface_z, c0, c1, c2, density, dt,
-                   g, one_body) -> None:
+                   g, one_body, limit_dt) -> None:
     for lane in range(lane_count(x, one_body)):
         p0, p1, p2 = (x[c, 0, lane] - x[a, 0, lane], x[c, 1, lane] - x[a, 1, lane],
                       x[c, 2, lane] - x[a, 2, lane])
@@ -218,9 +218,9 @@ def _one_face_into(x, v, a, b, c, d, s0, s1, s2, s3, mass, kappa_water, kappa_ai
         pushing = max(normal_speed, 0.0)
         along = cross * pushing + (1.0 - cross) * np.sqrt(w0 * w0 + w1 * w1 + w2 * w2)
         kappa = kappa_air + (kappa_water - kappa_air) * wet
-        normal_force = limited_drag(kappa * area * along, pushing, mass, dt)
+        normal_force = limited_drag(kappa * area * along, pushing, mass, limit_dt)
         kappa_f = friction_air + (friction_water - friction_air) * wet
-        friction = limited_drag(kappa_f * area * tangential, 1.0, mass, dt)
+        friction = limited_drag(kappa_f * area * tangential, 1.0, mass, limit_dt)
         g[0, lane] = normal_force * n0 + friction * t0
         g[1, lane] = normal_force * n1 + friction * t1
         g[2, lane] = normal_force * n2 + friction * t2
@@ -234,8 +234,12 @@ def _one_face_into(x, v, a, b, c, d, s0, s1, s2, s3, mass, kappa_water, kappa_ai
 
 @njit(**FAST)
 def add_face_forces(x, v, faces, weights, face_mass, water, dt, f, g, splash,
-                    one_body=BATCH) -> None:
+                    one_body=BATCH, limit_dt=-1.0) -> None:
     """Reaction force and skin friction on every face (``faces`` (F, 4), ``weights`` (F, 4)).
+
+    ``limit_dt`` s (default: ``dt``) is the step the drag's limiter assumes
+    (:func:`limited_drag`); 0 turns the limiter off (the implicit step puts the drag on its
+    left side instead, :mod:`animat.envs.physics.implicit`).
 
     ``splash`` (L,) accumulates the splash of each body, kg m/s: the impact momentum of the
     faces entering the water, von Karman's slamming model for a plate, the added mass of a
@@ -252,7 +256,8 @@ def add_face_forces(x, v, faces, weights, face_mass, water, dt, f, g, splash,
     (:func:`_face_forces_into`), then are shared out among each face's corners by
     ``weights``."""
     lanes = lane_count(x, one_body)
-    _face_forces_into(x, v, faces, weights, face_mass, water, dt, g, one_body)
+    _face_forces_into(x, v, faces, weights, face_mass, water, dt, g, one_body,
+                      dt if limit_dt < 0.0 else limit_dt)
     for k in range(faces.shape[0]):
         for lane in range(lanes):
             splash[lane] += g[k, 3, lane]

@@ -41,6 +41,7 @@ from .forces import (
     lane_count,
     sphere_radii,
 )
+from .implicit import implicit_step
 from .reactive import MEAN_ROWS, SECTION_ROWS, add_reactive_forces, solve_added_mass
 from .system import AIR_PRESSURE, DENSITY, GRAVITY, REACTIVE, SURFACE_Z
 
@@ -107,16 +108,26 @@ def step_chunk(x, v, u_start, u_end, fin_angles, substeps, c, splash, ball, touc
     up_scratch = np.empty((3, lanes))
     # the nodes' buoyancy spheres: read only with a water surface
     radii = sphere_radii(c.volumes) if c.water[SURFACE_Z] < np.inf else c.volumes[:0]
+    implicit = c.implicit_band > 0
+    band = np.empty((3 * n if implicit else 0, c.implicit_band + 1, lanes))
+    rhs = np.empty((2, 3 * n if implicit else 0, lanes))
+    xp, fe = np.empty((n if implicit else 0, 3, lanes)), np.empty((n if implicit else 0, 3, lanes))
+    blocks = np.empty((c.elements.shape[0] if implicit else 0, 5, lanes))
+    terms = np.empty((c.faces.shape[0] if implicit else 0, 4, lanes))
+    # the faces' drag is limited in the explicit step; the implicit one has it on its left side
+    limit_dt = 0.0 if implicit else c.dt
     for s in range(substeps):
+        # the implicit step takes the muscles' rest lengths at t + theta h
         ramp_rest_lengths(c.rest_lengths, c.actuator, c.max_contraction, u_start, u_end,
-                          s / substeps, rest, one_body)
+                          (s + c.theta) / substeps if implicit else s / substeps, rest, one_body)
         for i in range(n):
             for a in range(3):
                 for b in range(lanes):
                     fl[i, a, b] = 0.0
-        add_element_forces(xl, vl, c.elements, c.stiffness, c.damping, rest, fl, one_body)
+        if not implicit:
+            add_element_forces(xl, vl, c.elements, c.stiffness, c.damping, rest, fl, one_body)
         add_face_forces(xl, vl, c.faces, c.face_weights, c.face_mass, c.water, c.dt, fl,
-                        face_scratch, splash_lanes, one_body)
+                        face_scratch, splash_lanes, one_body, limit_dt)
         add_fin_forces(xl, vl, frame_nodes, c.fin_nodes, c.fin_areas, c.fin_mass, sin_cos,
                        c.water, c.dt, fl, fin_scratch, one_body)
         add_gravity_buoyancy(xl, c.masses, c.volumes, radii, c.lungs, c.water[DENSITY],
@@ -127,9 +138,16 @@ def step_chunk(x, v, u_start, u_end, fin_angles, substeps, c, splash, ball, touc
                                 c.section_weights, c.section_lengths, c.section_areas, c.water,
                                 c.dt, fl, sections, section_means, up_scratch, c.masses,
                                 one_body)
-            solve_added_mass(fl, c.masses, c.section_nodes, c.section_weights, sections,
-                             one_body)
-        kick_drift(xl, vl, fl, c.masses, c.dt, one_body)
+            if not implicit:
+                solve_added_mass(fl, c.masses, c.section_nodes, c.section_weights, sections,
+                                 one_body)
+        if implicit:
+            implicit_step(xl, vl, fl, c.elements, c.stiffness, c.damping, rest, c.masses,
+                          c.section_nodes, c.section_weights,
+                          sections if reactive else sections[:0], c.faces, c.face_weights,
+                          c.water, c.dt, c.theta, band, rhs, xp, fe, blocks, terms, one_body)
+        else:
+            kick_drift(xl, vl, fl, c.masses, c.dt, one_body)
         if ball_args.shape[0] > 0:
             ball_substep(xl.transpose(2, 0, 1), vl.transpose(2, 0, 1), c.masses, c.faces,
                          face_parts, ball, touch, ball_args, c.water, c.dt)

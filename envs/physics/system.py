@@ -221,9 +221,13 @@ class KernelArgs(NamedTuple):
     section_areas: np.ndarray
     section_up: np.ndarray
     section_down: np.ndarray
+    implicit_band: int  # 0: symplectic Euler; W > 0: the implicit step, its half-bandwidth W
+    theta: float  # the implicit step's theta (1: backward Euler)
 
 
 DEFAULT_DT = 0.05 / 40  # s; 40 steps per 0.05 s env step (README: convergence table)
+INTEGRATORS = ("explicit", "implicit")
+MAX_IMPLICIT_DT = 0.1  # s, the largest step of the implicit integrator (two default env steps)
 STABILITY_MARGIN = 0.75  # the largest dt System accepts, as a share of stable_step
 # (why 0.75: stable_step is the linear bound at rest. Undamped, from a 2 mm random perturbation,
 # steps at 85% of it let the energy creep up and blow up after ~370 s (large stretches stiffen
@@ -232,10 +236,15 @@ STABILITY_MARGIN = 0.75  # the largest dt System accepts, as a share of stable_s
 
 @dataclass(frozen=True, eq=False)
 class System:
-    """A body in water, integrated by symplectic Euler with a fixed step ``dt`` (s).
+    """A body in water, integrated with a fixed step ``dt`` (s) by ``integrator``.
 
-    ``dt`` must lie within ``STABILITY_MARGIN`` of the explicit stability bound of the body
-    (:func:`stable_step`); a larger one is refused with the limit in the message.
+    ``integrator`` (as MuJoCo's option of that name): ``"explicit"``, symplectic Euler
+    (:mod:`animat.envs.physics.integrator`; ``dt`` must lie within ``STABILITY_MARGIN`` of
+    the body's explicit stability bound, :func:`stable_step`, a larger one is refused with the
+    limit in the message), or ``"implicit"``, the linearised theta-method with the elements'
+    stiffness and damping, the faces' drag and the water's added mass on the left side
+    (:mod:`animat.envs.physics.implicit`; ``dt`` up to ``MAX_IMPLICIT_DT``; ``theta`` in
+    [0.5, 1], 1 backward Euler).
 
     Derived constants (computed once):
         face_mass: (F,) mass a face's own force meets, ``1 / sum_k w_k^2 / m_k``, kg.
@@ -245,13 +254,23 @@ class System:
     body: BodySpec
     water: Water = field(default_factory=Water)
     dt: float = DEFAULT_DT
+    integrator: str = "explicit"
+    theta: float = 1.0
     face_mass: np.ndarray = field(init=False, repr=False)
     fin_mass: np.ndarray = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
         if not (np.isfinite(self.dt) and self.dt > 0):
             raise ValueError(f"System.dt must be a positive number of seconds, got {self.dt!r}")
-        limit = STABILITY_MARGIN * stable_step(self.body)
+        if not (isinstance(self.integrator, str) and self.integrator in INTEGRATORS):
+            raise ValueError(f"System.integrator must be one of {INTEGRATORS}, got "
+                             f"{shown(self.integrator)}")
+        implicit = self.integrator == "implicit"
+        check_number("System.theta", self.theta, 0.5, 1.0, "")
+        limit = MAX_IMPLICIT_DT if implicit else STABILITY_MARGIN * stable_step(self.body)
+        if implicit and self.dt > limit:
+            raise ValueError(f"System.dt = {self.dt:g} s is above the implicit integrator's "
+                             f"largest step ({limit:g} s); use a smaller physics_dt")
         if self.dt > limit:
             raise ValueError(f"System.dt = {self.dt:g} s is above the stability bound of body "
                              f"{self.body.name!r} for this integrator ({limit:.3g} s); use a "
@@ -275,7 +294,17 @@ class System:
             self.face_mass, b.fin_nodes, b.fin_areas, self.fin_mass, b.frame_front,
             b.frame_back, b.frame_up, b.frame_down,
             frozen_array(self.water.as_args()), float(self.dt), b.section_nodes,
-            b.section_weights, b.section_lengths, b.section_areas, b.section_up, b.section_down)
+            b.section_weights, b.section_lengths, b.section_areas, b.section_up, b.section_down,
+            half_bandwidth(b.elements, b.faces) if self.integrator == "implicit" else 0,
+            float(self.theta))
+
+
+def half_bandwidth(elements: np.ndarray, faces: np.ndarray) -> int:
+    """The implicit step's banded matrix's half-bandwidth in unknowns, ``3 max|i - j| + 2``
+    over the nodes i, j of each of the ``elements`` (E, 2) and of each of the ``faces`` (F, 4)
+    (:mod:`animat.envs.physics.implicit`)."""
+    span = max(np.ptp(elements, axis=1).max(), np.ptp(faces, axis=1).max() if len(faces) else 0)
+    return int(3 * span + 2)
 
 
 def effective_masses(masses: np.ndarray, nodes: np.ndarray, weights: np.ndarray) -> np.ndarray:
