@@ -143,21 +143,23 @@ def cruise_figures(infos: list[dict], nodes: np.ndarray, dt: float, body: BodySp
             "V": wave, "slip": speed / length / wave}
 
 
-def fish_cruise(water: dict, params: SwimParams, seconds: float = 10.0) -> dict[str, float]:
+def fish_cruise(water: dict, params: SwimParams, seconds: float = 10.0,
+                physics: dict | None = None) -> dict[str, float]:
     """:func:`cruise_figures` of the fish's swim-MC at full speed over the last half of
-    ``seconds``."""
-    env = BodyEnv("swim", duration=seconds, water=water, start_spread="point")
+    ``seconds``; ``physics``: the env's ``physics_dt``, ``frame_skip`` and ``integrator``
+    (default: the env's)."""
+    env = BodyEnv("swim", duration=seconds, water=water, start_spread="point", **(physics or {}))
     infos, nodes = play(env, lambda t: swim_mc(1.0, t, params), seconds)
     return cruise_figures(infos, nodes, env.dt, env.core.body, params.max_hz, seconds / 2)
 
 
-def dolphin_cruise(water: dict, params: SwimParams = DOLPHIN_SWIM, seconds: float = 6.0
-                   ) -> dict[str, float]:
+def dolphin_cruise(water: dict, params: SwimParams = DOLPHIN_SWIM, seconds: float = 6.0,
+                   physics: dict | None = None) -> dict[str, float]:
     """:func:`cruise_figures` of the dolphin's fluke stroke at full speed (its own pool, 3 m
     down), the flukes' sway measured in the vertical plane, and its pitch at the end
-    (``pitch``, deg)."""
+    (``pitch``, deg); ``physics`` as :func:`fish_cruise`'s."""
     env = gym.make("Animat/DolphinForward-v0", water=water, duration=seconds,
-                   start_spread="point")
+                   start_spread="point", **(physics or {}))
     infos, nodes = play(env, lambda t: dolphin_swim_mc(1.0, t, params), seconds)
     body = env.unwrapped.core.body
     figures = cruise_figures(infos, nodes, env.unwrapped.dt, body, params.max_hz, seconds / 2,
@@ -168,11 +170,12 @@ def dolphin_cruise(water: dict, params: SwimParams = DOLPHIN_SWIM, seconds: floa
     return figures
 
 
-def dolphin_turn(model: str, direction: str, angle_deg: float, after: float = 2.0
-                 ) -> tuple[float, float]:
+def dolphin_turn(model: str, direction: str, angle_deg: float, after: float = 2.0,
+                 physics: dict | None = None) -> tuple[float, float]:
     """The dolphin's hand turn-MC (:func:`animat.envs.motor.dolphin.dolphin_turn_mc`,
     calibrated for the water ``model``) from the seeded start: the pitch (up, down) or heading
-    (left, right) turned toward ``direction``, deg, when the MC ends and ``after`` s later."""
+    (left, right) turned toward ``direction``, deg, when the MC ends and ``after`` s later;
+    ``physics`` as :func:`fish_cruise`'s."""
     calibration = dolphin_calibrated(model)
     angle = np.radians(angle_deg)
     if direction in ("up", "down"):
@@ -180,7 +183,8 @@ def dolphin_turn(model: str, direction: str, angle_deg: float, after: float = 2.
     else:
         end, key = calibration.steer_delay + angle / calibration.steer_rate, "heading_deg"
     env = gym.make("Animat/DolphinTurn-v0", direction=direction, angle_deg=angle_deg,
-                   water={"model": model}, duration=end + after, start_spread="point")
+                   water={"model": model}, duration=end + after, start_spread="point",
+                   **(physics or {}))
     infos, _ = play(env, lambda t: dolphin_turn_mc(direction, angle, t, calibration),
                     end + after)
     env.close()
@@ -219,10 +223,12 @@ def gait_grid(water: dict, hz: list[float], lags: list[float], amplitude: float 
     return speed.reshape(shape), np.array(waves).reshape(shape)
 
 
-def c_start(water: dict, params: CStartParams, seconds: float = 1.0) -> np.ndarray:
+def c_start(water: dict, params: CStartParams, seconds: float = 1.0,
+            physics: dict | None = None) -> np.ndarray:
     """(T,) the fish's heading (deg, unwrapped, positive to the turn's side) every env step
-    of a left C-start from rest (:func:`animat.envs.motor.fish.cstart_mc`)."""
-    env = BodyEnv("swim", duration=seconds, water=water, start_spread="point")
+    of a left C-start from rest (:func:`animat.envs.motor.fish.cstart_mc`); ``physics`` as
+    :func:`fish_cruise`'s."""
+    env = BodyEnv("swim", duration=seconds, water=water, start_spread="point", **(physics or {}))
     infos, _ = play(env, lambda t: cstart_mc(t, True, params), seconds)
     env.close()
     return np.degrees(np.unwrap(np.radians([i["heading_deg"] for i in infos])))

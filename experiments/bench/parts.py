@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from numba import njit
 
-from animat.envs.physics import fins, forces, reactive
+from animat.envs.physics import fins, forces, implicit, reactive
 from animat.envs.physics.integrator import kick_drift, ramp_rest_lengths
 from animat.envs.physics.system import AIR_PRESSURE, DENSITY, GRAVITY, SURFACE_Z
 
@@ -71,3 +71,33 @@ def added_mass_loop(n, c, f, sections, one_body):
 def kick_drift_loop(n, c, x, v, f, one_body):
     for _ in range(n):
         kick_drift(x, v, f, c.masses, 0.0, one_body)
+
+
+@njit(cache=True)
+def implicit_matrix_loop(n, c, x, v, rest, f, band, blocks, terms, one_body):
+    """The implicit step's matrix: the elements' forces and Jacobians, the faces' drag on the
+    left side and the masses (:mod:`animat.envs.physics.implicit`)."""
+    for _ in range(n):
+        band[:] = 0.0
+        implicit.assemble_elements(x, v, c.elements, c.stiffness, c.damping, rest, c.dt,
+                                   c.dt * c.dt, f, band, blocks, one_body)
+        implicit.add_face_damping(x, v, c.faces, c.face_weights, c.water, c.dt, band, terms,
+                                  one_body)
+        implicit.add_masses(c.masses, c.section_nodes, c.section_weights,
+                            terms[:0], band, one_body)
+
+
+@njit(cache=True)
+def implicit_factor_loop(n, band, factored, one_body):
+    """The banded Cholesky factor of the implicit step's matrix (from a copy each time)."""
+    for _ in range(n):
+        factored[:] = band
+        implicit.cholesky_band(factored, one_body)
+
+
+@njit(cache=True)
+def implicit_solve_loop(n, factored, rhs, one_body):
+    """The implicit step's two solves with the factor."""
+    for _ in range(n):
+        implicit.solve_band(factored, rhs[0], one_body)
+        implicit.solve_band(factored, rhs[1], one_body)

@@ -6,12 +6,14 @@ as the native batch of 256, both in the default (reactive) water and in the pape
 one (``water={"model": "resistive"}``), and, when ``mujoco`` is installed (the ``bench`` extra),
 Gymnasium's ``Swimmer-v5`` as one env and as a sync vector of 256, all with uniformly random
 actions, and prints the ratios (the reactive water's throughput against the resistive one's
-too).
+too); and the same fish on the implicit integrator at 12.5 ms (``integrator="implicit"``,
+four steps per env step: ``docs/integrators.md``) against Swimmer-v5 and the explicit default.
 Simulated seconds per wall second of a vector env count every sub-env's time.
 ``--breakdown`` prints where an integration step's time goes instead: each force term, the
 kick-drift and the whole fused step, in ns per body and step, for one body and for SIMD
 chunks of 32 and 128 bodies, each part timed in a compiled loop
-(:mod:`animat.experiments.bench.parts`).
+(:mod:`animat.experiments.bench.parts`); and the implicit step's parts (its matrix, the
+banded factor, the two solves) and the whole fused implicit step, per body and implicit step.
 """
 
 from __future__ import annotations
@@ -25,6 +27,7 @@ import numpy as np
 import animat  # noqa: F401  (registers Animat/*)
 from animat.envs.physics import forces, reactive
 from animat.envs.physics.integrator import CHUNK, MAX_CHUNK, NO_BALL, step_chunk
+from animat.envs.physics.system import half_bandwidth
 
 from . import parts
 
@@ -46,6 +49,7 @@ def sim_seconds_per_second(env, dt: float, num_envs: int, seconds: float, seed: 
 
 REACTIVE = {"model": "reactive"}  # the default water, said where it is timed
 RESISTIVE = {"model": "resistive"}
+IMPLICIT = {"integrator": "implicit", "physics_dt": 0.0125, "frame_skip": 4}  # 4 steps / env step
 
 
 def make_configurations(num_envs: int) -> dict[str, tuple]:
@@ -58,6 +62,10 @@ def make_configurations(num_envs: int) -> dict[str, tuple]:
     batch = gym.make_vec("Animat/FishSwim-v0", num_envs=num_envs, water=RESISTIVE)
     configs["fish, resistive water, 1 env"] = (single, single.unwrapped.dt, 1)
     configs[f"fish, resistive water, native batch of {num_envs}"] = (batch, batch.dt, num_envs)
+    single = gym.make("Animat/FishSwim-v0", **IMPLICIT)
+    batch = gym.make_vec("Animat/FishSwim-v0", num_envs=num_envs, **IMPLICIT)
+    configs["fish, implicit 12.5 ms, 1 env"] = (single, single.unwrapped.dt, 1)
+    configs[f"fish, implicit 12.5 ms, native batch of {num_envs}"] = (batch, batch.dt, num_envs)
     try:
         import mujoco  # noqa: F401
     except ImportError:
@@ -91,11 +99,15 @@ def report(results: dict[str, float], num_envs: int = 256) -> str:
              ("fish, resistive water, 1 env", "Swimmer-v5, 1 env"),
              (f"fish, resistive water, {batch}", f"Swimmer-v5, sync vector of {num_envs}"),
              ("fish, 1 env", "fish, resistive water, 1 env"),
-             (f"fish, {batch}", f"fish, resistive water, {batch}")]
+             (f"fish, {batch}", f"fish, resistive water, {batch}"),
+             ("fish, implicit 12.5 ms, 1 env", "Swimmer-v5, 1 env"),
+             (f"fish, implicit 12.5 ms, {batch}", f"Swimmer-v5, sync vector of {num_envs}"),
+             ("fish, implicit 12.5 ms, 1 env", "fish, 1 env"),
+             (f"fish, implicit 12.5 ms, {batch}", f"fish, {batch}")]
     for ours, theirs in pairs:
         if ours in results and theirs in results:
             lines.append(f"ratio {ours} / {theirs}: {results[ours] / results[theirs]:.2f}x")
-    if len(results) == 4:
+    if "Swimmer-v5, 1 env" not in results:
         lines.append("(install the 'bench' extra, i.e. mujoco, to compare with Swimmer-v5)")
     return "\n".join(lines)
 
@@ -152,6 +164,21 @@ def breakdown(lanes: int, reps: int = 20000) -> dict[str, float]:
         start = time.perf_counter()
         loop(reps // lanes)
         out[name] = 1e9 * (time.perf_counter() - start) / (reps // lanes) / lanes
+    band = np.zeros((3 * len(c.masses), half_bandwidth(c.elements, c.faces) + 1, lanes))
+    factored, rhs = np.empty_like(band), np.ones((2, band.shape[0], lanes))
+    blocks, terms = np.empty((len(c.elements), 5, lanes)), np.empty((len(c.faces), 4, lanes))
+    parts.implicit_matrix_loop(1, c, x, v, rest, f, band, blocks, terms, one)
+    loops = {
+        "implicit: matrix": lambda n: parts.implicit_matrix_loop(n, c, x, v, rest, f, band,
+                                                                 blocks, terms, one),
+        "implicit: factor": lambda n: parts.implicit_factor_loop(n, band, factored, one),
+        "implicit: two solves": lambda n: parts.implicit_solve_loop(n, factored, rhs, one),
+    }
+    for name, loop in loops.items():
+        loop(1)
+        start = time.perf_counter()
+        loop(reps // lanes)
+        out[name] = 1e9 * (time.perf_counter() - start) / (reps // lanes) / lanes
     steps = 40
     resistive = gym.make("Animat/FishSwim-v0", water=RESISTIVE).unwrapped.core.system.kernel_args
     for name, args in (("fused step, reactive water", c), ("fused step, resistive", resistive)):
@@ -159,6 +186,10 @@ def breakdown(lanes: int, reps: int = 20000) -> dict[str, float]:
             lambda args=args: step_chunk(xb, vb, u, u, np.zeros((lanes, 2)), steps, args,
                                          np.zeros(lanes), *NO_BALL, one),
             max(1, reps // steps)) / lanes / steps
+    implicit_args = gym.make("Animat/FishSwim-v0", **IMPLICIT).unwrapped.core.system.kernel_args
+    out["fused implicit step, reactive"] = 1e9 * _timed(
+        lambda: step_chunk(xb, vb, u, u, np.zeros((lanes, 2)), 4, implicit_args,
+                           np.zeros(lanes), *NO_BALL, one), max(1, reps // 40)) / lanes / 4
     return out
 
 

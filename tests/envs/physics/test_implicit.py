@@ -191,3 +191,4 @@ def test_an_env_takes_the_integrator_and_names_a_bad_one():
     assert env.unwrapped.core.system.integrator == "implicit"
     with pytest.raises(ValueError, match="integrator"):
         gym.make("Animat/FishSwim-v0", integrator="euler")
+
