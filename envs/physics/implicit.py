@@ -64,8 +64,9 @@ def assemble_elements(x, v, elements, stiffness, damping, rest, hd, hk, f, band,
                       one_body=BATCH) -> None:
     """Add each element's force to ``f`` (N, 3, L) and ``hd D_e + hk K_e`` to ``band``
     (3N, W + 1, L; ``band[r, k]`` is the matrix entry (r, r - k), its lower band); ``rest``
-    (E, L) the rest lengths, m; ``hd`` s and ``hk`` s^2 the weights (theta h, theta^2 h^2). Each element's block ``alpha r r' + beta I``
-    goes to ``blocks`` (E, 5, L): r (rows 0-2), alpha and beta (rows 3, 4)"""
+    (E, L) the rest lengths, m; ``hd`` s and ``hk`` s^2 the weights (theta h, theta^2 h^2).
+    Each element's block ``alpha r r' + beta I`` goes to ``blocks`` (E, 5, L): r (rows 0-2),
+    alpha and beta (rows 3, 4), for :func:`keep_angular_momentum`."""
     lanes = lane_count(x, one_body)
     for e in range(elements.shape[0]):
         i, j = min(elements[e, 0], elements[e, 1]), max(elements[e, 0], elements[e, 1])

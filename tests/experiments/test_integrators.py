@@ -2,7 +2,6 @@
 from real runs, its cells say how far each is from the reference, and the implicit step
 converges to the reference as its step shrinks."""
 
-import numpy as np
 
 from animat.envs.bodies.fish import fish_body
 from animat.envs.physics.system import DEFAULT_DT
