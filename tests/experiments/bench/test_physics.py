@@ -14,9 +14,11 @@ def test_the_benchmark_prints_every_configuration_and_the_ratios():
 
 def test_the_breakdown_times_every_part_and_the_fused_step():
     lines = animat("bench", "--breakdown").stdout.strip().splitlines()
-    assert lines[0].startswith("part of a step") and len(lines) == 11
+    assert lines[0].startswith("part of a step") and len(lines) == 15
     assert "chunk of 32" in lines[0] and "chunk of 128" in lines[0]
     for line in lines[1:]:
         times = [float(v) for v in line.split()[-3:]]  # 1 body, chunks of 32 and 128
         assert all(t > 0 for t in times)
-    assert lines[-2].startswith("fused step, reactive") and lines[-1].startswith("fused step")
+    assert lines[-3].startswith("fused step, reactive") and lines[-2].startswith("fused step")
+    assert lines[-1].startswith("fused implicit step")
+    assert [line.split(":")[0] for line in lines[9:12]] == ["implicit"] * 3
