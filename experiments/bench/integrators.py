@@ -9,8 +9,8 @@ converged reference: the explicit integrator at a quarter of its default step. A
 (:func:`theta_sweep`) gives, for the implicit step's theta and step, the fish's cruise speed
 in both waters and how many of 16 fish stay finite under 20 s of random actions.
 
-    python -m animat.experiments.integrators            # print the tables
-    python -m animat.experiments.integrators --write    # and write docs/integrators.md
+    python -m animat.experiments.bench.integrators            # print the tables
+    python -m animat.experiments.bench.integrators --write    # and write docs/integrators.md
 
 A third table (:func:`stability`) sweeps legal drives (random, the alternating drive, bang-bang
 at every period from 1 to 20 env steps) over the fish and the dolphin in both waters.
@@ -24,9 +24,9 @@ from pathlib import Path
 
 import numpy as np
 
-from ..envs.bodies.fish import fish_body
-from ..envs.core.env import BodyEnv
-from ..envs.motor.fish import (
+from ...envs.bodies.fish import fish_body
+from ...envs.core.env import BodyEnv
+from ...envs.motor.fish import (
     CStartParams,
     FinParams,
     calibrated,
@@ -36,10 +36,10 @@ from ..envs.motor.fish import (
     turn_duration,
     turn_mc,
 )
-from ..envs.physics.integrator import step_batch
-from ..envs.physics.observe import momenta
-from ..envs.physics.system import DEFAULT_DT, System, Water, vacuum
-from .biology import c_start, dolphin_cruise, dolphin_turn, fish_cruise, play
+from ...envs.physics.integrator import step_batch
+from ...envs.physics.observe import momenta
+from ...envs.physics.system import DEFAULT_DT, System, Water, vacuum
+from ..biology import c_start, dolphin_cruise, dolphin_turn, fish_cruise, play
 
 ENV_DT = 0.05  # s, the fish's and the dolphin's env step
 DOLPHIN_DT = ENV_DT / 80  # s, the dolphin's default explicit step
@@ -336,7 +336,7 @@ def stability(bodies: int = 32, seconds: float = 20.0) -> str:
     and step (columns), how many of the sweep's drives (:func:`drives`) keep all ``bodies``
     bodies finite with every element within 0.5-2 of its rest length for ``seconds``, and the
     shortest and longest element seen under the drives that did."""
-    from ..envs.bodies.dolphin import dolphin_body
+    from ...envs.bodies.dolphin import dolphin_body
     lines = ["| body, water | " + " | ".join(STABILITY_COLUMNS) + " |",
              "|---" * (len(STABILITY_COLUMNS) + 1) + "|"]
     for name, body, explicit_dt in (("fish", fish_body(), DEFAULT_DT),
@@ -380,7 +380,7 @@ def _swept(system: System, drive: Callable[[int], np.ndarray], bodies: int, seco
 
 
 def main(argv: list[str] | None = None) -> None:
-    parser = argparse.ArgumentParser(prog="python -m animat.experiments.integrators",
+    parser = argparse.ArgumentParser(prog="python -m animat.experiments.bench.integrators",
                                      description=__doc__.split("\n")[0])
     parser.add_argument("--write", action="store_true",
                         help="also write the tables into docs/integrators.md")
@@ -400,7 +400,7 @@ def main(argv: list[str] | None = None) -> None:
 def write_page(text: str) -> None:
     """Put the table between the markers of docs/integrators.md (the rest of the page is
     prose kept in the repository)."""
-    page = Path(__file__).resolve().parents[1] / "docs" / "integrators.md"
+    page = Path(__file__).resolve().parents[2] / "docs" / "integrators.md"
     begin, end = "<!-- table: begin -->", "<!-- table: end -->"
     before, rest = page.read_text().split(begin)
     after = rest.split(end)[1]

@@ -1,11 +1,11 @@
-"""The integrators' accuracy table (:mod:`animat.experiments.integrators`): its figures come
+"""The integrators' accuracy table (:mod:`animat.experiments.bench.integrators`): its figures come
 from real runs, its cells say how far each is from the reference, and the implicit step
 converges to the reference as its step shrinks."""
 
 
 from animat.envs.bodies.fish import fish_body
 from animat.envs.physics.system import DEFAULT_DT
-from animat.experiments.integrators import (
+from animat.experiments.bench.integrators import (
     _cruise_speed,
     deviation,
     stability,
