@@ -45,3 +45,18 @@ def test_every_python_example_runs_from_outside_the_checkout(tmp_path):
         done = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, capture_output=True,
                               text=True, timeout=600)
         assert done.returncode == 0, f"{code}\n{done.stderr[-2000:]}"
+
+
+def test_the_readme_is_a_front_door_and_every_link_in_it_and_the_docs_resolves():
+    """At most 150 lines (what it is, the Quick start, an example, what is inside, results,
+    the docs, how to cite); every relative link of the README, the changelog and the docs'
+    pages names a file that exists."""
+    assert len(README.splitlines()) <= 150
+    pages = [ROOT / "README.md", ROOT / "CHANGELOG.md", *sorted((ROOT / "docs").glob("*.md"))]
+    broken = [(page.name, link) for page in pages
+              for link in re.findall(r"\]\(([^)\s]+)\)", page.read_text())
+              if not link.startswith(("http", "#", "mailto"))
+              and not (page.parent / link.split("#")[0]).exists()]
+    assert broken == []
+    for name in ("LICENSE", "CITATION.cff"):
+        assert (ROOT / name).is_file()

@@ -7,15 +7,17 @@ One step of size h, with every force evaluated at the start of the step::
 In reactive water (:mod:`animat.envs.physics.reactive`) M is the nodes' mass plus the added
 mass of the water their cross-sections carry, taken at the start of the step.
 
-Why this scheme (measured against the implicit Euler it replaced; see the README's physics
-section): for forces that are central and equal-and-opposite (the Voigt elements), it conserves
-linear and angular momentum exactly, whatever the step and the actuation —
-``L' = sum m x' x v' = sum m x x v' = L + h sum x x f(x) = L`` — where backward Euler changes L
-by ``-h^2 sum v' x f(x')`` every step; it is symplectic, so with the dampers off the energy of
-the elastic body oscillates but does not drift; and it is explicit, so a step is a few thousand
-flops with no solve. It is stable for ``h`` below ``2 / omega_max`` (the body's stiffest mode,
-:func:`animat.envs.physics.system.stable_step`); the default step sits well inside that bound, where
-the figures a researcher reads are converged (``tests/envs/physics/test_convergence.py``).
+Why this scheme is the default (the implicit step, :mod:`animat.envs.physics.implicit`, is an
+option; ``docs/integrators.md`` compares them): for forces that are central and
+equal-and-opposite (the Voigt elements), it conserves linear and angular momentum exactly,
+whatever the step and the actuation — ``L' = sum m x' x v' = sum m x x v' = L + h sum x x f(x) =
+L`` — where backward Euler changes L by ``-h^2 sum v' x f(x')`` every step unless corrected; it
+does not damp the stroke the muscles drive; it is symplectic, so with the dampers off the energy
+of the elastic body oscillates but does not drift; and it is explicit, so a step is a few
+thousand flops with no solve. It is stable for ``h`` below ``2 / omega_max`` (the body's
+stiffest mode, :func:`animat.envs.physics.system.stable_step`); the default step sits well
+inside that bound, where the figures a researcher reads are converged
+(``tests/envs/physics/test_convergence.py``).
 
 ``step_batch`` runs every body of a batch (B = 1 is a batch of one) through ``substeps`` steps,
 with muscle activations ramped linearly from ``u_start`` to ``u_end`` (a first-order hold:

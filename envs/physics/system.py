@@ -225,7 +225,7 @@ class KernelArgs(NamedTuple):
     theta: float  # the implicit step's theta (1: backward Euler)
 
 
-DEFAULT_DT = 0.05 / 40  # s; 40 steps per 0.05 s env step (README: convergence table)
+DEFAULT_DT = 0.05 / 40  # s; 40 steps per 0.05 s env step (docs/physics.md: the convergence table)
 INTEGRATORS = ("explicit", "implicit")
 MAX_IMPLICIT_DT = 0.1  # s, the largest step of the implicit integrator (two default env steps)
 STABILITY_MARGIN = 0.75  # the largest dt System accepts, as a share of stable_step

@@ -1,5 +1,5 @@
 """What the package ships beside its code: the configs and the learned repertoires; and what
-the repository ships beside them: the run folders of the results the README and docs quote
+the repository ships beside them: the run folders of the results the docs quote
 (``results/``, :func:`is_shipped_result`).
 
 In a source checkout they are the top-level folders ``configs/`` and ``repertoires/``; in an
