@@ -9,6 +9,19 @@ Gymnasium tasks), :mod:`animat.learners` (the paper's learners and the baselines
 
 from __future__ import annotations
 
-from animat import envs  # noqa: F401  (registers Animat/FishSwim-v0, ...)
+from importlib.util import find_spec
+
+try:
+    from animat import envs  # noqa: F401  (registers Animat/FishSwim-v0, ...)
+except ImportError:
+    # Python inside a checkout finds this folder before an installed copy; without an editable
+    # install nothing maps envs/, learners/ and experiments/ into animat.*, and Python's own
+    # message ("circular import") would point the wrong way.
+    if find_spec("animat.envs") is None:
+        raise ImportError(
+            f"animat is imported from {__file__}, a checkout's folder, and nothing installed "
+            "maps its envs/, learners/ and experiments/ into animat.*: run `pip install -e .` "
+            "in the checkout, or run Python from outside it") from None
+    raise
 
 __all__ = ["envs"]

@@ -124,3 +124,14 @@ def test_the_wheel_holds_every_file_of_code_every_shipped_file_and_py_typed(tmp_
     assert "animat/envs/world/life.py" in wanted and "animat/configs/tune/fish_swim_ppo.yaml" \
         in wanted
     assert not wanted - names, sorted(wanted - names)
+
+
+def test_python_inside_a_checkout_without_an_install_says_what_to_do():
+    """Without site-packages (so no editable install maps envs/ into animat.*), ``import
+    animat`` from the checkout names the fix in one line instead of Python's "circular
+    import"."""
+    done = subprocess.run([sys.executable, "-S", "-c", "import animat"], cwd=ROOT,
+                          capture_output=True, text=True, timeout=120, env=clean_env())
+    last = done.stderr.strip().splitlines()[-1]
+    assert done.returncode != 0 and "circular" not in done.stderr
+    assert last.startswith("ImportError: animat is imported from") and "pip install -e ." in last
