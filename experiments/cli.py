@@ -46,12 +46,15 @@ from .launch.shipped import find_config, shipped_configs
 from .parser import make_parser
 
 
-def _progress(args, config):
-    from .launch.progress import ProgressSink
+def _progress(args, config, label: str = ""):
+    """The run's progress (a bar on a terminal, log lines elsewhere), after a notice if the
+    physics kernels are about to compile; None with --quiet or ``logging.progress: false``."""
+    from .launch.progress import ProgressSink, compile_notice
 
     if getattr(args, "quiet", False) or not config.logging.progress:
         return None
-    return ProgressSink.if_terminal(config.budget.env_steps, config.eval.metric)
+    compile_notice()
+    return ProgressSink.for_output(config.budget.env_steps, config.eval.metric, label)
 
 
 def _config_path(name: str) -> Path:
@@ -127,7 +130,8 @@ def cmd_sweep(args) -> int:
     if args.executor == "ray":
         results = run_ray(folders, args.address)
     else:
-        results = run_local(folders, args.jobs, progress=lambda folder: _progress(args, config))
+        results = run_local(folders, args.jobs, progress=lambda folder: _progress(args, config,
+                                                                           folder.name))
     print(summary_table(folders, results, config.eval.metric))
     return 0 if all(r["status"] == "done" for r in results) else 1
 

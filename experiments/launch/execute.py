@@ -160,6 +160,8 @@ def _execute_locked(folder: Path, progress, threads: int | None, trust_pickles: 
         logger.close()
         _failed(folder, error, threads)
         raise
+    if progress is not None:
+        progress.finish()
     write_json(folder / "artefacts.json", dict(result.artefacts))
     try:  # before "done", so a run killed in between writes them on resume (each sink once)
         logger.hparams(flat_hparams(config), {k: float(v) for k, v in result.metrics.items()})
