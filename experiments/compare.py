@@ -1,9 +1,15 @@
 """``animat compare``: read run folders' TensorBoard events back (TensorBoard's own reader,
 keeping every scalar; a run's ``scalars.csv`` when it has no events), group runs by learner
-(its ``label`` where the config gives one), aggregate over seeds (mean, std and a 95%
-bootstrap interval of the mean) and write a Markdown table and a PNG plot (mean curve with a
-shaded +-std band per learner, x = env steps), then the runs' abstractions
+(its ``label`` where the config gives one), aggregate over seeds (mean and std, and the
+interquartile mean with a 95% stratified-bootstrap interval, as rliable reports them: Agarwal
+et al., "Deep RL at the edge of the statistical precipice", 2021) and write a Markdown table, a
+PNG plot (mean curve with a shaded +-std band per learner, x = env steps) and a performance
+profile (the share of each learner's runs above each score), then the runs' abstractions
 (:mod:`animat.experiments.figures.abstraction_table`).
+
+Runs of different settings (env id and version, water, integrator) are not compared: a
+comparison of them is refused, naming the settings. The metric is the runs' configs'
+``eval.metric`` unless one is given.
 
 Every learner logs ``eval/*`` with one meaning: its current incumbent (PPO's current policy,
 a black-box learner's best candidate of the latest round), scored over the evaluation start
@@ -27,6 +33,8 @@ from animat.learners.storage.files import read_text
 from animat.learners.storage.tree import check_tree, listing, run_folder
 
 from .figures.abstraction_table import abstraction_markdown, abstraction_rows
+from .figures.curves import plot, profile
+from .figures.statistics import iqm_interval, mean_std
 from .launch.config import load_config
 from .launch.folders import one_line, read_status
 from .launch.lock import RunError
@@ -40,6 +48,8 @@ class RunCurves:
     seed: int
     status: dict
     scalars: dict[str, tuple[np.ndarray, np.ndarray]]  # tag -> (steps, values)
+    setting: str = ""  # the env id, its water and integrator: what a comparison holds fixed
+    metric: str = "eval/return"  # the config's eval.metric
 
 
 def find_runs(paths: list[str | Path]) -> list[Path]:
@@ -85,7 +95,39 @@ def load_run(folder: Path) -> RunCurves:
     check_tree(folder)
     config = load_config(folder / "config.yaml", build=False, follow_links=False)
     return RunCurves(folder, config.learner.display_name, config.env.id, config.seed,
-                     read_status(folder), read_scalars(folder))
+                     read_status(folder), read_scalars(folder),
+                     setting_of(config.env.id, config.env.kwargs), config.eval.metric)
+
+
+def setting_of(env_id: str, kwargs: dict) -> str:
+    """What a comparison must hold fixed, in words: the env id (with its version), the water
+    model (a folder made before folders recorded it ran in the resistive water) and the
+    integrator where it is not the default."""
+    water = kwargs.get("water") if isinstance(kwargs.get("water"), dict) else {}
+    model = water.get("model", "resistive")
+    integrator = kwargs.get("integrator", "explicit")
+    return f"{env_id}, {model} water" + ("" if integrator == "explicit" else f", {integrator}")
+
+
+def one_setting(runs: list[RunCurves]) -> str:
+    """The runs' one setting; RunError naming each setting and its run count if they differ."""
+    settings = sorted({r.setting for r in runs})
+    if len(settings) > 1:
+        counts = "; ".join(f"{s}: {sum(r.setting == s for r in runs)} runs" for s in settings)
+        raise RunError(f"the runs are of {len(settings)} settings ({counts}); compare the "
+                       "runs of one setting at a time")
+    return settings[0]
+
+
+def metric_of(runs: list[RunCurves], metric: str | None) -> str:
+    """``metric``, or the runs' configs' ``eval.metric``; RunError if those differ."""
+    if metric is not None:
+        return metric
+    metrics = sorted({r.metric for r in runs})
+    if len(metrics) > 1:
+        raise RunError(f"the runs' configs score different metrics ({', '.join(metrics)}); "
+                       "give one with --metric")
+    return metrics[0]
 
 
 def load_runs(folders: list[Path]) -> list[RunCurves]:
@@ -129,28 +171,12 @@ def summarise(runs: list[RunCurves], metric: str, threshold: float | None) -> li
             "learner": learner, "runs": len(group),
             "done": sum(r.status.get("status") == "done" for r in group),
             "result": mean_std(results), "final": mean_std(finals), "best": mean_std(bests),
+            "result_iqm": iqm_interval(results),
             "steps_to_threshold": (float(np.mean(reached)) if reached else None, len(reached)),
             "wall_seconds": float(np.mean([r.status.get("wall_seconds", 0.0) for r in group])),
             "env_steps": float(np.mean([r.status.get("env_steps", 0) for r in group])),
         })
     return rows
-
-
-BOOTSTRAP_RESAMPLES, CONFIDENCE = 10_000, 0.95
-
-
-def mean_std(values: np.ndarray) -> tuple[float, float, float, float] | None:
-    """(mean, std, and the bounds of a 95% percentile-bootstrap interval of the mean over
-    runs), or None. The bootstrap resamples the runs (seeded, so a report is reproducible);
-    with the 3-5 seeds these comparisons have it is narrow-tailed and optimistic, which is
-    why the std is kept beside it; one run gives a zero-width interval."""
-    if not values.size:
-        return None
-    rng = np.random.default_rng(0)
-    means = rng.choice(values, (BOOTSTRAP_RESAMPLES, values.size)).mean(axis=1)
-    tail = 100 * (1 - CONFIDENCE) / 2
-    low, high = np.percentile(means, [tail, 100 - tail])
-    return float(values.mean()), float(values.std()), float(low), float(high)
 
 
 def markdown(rows: list[dict], metric: str, threshold: float | None) -> str:
@@ -159,10 +185,14 @@ def markdown(rows: list[dict], metric: str, threshold: float | None) -> str:
             return "n/a"
         return f"{value[0]:.3f} ± {value[1]:.3f} [{value[2]:.3f}, {value[3]:.3f}]"
 
-    head = (f"| learner | runs (done) | result {metric} | final {metric} | best {metric} | "
+    def interval(value):
+        return "n/a" if value is None else f"{value[0]:.3f} [{value[1]:.3f}, {value[2]:.3f}]"
+
+    head = (f"| learner | runs (done) | result {metric} | IQM of result | final {metric} | "
+            f"best {metric} | "
             f"env steps to {threshold if threshold is not None else '—'} (runs reaching) | "
             "env steps | wall s |")
-    lines = [head, "|---|---|---|---|---|---|---|---|"]
+    lines = [head, "|---|---|---|---|---|---|---|---|---|"]
     for row in rows:
         steps, count = row["steps_to_threshold"]
         if threshold is None:
@@ -172,61 +202,28 @@ def markdown(rows: list[dict], metric: str, threshold: float | None) -> str:
         else:
             reach = f"{steps:,.0f} ({count}/{row['runs']})"
         lines.append(f"| {row['learner']} | {row['runs']} ({row['done']}) | {pm(row['result'])} | "
-                     f"{pm(row['final'])} | {pm(row['best'])} | {reach} | "
+                     f"{interval(row['result_iqm'])} | {pm(row['final'])} | {pm(row['best'])} | "
+                     f"{reach} | "
                      f"{row['env_steps']:,.0f} | {row['wall_seconds']:.0f} |")
     return "\n".join(lines) + "\n\n" + (
         "Values: mean ± std over runs [95% bootstrap interval of the mean, 10,000 resamples "
-        "of the runs]. result: what the run returned (result.json); final and best: the last "
-        "and the highest point of the logged curve (eval/*: the current incumbent).\n")
+        "of the runs]. IQM: the interquartile mean of the runs' results [95% stratified-"
+        "bootstrap interval, 10,000 resamples], as rliable reports it. result: what the run "
+        "returned (result.json); final and best: the last and the highest point of the logged "
+        "curve (eval/*: the current incumbent).\n")
 
 
-def plot(runs: list[RunCurves], metric: str, path: Path) -> list[str]:
-    """Mean curve and +-std band per learner on a common grid of env steps; returns the
-    learners drawn."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    figure, axes = plt.subplots(figsize=(7, 4.2))
-    drawn = []
-    for learner in sorted({r.learner for r in runs}):
-        curves = [r.scalars[metric] for r in runs if r.learner == learner and metric in r.scalars]
-        if not curves:
-            continue
-        end = max(c[0][-1] for c in curves)
-        if all(len(c[0]) == 1 for c in curves):  # a learner that learns nothing: a level line
-            values = [c[1][0] for c in curves]
-            axes.axhline(np.mean(values), linestyle="--", color="0.3",
-                         label=f"{learner} (n={len(curves)})")
-            drawn.append(learner)
-            continue
-        grid = np.linspace(0, end, 200)
-        values = np.array([np.interp(grid, c[0], c[1], left=np.nan) for c in curves])
-        logged = np.isfinite(values).any(axis=0)  # before a run's first point: no value
-        grid, values = grid[logged], values[:, logged]
-        mean, std = np.nanmean(values, axis=0), np.nanstd(values, axis=0)
-        (line,) = axes.plot(grid, mean, label=f"{learner} (n={len(curves)})")
-        axes.fill_between(grid, mean - std, mean + std, alpha=0.2, color=line.get_color())
-        drawn.append(learner)
-    axes.set_xlabel("env steps")
-    axes.set_ylabel(metric)
-    axes.grid(alpha=0.3)
-    axes.legend()
-    figure.tight_layout()
-    figure.savefig(path, dpi=120)
-    plt.close(figure)
-    return drawn
-
-
-def compare(paths: list[str | Path], metric: str = "eval/return", threshold: float | None = None,
-            report: str | Path | None = None) -> tuple[str, Path | None]:
-    """Compare runs; returns the Markdown and the plot's path (beside ``report`` if given)."""
+def compare(paths: list[str | Path], metric: str | None = None,
+            threshold: float | None = None, report: str | Path | None = None
+            ) -> tuple[str, Path | None]:
+    """Compare runs of one setting (:func:`one_setting`) on ``metric`` (default: their
+    configs' ``eval.metric``); returns the Markdown and the plot's path (beside ``report``, with
+    the performance profile, if given)."""
     runs = load_runs(find_runs(paths))
+    setting, metric = one_setting(runs), metric_of(runs, metric)
     rows = summarise(runs, metric, threshold)
     abstractions = abstraction_rows(runs, metric)
-    envs = sorted({r.env_id for r in runs})
-    text = f"Runs of {', '.join(envs)}; metric `{metric}` (x = env steps).\n\n" + markdown(
+    text = f"Runs of {setting}; metric `{metric}` (x = env steps).\n\n" + markdown(
         rows, metric, threshold)
     table = abstraction_markdown(abstractions, metric)
     image = None
@@ -235,8 +232,11 @@ def compare(paths: list[str | Path], metric: str = "eval/return", threshold: flo
         report.parent.mkdir(parents=True, exist_ok=True)
         image = report.with_suffix(".png")
         drawn = plot(runs, metric, image)
-        report.write_text(text + f"\n![{metric}]({image.name})\n" + (
-            f"\n{table}" if table else ""))
+        profiled = image.with_name(f"{image.stem}_profile.png")
+        profile(runs, metric, profiled)
+        report.write_text(text + f"\n![{metric}]({image.name})\n\n"
+                          f"![performance profile]({profiled.name})\n"
+                          + (f"\n{table}" if table else ""))
         (report.with_suffix(".json")).write_text(json.dumps(
             {"rows": rows, "plotted": drawn, "abstraction": abstractions}, indent=1))
     return text + (f"\n{table}" if table else ""), image

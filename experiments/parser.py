@@ -85,10 +85,13 @@ def make_parser() -> argparse.ArgumentParser:
                        "(default: runs/)")
     compare = sub.add_parser("compare", help="compare runs (TensorBoard events)",
                              description="A table of final and best values per learner "
-                             "(label), and a plot of the curves against env steps.")
+                             "(label), with the interquartile mean and its stratified-bootstrap "
+                             "interval; a plot of the curves against env steps and a "
+                             "performance profile. Runs of one setting (env, water, "
+                             "integrator) only.")
     compare.add_argument("paths", nargs="+", help="run folders, or parents of run folders")
-    compare.add_argument("--metric", default="eval/return", help="the tag compared "
-                         "(default eval/return)")
+    compare.add_argument("--metric", help="the tag compared (default: the runs' configs' "
+                         "eval.metric)")
     compare.add_argument("--threshold", type=float, help="report env steps to reach it")
     compare.add_argument("-o", "--output", type=Path, help="Markdown report (+ .png plot)")
     tune = sub.add_parser("tune", help="hyperparameter search (Optuna) over tune.space",

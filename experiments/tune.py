@@ -77,7 +77,7 @@ def sample(trial, config: ExperimentConfig) -> list[str]:
 
 class PruningSink:
     """Reports the metric's evaluations to the trial and stops the run when the pruner says
-    so (a logger sink: ``scalar``, ``text``, ``close``)."""
+    so (a logger sink: ``scalar``, ``text``, ``close``; and ``finish``, as a run's progress)."""
 
     def __init__(self, trial, metric: str, pruned: type[Exception]) -> None:
         self.trial, self.metric, self.pruned, self.last = trial, metric, pruned, -1
@@ -92,6 +92,9 @@ class PruningSink:
 
     def text(self, tag: str, text: str, step: int) -> None:
         pass
+
+    def finish(self) -> None:
+        """The run is done (nothing to report: the trial's value is the run's result)."""
 
     def close(self) -> None:
         pass

@@ -5,9 +5,9 @@ reads every run folder under the FOLDERs (each with ``result.json``, ``config.ya
 ``eval.json`` that ``animat eval RUN --episodes N`` writes: its agent on N unseen starts) and
 prints a Markdown table, one row per learner (its label): the metric on the run's own starts
 (``result.json``) and on the unseen ones (``eval.json``), each as mean ± std over the runs with a
-95% bootstrap interval of the mean (:func:`animat.experiments.compare.mean_std`), the spread
-over one run's unseen starts (the mean of the runs' stds), the runs' seeds, env steps and wall
-seconds. A run without ``eval.json`` is named and left out of the unseen column. The docs'
+95% bootstrap interval of the mean (:func:`~animat.experiments.figures.statistics.mean_std`),
+the spread over one run's unseen starts (the mean of the runs' stds), the runs' seeds, env steps
+and wall seconds. A run without ``eval.json`` is named and left out of the unseen column. The docs'
 learner comparisons on the turn and the reach are this command's output for the folders under
 ``results/``.
 """
@@ -23,8 +23,9 @@ import numpy as np
 from animat.learners.storage.files import read_json
 from animat.learners.storage.tree import run_folder
 
-from ..compare import find_runs, mean_std
+from ..compare import find_runs
 from ..launch.config import load_config
+from .statistics import mean_std
 
 
 def run_rows(folders: list[Path], metric: str) -> list[dict]:

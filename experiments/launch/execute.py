@@ -52,7 +52,8 @@ def execute(folder: Path, progress=None, threads: int | None = None,
     and folders (:func:`~animat.learners.storage.tree.check_tree`). ``own_files_only``: the
     folder may be someone else's (a resume), so its config reaches no file outside it
     (:func:`~animat.experiments.launch.config.learner_params`: a RunError before anything is
-    written where it would have to)."""
+    written where it would have to). ``progress``: a logger sink with ``finish()``, called when
+    the learner is done (:mod:`animat.experiments.launch.progress`; tune's pruning sink)."""
     folder = run_folder(folder)
     with run_lock(folder):
         check_tree(folder, writing=True)  # a link, FIFO or hard link planted in a shared folder
