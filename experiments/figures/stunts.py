@@ -32,6 +32,7 @@ from animat.learners.skills.repertoire import Repertoire
 from animat.learners.storage.files import read_json
 
 from ..launch.config import load_run_config
+from .video import H264Video
 
 
 def macro_of(run_dir: str | Path) -> tuple[MacroSequence, Repertoire, dict]:
@@ -144,11 +145,9 @@ def make_stunt_figures(out: str | Path, leap: str | Path, nose_ball=None, tail_b
     steps = fig10(leap, out / "fig10_macro_controller.png")
     infos, frames = play(leap)
     fps = round(1.0 / gym.make(macro_of(leap)[2]["env_id"]).unwrapped.dt)
-    writer = cv2.VideoWriter(str(out / "leap.mp4"), cv2.VideoWriter_fourcc(*"mp4v"), fps,
-                             (frames[0].shape[1], frames[0].shape[0]))
-    for frame in frames:
-        writer.write(frame[:, :, ::-1])
-    writer.release()
+    with H264Video(out / "leap.mp4", fps) as video:
+        for frame in frames:
+            video.write(frame)
     tiles = [_labelled(_pick(infos, frames, "exit")[1], "(a) leaving the water"),
              _labelled(_pick(infos, frames, "apex")[1], "(a') the apex")]
     result = {"leap_apex_bl": float(infos[-1]["apex_height_bl"]),

@@ -13,6 +13,8 @@ import numpy as np
 import animat  # noqa: F401  (registers Animat/*)
 from animat.envs.world.marine_env import MarineSummary
 
+from .video import H264Video
+
 
 def _caption(frame: np.ndarray, text: str) -> np.ndarray:
     out = np.ascontiguousarray(frame)
@@ -32,13 +34,9 @@ def world_video(out: str | Path, seconds: float = 60.0, seed: int = 0,
                    vision=0 if vision else None)
     env.reset(seed=seed)
     fps = round(1.0 / env.unwrapped.dt)
-    frame = env.render()
-    partial = out.with_name(out.stem + ".partial.mp4")
-    writer = cv2.VideoWriter(str(partial), cv2.VideoWriter_fourcc(*"mp4v"), fps,
-                             (frame.shape[1], frame.shape[0]))
     summary, action = MarineSummary(), np.zeros(env.action_space.shape, np.float32)
     middle = env.unwrapped.episode_steps // 2
-    try:
+    with H264Video(out, fps) as video:  # a finished video only under its own name
         for step in range(env.unwrapped.episode_steps):
             info = env.step(action)[4]
             summary.update(info)
@@ -46,11 +44,8 @@ def world_video(out: str | Path, seconds: float = 60.0, seed: int = 0,
             text = (f"t {info['time']:4.1f} s  food {t['food_eaten']:.0f}  catches "
                     f"{t['catches']:.0f}  matings {t['matings']:.0f}  obstacle hits "
                     f"{t['obstacle_collisions']:.0f}  fish hits {t['fish_collisions']:.0f}")
-            picture = _caption(env.render(), text)[:, :, ::-1]
-            writer.write(picture)
+            picture = _caption(env.render(), text)
+            video.write(picture)
             if step == middle:
-                cv2.imwrite(str(out.with_suffix(".png")), picture)
-    finally:
-        writer.release()
-    partial.replace(out)  # a finished video only under its own name
+                cv2.imwrite(str(out.with_suffix(".png")), picture[:, :, ::-1])
     return summary.summary()
