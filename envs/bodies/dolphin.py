@@ -84,7 +84,7 @@ def dolphin_sections(scale: float) -> dict[str, np.ndarray]:
     with its plane of undulation the vertical one: each section's axis across it is its own
     left (a ring's left corners less its right ones, the nose its first ring's, the flukes'
     left tip less the right: so it stays defined when the tail bends sideways, where the
-    front's left lined up with the tail and the tail's normal flipped, measured)."""
+    front's left would line up with the tail and flip the tail's normal)."""
     groups = [[0]] + [list(range(1 + 4 * k, 5 + 4 * k)) for k in range(len(STATIONS))]
     stations = [0.0] + [x for x, _, _ in STATIONS] + [FLUKE_TIP[0]]
     sections = chain_sections(stations, groups + [[LEFT_TIP, RIGHT_TIP]], SECTION_HALF_EXTENTS,

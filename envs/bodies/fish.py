@@ -139,8 +139,8 @@ def _faces() -> tuple[np.ndarray, np.ndarray]:
 # depth half-way to the tips, 1.1); the trailing edge is the fin's full span (the tips at +-3).
 # The fish undulates sideways, and the reactive force acts in that plane only (Lighthill's
 # theory of lateral undulation): with added mass for vertical motion too, the body's Munk
-# moment, which nothing at the tail balances in pitch (the caudal fin is vertical), pitched
-# the swimming fish over into a loop within 2.5 s (measured).
+# moment, which nothing at the tail balances in pitch (the caudal fin is vertical), pitches
+# the swimming fish over into a loop within seconds.
 SECTION_HALF_EXTENTS = [0.0] + [h for _, h in _STATIONS[:-1]] + [1.1, 3.0]
 
 

@@ -18,8 +18,8 @@ MAX_DURATION = 86_400.0  # s, a simulated day
 MAX_EPISODE_SUBSTEPS = 10**9  # duration / physics_dt
 MIN_PHYSICS_DT, MAX_PHYSICS_DT = 1e-6, 1.0  # s (the body's stability bound is lower: System)
 MAX_NUM_ENVS = 65_536
-# BL: up to about a third of the tail's ring half size; at 0.05, 1 of 64 fish blew up in 20 s
-# of random actions in the reactive water (0 of 128 at 0.01, measured; issue 24)
+# BL: up to about a third of the tail's ring half size: noise much beyond it starts a fish so
+# crumpled that random actions can blow it up in the reactive water
 MAX_RESET_NOISE = 0.01
 
 

@@ -117,7 +117,7 @@ def dolphin_turn_mc(direction: str, angle: float, t: np.ndarray | float,
     or ventral actuators. Left and right: steer, the head bent to that side by its front
     muscles while the flukes beat at full speed (``calibration.swim``), for ``steer_delay +
     angle / steer_rate`` s, then glide (alone, a one-sided stroke of the front segment barely
-    yaws the body: measured 1.5 deg the wrong way over 4 s in the paper's water).
+    yaws the body, and in the paper's water the wrong way).
     Returns u (..., 6)."""
     params = calibration.turn
     if direction in STEER:

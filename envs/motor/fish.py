@@ -32,7 +32,7 @@ class SwimParams:
     paper's (resistive) one (:func:`calibrated`). The
     amplitude eases in over ``ramp_cycles`` tail beats from t = 0: a fish not yet under way
     yaws at every one-sided stroke, and an ease-in ending on a three-quarter beat leaves the
-    smallest heading offset (measured: within 5 deg at full speed)."""
+    smallest heading offset."""
 
     min_hz: float = 1.0
     max_hz: float = 3.0
@@ -50,10 +50,9 @@ class TurnParams:
     side). The number of strokes is ``ceil(angle / angle_per_stroke)``. A turn begun at a
     forward speed ``U`` (BL/s) strokes at ``amplitude * max(MIN_RELIEF, 1 - speed_relief *
     U**2)``: in the reactive water a fish under way turns further for the same bend (the water's
-    reaction grows with the speed), and the full strokes of a 45-degree turn turned it 38
-    degrees from rest but 88 and 131 from swims of 2.2 and 2.7 BL/s (the swim-MC at 0.8 and 1);
-    the relief of 0.06 (BL/s)^-2 fits the strokes that turn 45 degrees there (measured at 0.8,
-    2.2 and 2.7 BL/s: 1.0, 0.7, 0.56 of the amplitude). The defaults are calibrated for the
+    reaction grows with the speed), so a turn begun at cruise needs smaller strokes than one
+    from rest; ``speed_relief`` is fitted to the strokes that turn 45 degrees from rest and from
+    the swim-MC's speeds (``docs/physics.md``). The defaults are calibrated for the
     default (reactive) water, :data:`PAPER_TURN` for the paper's (resistive) one, which has no
     relief (:func:`calibrated`)."""
 

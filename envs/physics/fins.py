@@ -64,9 +64,8 @@ def body_frame_into(x, lane, front, back, up, down, frame) -> None:
 @njit(**FAST)
 def _frames_into_lanes(x, front, back, up, down, out) -> None:
     """out[0:9] (9, L): every lane's :func:`body_frame_into` rows, forward, left, up, in lane
-    loops that run in SIMD (in a chunk of 128, the fins cost 41 ns a body-step with it, 68
-    with the frame computed body by body; measured). The same operations in the same order,
-    so the same numbers."""
+    loops that run in SIMD (rather than the frame computed body by body). The same operations
+    in the same order, so the same numbers."""
     sums = np.zeros((12, x.shape[2]))  # each node group's coordinates summed, in order from 0
     add_nodes(x, front, 1.0, sums[0:3])  # (as _centroid sums them: times 1.0 is exact)
     add_nodes(x, back, 1.0, sums[3:6])
@@ -101,7 +100,7 @@ def add_fin_forces(x, v, frame_nodes, fin_nodes, fin_areas, fin_mass, sin_cos, w
     lanes = lane_count(x, one_body)
     if one_body is None:
         _frames_into_lanes(x, front, back, up, down, scratch)
-    else:  # one body: faster without the lane loops (measured)
+    else:  # one body: faster without the lane loops (no vector set-up for one lane)
         rows = _lane_frame(x, 0, front, back, up, down)
         scratch[0, 0], scratch[1, 0], scratch[2, 0] = rows[0], rows[1], rows[2]
         scratch[3, 0], scratch[4, 0], scratch[5, 0] = rows[3], rows[4], rows[5]

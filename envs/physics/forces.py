@@ -58,8 +58,8 @@ def lane_count(lanes_array, one_body) -> int:
 
     In compiled code the choice is made from ``one_body``'s type, so ONE_BODY compiles every
     kernel again with the constant 1: its lane loops unroll, with no vector set-up or overlap
-    checks around the one body's arithmetic (measured, the Voigt elements of one fish: 2.5 us
-    a step through the lane loops, 0.6-1.0 us unrolled). The arithmetic is the same, and a body
+    checks around the one body's arithmetic, which for one body costs more than the arithmetic
+    itself (``animat bench --breakdown`` times both). The arithmetic is the same, and a body
     gets the same numbers bit for bit either way (tests/envs/physics/test_dynamics.py checks
     it: a fused multiply-add formed in one and not the other would break it). Pass BATCH or
     ONE_BODY only: any boolean is read as one body."""
@@ -156,8 +156,7 @@ def add_element_forces(x, v, elements, stiffness, damping, rest, f, one_body=BAT
 def _add_element_forces_lanes(x, v, elements, stiffness, damping, rest, f) -> None:
     """:func:`add_element_forces` over the lanes: a lane loop that reads x and v and writes f
     runs in SIMD only if f cannot overlap what it reads, which the compiler cannot tell, so
-    the forces go through a scratch row (measured at 32 lanes: 640 ns a body-step with the
-    forces added in the same loop, 180 ns apart)."""
+    the forces go through a scratch row, and the loop that computes them runs in SIMD."""
     lanes = x.shape[2]
     force = np.empty((3, lanes))
     for e in range(elements.shape[0]):

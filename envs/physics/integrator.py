@@ -161,8 +161,8 @@ def step_chunk(x, v, u_start, u_end, fin_angles, substeps, c, splash, ball, touc
 
 
 CHUNK = 32  # the narrowest chunk width (a batch's last chunk may hold fewer bodies)
-MAX_CHUNK = 128  # the most (a batch of 256 on 2 threads, per body-step: 0.21-0.26 us in
-# chunks of 128, 0.28-0.30 in chunks of 64, 0.33-0.39 in chunks of 32, measured)
+MAX_CHUNK = 128  # the most: wider chunks spend less on each lane loop's set-up per body
+# (animat bench --breakdown times chunks of CHUNK and MAX_CHUNK)
 SIMD_LANES = 8  # chunk widths are multiples of it (doubles in an AVX-512 register)
 
 

@@ -67,17 +67,15 @@ The dolphin undulates in its vertical plane: its sections carry water for vertic
 their nodes' mass), each about its own left (``BodySpec.section_up``, ``section_down``: a
 ring's left corners less its right ones, the flukes' left tip less the right). About the front
 rings' left, as the fish's sections are about its front's up, a tail bent sideways lined up
-with that axis and the tail's normal flipped under random actions (16 bodies, 15 s: a NaN in
-one run; in another the flukes at 123 m/s and a tail element at 1.68 of rest); about their own
-axes, five such runs had no NaN and every element within 0.70-1.33 of rest (the paper's water
-0.81-1.30, measured). A light stroke swims like a dolphin (3 Hz at half activation: 2.9 BL/s, St
-0.28, 0.96 BL per beat); at full activation and 3-5 Hz the stroke pitches the body over into loops
-(the hand MCs are calibrated below it: :mod:`animat.envs.motor.dolphin`).
+with that axis and the tail's normal flipped under random actions, which blew the body up;
+about their own axes the tissue stays within its limits (``tests/envs/physics/test_tissue.py``).
+A light stroke swims like a dolphin; at full activation the stroke pitches the body over into
+loops (the hand MCs are calibrated below it: :mod:`animat.envs.motor.dolphin`; the figures are
+in ``docs/physics.md``).
 
 The water's density and added mass are bounded in the reactive water (``Water``: density and
 density x added mass at most 1100 kg/m^3): at the default step the caudal fin whips above it
-under random actions (2 of 128 fish blew up in 20 s at 1.5 times water's added mass, 21 of
-128 in a water of 1500 kg/m^3; a step 4x smaller held twice water's added mass, measured).
+under random actions (a smaller step holds more).
 
 In a vacuum (``density`` 0) every term is zero and the step is the resistive one, bit for bit;
 a body without sections feels no reactive force.
@@ -205,8 +203,8 @@ def _normal_and_rate(r0, r1, r2, q0, q1, q2, u0, u1, u2):
 def _section_terms(front, back, own, frame, density_area, length, c0, c1, c2, out,
                    one_body) -> None:
     """:func:`_section_terms_inline`, called: in a batch, inlined into the loop over the
-    sections, its lane loops ran 3x slower (measured); for one body, inlined is faster, so
-    :func:`add_reactive_forces` inlines it there."""
+    sections, its lane loops no longer run in SIMD; for one body, inlined is faster (no lane
+    loops), so :func:`add_reactive_forces` inlines it there."""
     _section_terms_inline(front, back, own, frame, density_area, length, c0, c1, c2, out,
                           one_body)
 

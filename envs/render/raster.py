@@ -27,10 +27,9 @@ def rasterize(xs, ys, depths, colours, image, zbuffer, near) -> None:
     (H, W) float, updating it.
 
     Each row of a triangle's bounding box in two passes: every pixel's barycentric test and
-    depth, branch-free (SIMD), then the covered pixels that pass the depth test written
-    (28.3 -> 19.6 us a pursuit camera, measured; the same pictures as testing pixel by pixel:
-    a pixel is inside when no barycentric coordinate is negative, and one that is NaN gives a
-    NaN depth, which never passes).
+    depth, branch-free (SIMD), then the covered pixels that pass the depth test written (the
+    same pictures as testing pixel by pixel: a pixel is inside when no barycentric coordinate
+    is negative, and one that is NaN gives a NaN depth, which never passes).
 
     Args:
         xs, ys: (3T,) vertex positions, pixels (x right, y down; pixel (i, j) has its centre
@@ -91,8 +90,8 @@ def project(triangles, eye, rotation, focal, shape, corners, xs, ys, depths) -> 
     ``rotation`` (3, 3) (rows right, down, forward), ``focal`` pixels and image ``shape``
     (height, width): corner k of triangle t to pixel (``xs``, ``ys``)[3t + k] and depth
     ``depths``[3t + k] m (each (3T,)). The corners are copied out coordinate by coordinate
-    first, into ``corners`` (3, 3T), so that the projection runs in SIMD (12.4 -> 4.6 us for a
-    pursuit world's 2,036 triangles, measured; the same numbers)."""
+    first, into ``corners`` (3, 3T), so that the projection runs in SIMD (the same numbers as
+    projecting corner by corner)."""
     height, width = shape
     for t in range(triangles.shape[0]):
         for k in range(3):
@@ -154,8 +153,7 @@ def seabed_into(image, zbuffer, eye, rays, seabed_z, tile, sand, far, shades) ->
 
     Two passes over the pixels: every pixel's hit, depth and shade computed branch-free (a
     pixel that misses computes on 0 and is not kept), which runs in SIMD, then the hits'
-    colours written (the two passes: 14 -> 7 us a 64 x 64 camera, measured; the same numbers
-    as one pass with a branch per pixel)."""
+    colours written (the same numbers as one pass with a branch per pixel)."""
     if eye[2] <= seabed_z:
         return
     pixels = zbuffer.size
@@ -190,7 +188,7 @@ def water_into(image, zbuffer, rays, top, bottom, visibility, keeps, ups) -> Non
     visibility)`` of its own (from :data:`HAZE_TABLE`, linearly interpolated: within 1e-4 of
     the exponential; nothing is kept beyond 16 visibilities). ``keeps``, ``ups`` (H * W,)
     are work space: each pixel's share kept and elevation, in a first SIMD pass, then the
-    blend, another (23 -> 7 us a 64 x 64 camera, measured; the same numbers as one pass)."""
+    blend, another (the same numbers as one pass)."""
     pixels = zbuffer.size
     depths, ray = zbuffer.reshape(pixels), rays.reshape(4, pixels)
     last = HAZE_TABLE.shape[0] - 2
@@ -215,8 +213,8 @@ def water_into(image, zbuffer, rays, top, bottom, visibility, keeps, ups) -> Non
 def canvas(height, width, triangles):
     """Work space for :func:`draw_picture_into`: a camera of ``height`` x ``width`` pixels
     seeing up to ``triangles`` triangles (a tuple of arrays, allocated once and used for camera
-    after camera: allocated for each picture, the half megabyte cost 6% of a camera's time on
-    one thread and about 15% on two, measured)."""
+    after camera: allocating its half megabyte for each picture costs a share of a camera's
+    time, more on two threads)."""
     count = 3 * triangles
     return (np.empty((height, width)), np.empty((4, height, width)),
             np.empty((2, height * width)), np.empty((3, count)), np.empty((3, count)))

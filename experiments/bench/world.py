@@ -24,7 +24,7 @@ import animat  # noqa: F401  (registers Animat/*)
 
 PAPER_FPS = 4.0
 TARGETS = {"10 fishes, oracle perception": 100.0, "10 fishes, one with eyes": 30.0}
-SIZE_TARGETS = {100: 30.0}  # env steps/s with the oracle (issue 27)
+SIZE_TARGETS = {100: 30.0}  # env steps/s with the oracle, for a world of 100 fishes
 PAPER_DENSITY = 10 / 36.0  # fish per m^2: 10 fishes in the 6 m x 6 m tank
 
 

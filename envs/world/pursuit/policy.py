@@ -19,30 +19,14 @@ its own two eyes' gaze nears ``hold_range_bl`` (at full pace it reached the prey
 it and lost it), and a fish that has lost sight of the target for ``search_after`` frames turns
 toward where it saw it last (it swam straight on, away from it).
 
-The scan and the detection threshold (0.4) were chosen on seeds 100-127 of the default
-benchmark, never on the evaluation seeds: the prey in both foveas on 0.85 of all the frames
-with the threshold at 0.4 or 0.3, 0.77 at 0.5; on 100-111, 0.91 with the scan against 0.73
-without it. The rest of the paper's loop was measured there too and is off by default, for it
-did not help: on seeds 100-131, two glances a frame (the env's ``glances=2``: the second pass
-of the foveation within the frame) 0.86 against 0.84 with one (paired over the seeds,
-+0.02 +- 0.03), vergence by correlating the foveas (``correlate``) 0.81 against 0.84 (seeds
-100-127), following by optical flow (``flow_limit`` 0.5 and 1 px) 0.82 and 0.83, a higher
-threshold to take up a target than to keep it (``acquire_threshold`` 0.6) 0.78; without the
-vestibulo-ocular reflex (``stabilise`` 0) 0.83. The ablation on unseen seeds is in
-docs/fish_pursuit_benchmark.md.
-
-The body's head yaws by about +-11 deg with each tail beat at full speed, more than the
-fovea's half-width in one 50 ms frame, and how far it yaws in the next frame is poorly
-predicted from this frame's proprioception (measured: a least-squares predictor leaves
-2.6-3.3 deg rms). The defaults therefore swim at 0.6 of full speed (still faster than the
-prey) and turn only beyond 20 deg: chosen on seeds 100-109 of the earlier benchmark (the prey
-within +-20 deg at 3-5 BL, before the backprojection was mended), never on the evaluation
-seeds 0-4 (on 100-109, in the resistive water: 0.95 of the frames after the first foveation at
-(0.6, 15 deg), 0.98 at (0.6, 20 deg), 0.99 at (0.5, 20 deg), with ``stabilise`` 0.75). The
-range kept and the search were chosen on seeds 100-109 too (reactive water, seeds 100-104:
-holding 1 BL over a ramp of 2 BL, 0.999 of the frames against 0.601 with no range keeping,
-0.87 over a ramp of 1 BL; 100-109 with the search after 20 frames, 0.951 against 0.879
-without it, 0.921 after 5 frames).
+The defaults (the scan, the detection threshold, the speed and the turn threshold, the range
+kept and the search) were chosen on seeds 100 and up, never on the evaluation seeds; the rest
+of the paper's loop (two glances a frame, vergence by correlating the foveas, following by
+optical flow, a higher threshold to take up a target than to keep it) is there and off by
+default, for it did not help there. Why the fish swims below full speed: the head yaws with
+each tail beat by more than the fovea's half-width in one frame, and how far it yaws in the
+next frame is poorly predicted from this frame's proprioception. How each was chosen, with its
+figures, and the ablation on unseen seeds are in ``docs/fish_pursuit_benchmark.md``.
 """
 
 from __future__ import annotations
@@ -78,13 +62,12 @@ class ActiveVisionParams:
     sees nothing looks to its side every other frame (0: no scan); search_decay: without a scan,
     the share of its angle a lost eye keeps per frame; detect_threshold: histogram intersection;
     stabilise: the share of the head's yaw over the next frame (``frame_dt`` s) that the eyes
-    counter-rotate (the least-squares gain of the measured yaw on the predicted one is 0.6-0.7);
+    counter-rotate (below 1: the next frame's yaw is predicted only in part);
     speed: the swim-MC's speed in [0, 1] while not turning; flow_limit: pixels: an eye that had
     the target in its fovea last frame follows it by the optical flow between the two foveal
     images (the paper's stabilisation) when the flow is at most this, and re-detects otherwise
-    (0: always re-detect; measured on seeds 100-104 of the earlier benchmark: 0 holds the prey
-    on 0.985 of the frames, 2 px on 0.979, 4 px on 0.898, 8 px on 0.595: each flow estimate
-    builds on the last one, and the errors add up until a re-detection); hold_range_bl,
+    (0: always re-detect; small: each flow estimate builds on the last one, and the errors
+    add up until a re-detection); hold_range_bl,
     range_ramp_bl: BL, range keeping: with both eyes on the target the fish swims at ``speed``
     times ``(range - hold_range_bl) / range_ramp_bl`` clipped to [0, 1], the range triangulated
     from its own gaze (:func:`~animat.envs.vision.perception.triangulate`), so that it closes in
