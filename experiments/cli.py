@@ -42,7 +42,7 @@ from animat.learners.storage.files import CorruptFile, UnsafeFile
 from .launch.config import ConfigError, load_config, load_run_config
 from .launch.folders import create_run, one_line
 from .launch.lock import RunError
-from .launch.shipped import find_config, shipped_configs
+from .launch.shipped import describe_config, find_config, shipped_configs
 from .parser import make_parser
 
 
@@ -199,8 +199,10 @@ def cmd_list(args) -> int:
     configs = shipped_configs()
     print(f"envs ({len(envs)}):\n  " + "\n  ".join(envs))
     print(f"learners ({len(LEARNERS)}): " + ", ".join(sorted(LEARNERS)))
+    width = max((len(name) for name in configs), default=0)
     print(f"shipped configs ({len(configs)}; animat run NAME):\n  "
-          + ("\n  ".join(configs) if configs else "(none)"))
+          + ("\n  ".join(f"{name:<{width}}  {describe_config(name)}" for name in configs)
+             if configs else "(none)"))
     return 0 if envs and configs else 1
 
 

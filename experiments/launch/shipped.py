@@ -34,6 +34,19 @@ def shipped_configs() -> list[str]:
                   for p in CONFIGS.rglob("*.yaml"))
 
 
+def describe_config(name: str, width: int = 72) -> str:
+    """A shipped config's description: the first sentence of its leading comment, cut to
+    ``width`` characters (with an ellipsis); empty for a config without one."""
+    lines = []
+    for line in (CONFIGS / f"{name}.yaml").read_text(encoding="utf-8").splitlines():
+        if not line.startswith("#"):
+            break
+        lines.append(line.lstrip("#").strip())
+    text = " ".join(" ".join(lines).split())
+    sentence = text.split(". ", 1)[0].rstrip(".")
+    return sentence if len(sentence) <= width else sentence[:width - 1].rstrip() + "…"
+
+
 def find_config(name: str | Path) -> Path:
     """The config a user names: a file that exists (relative to the current directory), else
     the shipped config of that name (``quickstart`` or ``quickstart.yaml``,

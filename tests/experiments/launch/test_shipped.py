@@ -76,7 +76,11 @@ def test_list_names_every_registered_env_and_every_shipped_config():
     envs = sorted(k for k in gym.registry if k.startswith("Animat/"))
     assert len(envs) == 14 and f"envs ({len(envs)}):" in out
     assert all(f"  {e}\n" in out for e in envs)
-    assert all(f"  {name}\n" in out + "\n" for name in shipped_configs())
+    lines = out.splitlines()
+    for name in shipped_configs():  # each with the first sentence of its leading comment
+        line = next(line for line in lines if line.split()[:1] == [name])
+        assert len(line.split(maxsplit=1)) == 2 and len(line) <= 2 + 42 + 2 + 72, line
+    assert "  quickstart " in out and "A small default" in out
 
 
 def test_basic_training_writes_into_its_run_folder_and_never_over_a_file(tmp_path):
