@@ -32,7 +32,9 @@ def test_the_quick_start_is_clone_cd_then_two_commands_ci_runs():
     assert all(install in line for line in lines[1:])
     assert lines[1].endswith("animat run quickstart") and lines[2].endswith("python -m pytest -q")
     ci = (ROOT / ".ci" / "run").read_text()  # it reads the lines out of the README, as written
-    assert "## Quick start" in ci and "README.md" in ci and "pip install" not in ci
+    assert "## Quick start" in ci and "README.md" in ci
+    installs = [line.strip() for line in ci.splitlines() if "pip install" in line]
+    assert all(line in README for line in installs)  # only what the README says to install
 
 
 def test_every_python_example_runs_from_outside_the_checkout(tmp_path):
