@@ -40,9 +40,8 @@ from ...envs.physics.integrator import step_batch
 from ...envs.physics.observe import momenta
 from ...envs.physics.system import DEFAULT_DT, System, Water, vacuum
 from ..biology import c_start, dolphin_cruise, dolphin_turn, fish_cruise, play
+from .stability import DOLPHIN_DT, ENV_DT, driven, noisy_start, stability
 
-ENV_DT = 0.05  # s, the fish's and the dolphin's env step
-DOLPHIN_DT = ENV_DT / 80  # s, the dolphin's default explicit step
 IMPLICIT_STEPS = (0.05, 0.025, 0.0125, 0.00625)  # s
 ANGLES = {"C-start heading at 0.5 s", "turn-MC heading", "dolphin pitch turn", "dolphin pitch"}
 
@@ -167,17 +166,11 @@ def _energy(body, x: np.ndarray, v: np.ndarray) -> np.ndarray:
 
 
 def _tissue(body, physics: dict, x0, u, steps: int) -> tuple[float, float]:
-    """The shortest and longest element (share of its rest length) under random actions."""
+    """The shortest and longest element (share of its rest length) under random actions
+    ``u`` (steps + 1, B, A), reactive water."""
     system = System(body, Water(), dt=physics["physics_dt"], integrator=physics["integrator"])
-    x, v = x0.copy(), np.zeros_like(x0)
-    i, j = body.elements[:, 0], body.elements[:, 1]
-    low, high = np.inf, 0.0
-    for k in range(steps):
-        step_batch(x, v, u[k], u[k + 1], np.zeros((x.shape[0], 2)), physics["frame_skip"],
-                   system.kernel_args)
-        share = np.linalg.norm(x[:, j] - x[:, i], axis=2) / body.rest_lengths
-        low, high = min(low, float(share.min())), max(high, float(share.max()))
-    return low, high
+    _, lows, highs = driven(system, lambda k: u[k + 1], x0, steps * ENV_DT)
+    return float(lows.min()), float(highs.max())
 
 
 def measure(column: tuple[dict, dict]) -> dict[str, float]:
@@ -293,90 +286,9 @@ def _kept(body, dt: float, theta: float, seconds: float, bodies: int) -> int:
     under ``seconds`` of random actions at the implicit step (dt, theta), reactive water."""
     system = System(body, Water(), dt=dt, integrator="implicit", theta=theta)
     rng = np.random.default_rng(0)
-    x = np.repeat(body.rest_positions[None], bodies, 0) + 0.002 * rng.normal(
-        size=(bodies,) + body.rest_positions.shape)
-    v, u0 = np.zeros_like(x), np.zeros((bodies, body.num_actuators))
-    i, j = body.elements[:, 0], body.elements[:, 1]
-    sound = np.ones(bodies, dtype=bool)
-    with np.errstate(all="ignore"):
-        for _ in range(int(round(seconds / ENV_DT))):
-            u = rng.uniform(0.0, 1.0, u0.shape)
-            step_batch(x, v, u0, u, np.zeros((bodies, 2)), int(round(ENV_DT / dt)),
-                       system.kernel_args)
-            u0 = u
-            share = np.linalg.norm(x[:, j] - x[:, i], axis=2) / body.rest_lengths
-            sound &= np.isfinite(x).all(axis=(1, 2)) & (np.nan_to_num(share, nan=0.0).min(axis=1)
-                                                        >= 0.5) & (share.max(axis=1) <= 2.0)
+    sound, _, _ = driven(system, lambda k: rng.uniform(0.0, 1.0, (bodies, body.num_actuators)),
+                         noisy_start(body, bodies), seconds)
     return int(sound.sum())
-
-
-def drives(bodies: int, rng: np.random.Generator) -> dict[str, Callable[[int], np.ndarray]]:
-    """The legal drives of the stability sweep, each ``drive(k)`` -> activations (bodies, 6)
-    at env step k: random (new each step), the alternating drive that blows up the explicit
-    step (the front three muscles against the back three, swapped every step) and bang-bang
-    with every period from 1 to 20 env steps (each muscle on or off, its own phase)."""
-    alternate = np.array([1.0, 1.0, 1.0, 0.0, 0.0, 0.0])
-    out = {"random": lambda k: rng.uniform(0.0, 1.0, (bodies, 6)),
-           "alternating": lambda k: np.tile(alternate if k % 2 else 1.0 - alternate,
-                                            (bodies, 1))}
-    phases = rng.integers(0, 40, (bodies, 6))
-    for period in range(1, 21):
-        out[f"bang-bang {period}"] = (
-            lambda k, p=period: (((k + phases) // p) % 2).astype(float))
-    return out
-
-
-STABILITY_COLUMNS = {"explicit": ("explicit", None), "implicit 50 ms": ("implicit", 0.05),
-                     "implicit 25 ms": ("implicit", 0.025),
-                     "implicit 12.5 ms": ("implicit", 0.0125)}
-
-
-def stability(bodies: int = 32, seconds: float = 20.0) -> str:
-    """A markdown table: for the fish and the dolphin in each water (rows) and each integrator
-    and step (columns), how many of the sweep's drives (:func:`drives`) keep all ``bodies``
-    bodies finite with every element within 0.5-2 of its rest length for ``seconds``, and the
-    shortest and longest element seen under the drives that did."""
-    from ...envs.bodies.dolphin import dolphin_body
-    lines = ["| body, water | " + " | ".join(STABILITY_COLUMNS) + " |",
-             "|---" * (len(STABILITY_COLUMNS) + 1) + "|"]
-    for name, body, explicit_dt in (("fish", fish_body(), DEFAULT_DT),
-                                    ("dolphin", dolphin_body(), DOLPHIN_DT)):
-        for model in ("reactive", "resistive"):
-            cells = []
-            for integrator, dt in STABILITY_COLUMNS.values():
-                dt = explicit_dt if dt is None else dt
-                system = System(body, Water(model=model), dt=dt, integrator=integrator)
-                sweep = drives(bodies, np.random.default_rng(0))
-                results = [_swept(system, drive, bodies, seconds) for drive in sweep.values()]
-                kept = [r for r in results if r[0]]
-                low = min((r[1] for r in kept), default=np.nan)
-                high = max((r[2] for r in kept), default=np.nan)
-                cells.append(f"{len(kept)}/{len(results)} ({low:.2f}-{high:.2f})")
-            lines.append(f"| {name}, {model} | " + " | ".join(cells) + " |")
-    return "\n".join(lines)
-
-
-def _swept(system: System, drive: Callable[[int], np.ndarray], bodies: int, seconds: float
-           ) -> tuple[bool, float, float]:
-    """Whether every body stays finite and sound under ``drive``, and the shortest and longest
-    element seen (shares of rest length)."""
-    body = system.body
-    rng = np.random.default_rng(1)
-    x = np.repeat(body.rest_positions[None], bodies, 0)
-    x = x + 0.002 * body.length * rng.uniform(-1.0, 1.0, x.shape)
-    v, u0 = np.zeros_like(x), np.zeros((bodies, body.num_actuators))
-    i, j = body.elements[:, 0], body.elements[:, 1]
-    low, high, substeps = np.inf, 0.0, int(round(ENV_DT / system.dt))
-    with np.errstate(all="ignore"):
-        for k in range(int(round(seconds / ENV_DT))):
-            u = drive(k)
-            step_batch(x, v, u0, u, np.zeros((bodies, 2)), substeps, system.kernel_args)
-            u0 = u
-            share = np.linalg.norm(x[:, j] - x[:, i], axis=2) / body.rest_lengths
-            if not np.isfinite(share).all():
-                return False, np.nan, np.nan
-            low, high = min(low, float(share.min())), max(high, float(share.max()))
-    return 0.5 <= low and high <= 2.0, low, high
 
 
 def main(argv: list[str] | None = None) -> None:

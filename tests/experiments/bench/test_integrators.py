@@ -5,13 +5,8 @@ converges to the reference as its step shrinks."""
 
 from animat.envs.bodies.fish import fish_body
 from animat.envs.physics.system import DEFAULT_DT
-from animat.experiments.bench.integrators import (
-    _cruise_speed,
-    deviation,
-    stability,
-    table,
-    within_bound,
-)
+from animat.experiments.bench.integrators import _cruise_speed, deviation, table, within_bound
+from animat.experiments.bench.stability import stability
 
 
 def test_the_cruise_converges_to_the_explicit_reference_as_the_step_shrinks():
