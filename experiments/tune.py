@@ -93,7 +93,7 @@ class PruningSink:
     def text(self, tag: str, text: str, step: int) -> None:
         pass
 
-    def finish(self) -> None:
+    def finish(self, env_steps: int) -> None:
         """The run is done (nothing to report: the trial's value is the run's result)."""
 
     def close(self) -> None:

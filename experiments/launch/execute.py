@@ -52,8 +52,9 @@ def execute(folder: Path, progress=None, threads: int | None = None,
     and folders (:func:`~animat.learners.storage.tree.check_tree`). ``own_files_only``: the
     folder may be someone else's (a resume), so its config reaches no file outside it
     (:func:`~animat.experiments.launch.config.learner_params`: a RunError before anything is
-    written where it would have to). ``progress``: a logger sink with ``finish()``, called when
-    the learner is done (:mod:`animat.experiments.launch.progress`; tune's pruning sink)."""
+    written where it would have to). ``progress``: a logger sink with ``finish(env_steps)``,
+    called when the learner is done with the env steps it ran
+    (:mod:`animat.experiments.launch.progress`; tune's pruning sink)."""
     folder = run_folder(folder)
     with run_lock(folder):
         check_tree(folder, writing=True)  # a link, FIFO or hard link planted in a shared folder
@@ -162,7 +163,7 @@ def _execute_locked(folder: Path, progress, threads: int | None, trust_pickles: 
         _failed(folder, error, threads)
         raise
     if progress is not None:
-        progress.finish()
+        progress.finish(int(result.env_steps))
     write_json(folder / "artefacts.json", dict(result.artefacts))
     try:  # before "done", so a run killed in between writes them on resume (each sink once)
         logger.hparams(flat_hparams(config), {k: float(v) for k, v in result.metrics.items()})

@@ -49,10 +49,11 @@ class ProgressSink:
     def text(self, tag: str, text: str, step: int) -> None:
         pass
 
-    def finish(self) -> None:
-        """The run is done: the bar ends full at the env steps it ran (a learner may run fewer
-        than its budget, whole generations or rollouts of it)."""
-        self._progress.update(self._task, total=self.steps, completed=self.steps)
+    def finish(self, env_steps: int) -> None:
+        """The run is done, having run ``env_steps`` (a learner may run fewer than its budget,
+        whole generations or rollouts of it): the bar ends full there."""
+        self.steps = env_steps
+        self._progress.update(self._task, total=env_steps, completed=env_steps)
 
     def close(self) -> None:
         self._progress.stop()
@@ -80,7 +81,8 @@ class ProgressLog:
     def text(self, tag: str, text: str, step: int) -> None:
         pass
 
-    def finish(self) -> None:
+    def finish(self, env_steps: int) -> None:
+        self.steps = env_steps
         self._line("done")
 
     def close(self) -> None:
