@@ -307,13 +307,13 @@ def keep_angular_momentum(x, v, fe, masses, nodes, weights, sections, elements, 
         for a in range(3):
             for b in range(lanes):
                 scratch[i, a, b] = x[i, a, b] + (1.0 - theta) * h * v[i, a, b]
-    system = np.empty((6, 7))
+    system, columns = np.empty((6, 7)), np.empty((3, 7))  # work space, reused node to node
     lever = h * h * (1.0 - 2.0 * theta)
     for b in range(lanes):
         system[:] = 0.0
         for i in range(n):
             r = (scratch[i, 0, b], scratch[i, 1, b], scratch[i, 2, b])
-            _add_node_rows(system, r, masses[i], 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+            _add_node_rows(system, columns, r, masses[i], 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
             v0, v1, v2 = v[i, 0, b], v[i, 1, b], v[i, 2, b]
             f0, f1, f2 = fe[i, 0, b], fe[i, 1, b], fe[i, 2, b]
             system[3, 6] += lever * (v1 * f2 - v2 * f1)
@@ -325,8 +325,9 @@ def keep_angular_momentum(x, v, fe, masses, nodes, weights, sections, elements, 
                 if share == 0.0:
                     continue
                 r = (scratch[node, 0, b], scratch[node, 1, b], scratch[node, 2, b])
-                _add_node_rows(system, r, 0.0, share * sections[j, 3, b], sections[j, 0, b],
-                               sections[j, 1, b], sections[j, 2, b], 0.0, 0.0, 0.0)
+                _add_node_rows(system, columns, r, 0.0, share * sections[j, 3, b],
+                               sections[j, 0, b], sections[j, 1, b], sections[j, 2, b], 0.0,
+                               0.0, 0.0)
         for k in range(faces.shape[0]):
             if terms[k, 3, b] == 0.0:
                 continue
@@ -336,7 +337,7 @@ def keep_angular_momentum(x, v, fe, masses, nodes, weights, sections, elements, 
                 c0 += share * scratch[node, 0, b]
                 c1 += share * scratch[node, 1, b]
                 c2 += share * scratch[node, 2, b]
-            _add_node_rows(system, (c0, c1, c2), 0.0, terms[k, 3, b], terms[k, 0, b],
+            _add_node_rows(system, columns, (c0, c1, c2), 0.0, terms[k, 3, b], terms[k, 0, b],
                            terms[k, 1, b], terms[k, 2, b], 0.0, 0.0, 0.0)
         for e in range(elements.shape[0]):
             i, j = min(elements[e, 0], elements[e, 1]), max(elements[e, 0], elements[e, 1])
@@ -364,12 +365,11 @@ def keep_angular_momentum(x, v, fe, masses, nodes, weights, sections, elements, 
 
 
 @njit(cache=True, inline="always")
-def _add_node_rows(system, r, mass, added, e0, e1, e2, d0, d1, d2) -> None:
+def _add_node_rows(system, columns, r, mass, added, e0, e1, e2, d0, d1, d2) -> None:
     """Add a node's terms to the 6 x 7 system [J' M J | J' M d] of
     :func:`keep_angular_momentum`, J = [I, -[r]x] (so that J (a, omega) = a + omega x r),
-    M = mass I + added e e', d the node's dv."""
+    M = mass I + added e e', d the node's dv; ``columns`` (3, 7) work space."""
     e = (e0, e1, e2)
-    columns = np.empty((3, 7))
     # J's six columns and d, each a 3-vector: a's unit vectors, omega's e_k x r
     for a in range(3):
         for k in range(3):
