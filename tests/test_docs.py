@@ -2,6 +2,7 @@
 registration, and the pages are current; the site builds with warnings as errors (where the
 ``docs`` extra is installed: ``.ci/run`` installs it and builds the site too)."""
 
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -34,3 +35,23 @@ def test_the_site_builds_with_warnings_as_errors(tmp_path):
     assert build.returncode == 0, build.stderr[-3000:]
     assert (tmp_path / "site" / "envs" / "FishSwim-v0" / "index.html").is_file()
     assert (tmp_path / "site" / "api" / "physics" / "index.html").stat().st_size > 20_000
+
+
+def test_the_results_pages_are_current_and_the_readme_quotes_them():
+    """Every results page is what ``docs/scripts/gen_results_pages.py`` makes of the shipped
+    ``results/`` (its tables read the folders' files and play nothing: seconds), each is in the
+    site's nav, and every figure of the README's Results section is on a page its line links."""
+    script = ROOT / "docs" / "scripts" / "gen_results_pages.py"
+    check = subprocess.run([sys.executable, str(script), "--check"], capture_output=True,
+                           text=True, timeout=300)
+    assert check.returncode == 0, check.stdout + check.stderr
+    nav = (ROOT / "mkdocs.yml").read_text()
+    for template in (script.parent / "results_pages").glob("*.md"):
+        assert f"- {template.name}" in nav, template.name
+    section = (ROOT / "README.md").read_text().split("\n## Results\n", 1)[1].split("\n## ", 1)[0]
+    for item in section.split("\n- ")[1:]:
+        linked = re.findall(r"\]\((docs/[^)#]+\.md)\)", item)
+        assert linked, item
+        pages = " ".join((ROOT / link).read_text() for link in linked)
+        for figure in re.findall(r"\d+\.\d+(?: ± \d+\.\d+)?", item):
+            assert figure in pages, (figure, item)
