@@ -8,7 +8,7 @@ units are scaled to a 0.30 m fish. The total mass is the hull's volume of water 
 each node displaces its own mass of water, so the fish is neutrally buoyant (with a small
 righting lift on the upper nodes). Stiffnesses keep the data sheet's order (cross > ordinary >
 muscle), with the ring edges (hoops) stiffest, so that every passive element stays within
-0.78-1.23 of its rest length under random actions (``tests/envs/physics/test_tissue.py``). The
+0.79-1.23 of its rest length under random actions (``tests/envs/physics/test_tissue.py``). The
 stiffest mode sets the integrator's step bound (:func:`animat.envs.physics.system.stable_step`,
 1.69 ms).
 """

@@ -52,7 +52,7 @@ class TurnParams:
     U**2)``: in the reactive water a fish under way turns further for the same bend (the water's
     reaction grows with the speed), so a turn begun at cruise needs smaller strokes than one
     from rest; ``speed_relief`` is fitted to the strokes that turn 45 degrees from rest and from
-    the swim-MC's speeds (``docs/physics.md``). The defaults are calibrated for the
+    the swim-MC's speeds. The defaults are calibrated for the
     default (reactive) water, :data:`PAPER_TURN` for the paper's (resistive) one, which has no
     relief (:func:`calibrated`)."""
 

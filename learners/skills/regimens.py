@@ -110,7 +110,7 @@ DOLPHIN_PAPER_REGIMEN = [
 # glide). Then the two arcs of 2 BL radius (as the paper's-water regimen), and two pitch spins
 # at speed (the somersault's skill): from a 5 m/s glide pitched 45 deg toward the spin's
 # opposite, 8 m down, E_v = -the pitch rate over 1 s, a periodic beat (the spin a somersault
-# needs is made at speed, in the flow of the exit: docs/dolphin_stunts.md).
+# needs is made at speed, in the flow of the exit).
 _GLIDE = {"start_speed": 3.0, "start_depth": 8.0}
 DOLPHIN_REGIMEN = [
     {"name": "move_forward", "env_id": "Animat/DolphinForward-v0",

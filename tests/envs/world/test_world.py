@@ -123,7 +123,7 @@ def test_a_school_stays_together_where_loners_drift_apart(model):
     "resistive",
     pytest.param("reactive", marks=pytest.mark.xfail(strict=True, reason=(
         "in the reactive water the pair's chained turns carry them round each other at "
-        "0.4-0.5 m and apart (a turn stroke propels a fish there); README, Physics"))),
+        "0.4-0.5 m and apart (a turn stroke propels a fish there); docs/physics.md"))),
 ])
 def test_a_courting_pair_meets_and_mates(model):
     world = _world(((ANGELFISH, 2),), model=model)
