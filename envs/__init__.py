@@ -14,10 +14,40 @@ living world of 10 fishes; :mod:`animat.envs.world`); and the dolphin's tasks
 speed), ``Animat/DolphinSpin-v0`` (a pitch spin), ``Animat/DolphinLeap-v0``,
 ``Animat/DolphinNoseBall-v0``, ``Animat/DolphinTailBall-v0``, ``Animat/DolphinSomersault-v0``,
 ``Animat/DolphinBellyFlop-v0``, each with a native vector env.
+
+A user adds to them from their own module, without editing the package
+(docs/tutorials/extending.md): :func:`register_body` (a body by name), :func:`register_task` (a
+task by name) and :func:`register_env` (an env id of a task and a body, with the native vector
+env); a sensor needs no registration, it is given to an env as ``sensors=[...]`` (or among an
+id's registered kwargs). The first two are imported when first asked for, so that ``import
+animat`` stays light.
 """
 
 from __future__ import annotations
 
-from .registration import register
+from typing import TYPE_CHECKING, Any
+
+from .registration import register, register_env
+
+if TYPE_CHECKING:
+    from .bodies import register_body
+    from .tasks import register_task
+
+__all__ = ["register", "register_body", "register_env", "register_task"]
+
+
+def __getattr__(name: str) -> Any:
+    """:func:`register_body` and :func:`register_task`, their rooms imported when first asked
+    for (the tasks import the physics)."""
+    if name == "register_body":
+        from .bodies import register_body
+
+        return register_body
+    if name == "register_task":
+        from .tasks import register_task
+
+        return register_task
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
 
 register()

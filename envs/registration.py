@@ -1,6 +1,7 @@
 """Every env id, in one table: :data:`ENVS` maps each ``Animat/...`` id to its entry points
 and registered keyword arguments, and :func:`register` gives them to Gymnasium (called once,
-by importing :mod:`animat.envs`).
+by importing :mod:`animat.envs`). :func:`register_env` adds a user's id of a registered task
+and body to the table and to Gymnasium (``animat.envs.register_env``; docs/tutorials/extending.md).
 
 The fish's locomotion ids and the dolphin's tasks run on the batched core
 (:mod:`animat.envs.core`, a native vector env each), the pursuit on its own batched core of
@@ -72,6 +73,74 @@ def register() -> None:
     for env_id, entry in ENVS.items():
         if env_id not in gym.registry:
             gym.register(id=env_id, **entry)
+
+
+def register_env(env_id: str, task: str, body: str | BodySpec = "fish", **kwargs: Any) -> None:
+    """Give Gymnasium ``env_id`` (``"Namespace/Name-v0"``) as a body env of the registered task
+    ``task`` and body ``body`` (a name of :data:`animat.envs.bodies.BODIES`, or a spec): the
+    project's env shell (:class:`~animat.envs.core.env.BodyEnv`) with its native vector env
+    (``gym.make_vec(env_id, num_envs=N)``), entered in :data:`ENVS` as the fish's and the
+    dolphin's ids are, so that :func:`timing`, :func:`body_of`, :func:`task_of`, the learners
+    that drive the body envs and the launcher's configs take it. ``kwargs``: the env's
+    registered defaults (any of the env's arguments, e.g. ``sensors=[...]``, ``duration``,
+    ``water``, and the task's own), which a ``gym.make`` or a config's ``env.kwargs`` may
+    override.
+
+    The env is built once here (and closed, :func:`built_timing`): what it refuses (an
+    argument, a sensor, a step above the body's stability bound) is this call's error, and
+    nothing is registered. Refused with a ValueError of one line besides: an id that is not a
+    string Gymnasium reads, an id already registered otherwise (the same registration again is
+    no change), a task or body name not registered (:func:`animat.envs.register_task`,
+    :func:`animat.envs.register_body` first).
+    """
+    from .bodies import BODIES
+    from .bodies.spec import BodySpec as Spec
+    from .checks import shown
+    from .tasks import TASKS
+
+    if not isinstance(env_id, str):
+        raise ValueError(f"register_env: the env id must be a string, got {shown(env_id)}")
+    entry = {**CORE, "kwargs": {"task": task, "body": body, **kwargs}}
+    if _same(ENVS.get(env_id), entry):
+        return
+    if env_id in ENVS or env_id in gym.registry:
+        raise ValueError(f"register_env: env id {env_id!r} is taken; choose another id")
+    if not (isinstance(task, str) and task in TASKS):
+        raise ValueError(f"register_env({shown(env_id)}, ...): unknown task {shown(task)}; "
+                         f"register it first (animat.envs.register_task) or choose one of "
+                         f"{sorted(TASKS)}")
+    if not (isinstance(body, Spec) or (isinstance(body, str) and body in BODIES)):
+        raise ValueError(f"register_env({shown(env_id)}, ...): unknown body {shown(body)}; "
+                         f"register it first (animat.envs.register_body), choose one of "
+                         f"{sorted(BODIES)} or pass a BodySpec")
+    _register_checked(env_id, entry)
+
+
+def _same(entry: dict | None, other: dict) -> bool:
+    """Whether two :data:`ENVS` entries are equal; not, where their values cannot say (a
+    ``BodySpec``'s arrays compare element by element)."""
+    try:
+        return bool(entry == other)
+    except ValueError:
+        return False
+
+
+def _register_checked(env_id: str, entry: dict) -> None:
+    """Enter ``entry`` in :data:`ENVS` as ``env_id`` and give it to Gymnasium (:func:`register`),
+    then check it by building the env once (:func:`built_timing`); on any refusal both are as
+    they were, and Gymnasium's own refusal of the id is a ValueError of one line."""
+    ENVS[env_id] = entry
+    try:
+        register()
+    except Exception as error:  # gymnasium's Error for an id it cannot parse
+        del ENVS[env_id]
+        raise ValueError(f"register_env: {' '.join(str(error).split())}") from None
+    try:
+        built_timing(env_id)
+    except BaseException:
+        del ENVS[env_id]
+        gym.registry.pop(env_id, None)
+        raise
 
 
 class Timing(NamedTuple):

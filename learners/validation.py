@@ -9,28 +9,62 @@ import math
 import os
 import types
 import typing
+from collections.abc import Iterator, Sequence
 from dataclasses import fields
 from pathlib import Path
-from typing import Any
+from typing import Any, overload
 
 from animat.envs.registration import CORE, ENVS, MARINE, PURSUIT
 
-# The envs of the core (the fish's and the dolphin's bodies), which have a task and a native
-# batch: what the black-box learners' batched scoring (a vector env's ``task``) and the
-# hand-designed controllers need; a learner's own checks narrow them further (the reach task of
-# the steering learners, the dolphin's actuators of the stroke learners).
-CORE_ENVS = tuple(i for i, entry in ENVS.items() if entry["entry_point"] == CORE["entry_point"])
-PURSUIT_ENVS = tuple(i for i, e in ENVS.items() if e["entry_point"] == PURSUIT["entry_point"])
-MARINE_ENVS = tuple(i for i, entry in ENVS.items() if entry["entry_point"] == MARINE)
+
+class EnvIds(Sequence[str]):
+    """The ids of :data:`animat.envs.registration.ENVS` of the entry point ``entry_point``
+    (None: every id), read from the table each time they are asked for, so that an id a user
+    registers (:func:`animat.envs.register_env`) is among them from then on."""
+
+    def __init__(self, entry_point: str | None = None) -> None:
+        self.entry_point = entry_point
+
+    def ids(self) -> tuple[str, ...]:
+        return tuple(i for i, entry in ENVS.items()
+                     if self.entry_point in (None, entry["entry_point"]))
+
+    @overload
+    def __getitem__(self, index: int) -> str: ...
+    @overload
+    def __getitem__(self, index: slice) -> Sequence[str]: ...
+    def __getitem__(self, index):
+        return self.ids()[index]
+
+    def __len__(self) -> int:
+        return len(self.ids())
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self.ids())
+
+    def __contains__(self, env_id: object) -> bool:
+        return env_id in self.ids()
+
+
+# The envs of the core (the fish's and the dolphin's bodies, and those a user registers with
+# animat.envs.register_env), which have a task and a native batch: what the black-box
+# learners' batched scoring (a vector env's ``task``) and the hand-designed controllers need; a
+# learner's own checks narrow them further (the reach task of the steering learners, the
+# dolphin's actuators of the stroke learners).
+CORE_ENVS = EnvIds(CORE["entry_point"])
+PURSUIT_ENVS = EnvIds(PURSUIT["entry_point"])
+MARINE_ENVS = EnvIds(MARINE)
+ALL_ENVS = EnvIds()
 # What each learner drives, and how its refusal says it: PPO steps any env of this project and
 # scores it by the env's own episode summary; basic training drives its regimen's envs (the
-# config's own is not stepped); the scorers of a policy made for one world drive that world.
-DRIVES: dict[str, tuple[tuple[str, ...], str]] = {
+# config's own is not stepped); the scorers of a policy made for one world drive that world; a
+# learner a user registers (animat.learners.register_learner) drives any env of the table.
+DRIVES: dict[str, tuple[Sequence[str], str]] = {
     **{name: (CORE_ENVS, "the envs of the fish's and the dolphin's bodies")
        for name in ("annealing", "cmaes", "handmc", "macro", "stroke", "stroke_cmaes",
                     "steering", "switching", "switching_coordinate")},
-    "ppo": (tuple(ENVS), "this project's envs"),
-    "basic_training": (tuple(ENVS), "this project's envs"),
+    "ppo": (ALL_ENVS, "this project's envs"),
+    "basic_training": (ALL_ENVS, "this project's envs"),
     "active_vision": (PURSUIT_ENVS, "the pursuit"),
     "behaviours": (MARINE_ENVS, "the living world"),
 }
@@ -40,7 +74,7 @@ def check_drives(name: str, env_id: str) -> None:
     """ValueError in one line, naming what the learner ``name`` drives, when it cannot drive
     the env ``env_id`` (e.g. a Gymnasium env of another project, which reports none of the
     episode metrics every learner logs)."""
-    envs, what = DRIVES[name]
+    envs, what = DRIVES.get(name, (ALL_ENVS, "this project's envs"))
     if env_id not in envs:
         named = (", ".join(envs) if len(envs) <= 3 else
                  f"all {len(envs)} envs animat list names" if len(envs) == len(ENVS) else

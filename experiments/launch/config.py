@@ -50,9 +50,10 @@ class EnvConfig(_Strict):
 
 
 class LearnerConfig(_Strict):
-    """``name`` (registered learner), ``params`` (its own), ``label``: what run folders and
-    ``animat compare`` call this variant (default: the name), e.g. to set an ablation of a
-    learner beside the learner itself."""
+    """``name`` (a learner of :data:`animat.learners.registry.LEARNERS` as the table is when
+    the config is read: the package's, or one the reading process registered), ``params`` (its
+    own), ``label``: what run folders and ``animat compare`` call this variant (default: the
+    name), e.g. to set an ablation of a learner beside the learner itself."""
 
     name: str
     params: dict[str, Any] = Field(default_factory=dict)
@@ -304,6 +305,26 @@ def _config_text(path: str | Path, follow_links: bool) -> str:
         raise ConfigError(str(path), "", "not a text file (not UTF-8)") from None
 
 
+def config_from_data(data: Any, source: str, base: Path,
+                     overrides: list[str] | None = None) -> ExperimentConfig:
+    """The typed config of ``data`` (a config's mapping, as its YAML reads; left unchanged),
+    brought up to date (:func:`migrate`), its learner's relative file params taken from
+    ``base``, then ``overrides`` applied (their paths taken from the current directory) and
+    validated; ConfigError naming ``source`` (the file, or what stands for it) and the field.
+    Not built: :func:`check_buildable` does that."""
+    data = copy.deepcopy(data) if isinstance(data, dict) else data
+    if isinstance(data, dict):
+        migrate(data)
+        resolve_paths(data, base)
+    for override in overrides or []:
+        if not isinstance(data, dict):
+            break
+        apply_override(data, override, source)
+    if isinstance(data, dict):
+        resolve_paths(data, Path.cwd())  # what the overrides named, from the shell
+    return validate(data, source)
+
+
 def load_config(path: str | Path, overrides: list[str] | None = None, build: bool = True,
                 follow_links: bool = True) -> ExperimentConfig:
     """Read, override and validate a YAML config file; with ``build``, also build its env and
@@ -313,17 +334,7 @@ def load_config(path: str | Path, overrides: list[str] | None = None, build: boo
     not a run folder's own, :func:`load_run_config`)."""
     source = str(path)
     data = read_yaml(_config_text(path, follow_links), source)
-    data = copy.deepcopy(data) if isinstance(data, dict) else data
-    if isinstance(data, dict):
-        migrate(data)
-        resolve_paths(data, Path(path).resolve().parent)
-    for override in overrides or []:
-        if not isinstance(data, dict):
-            break
-        apply_override(data, override, source)
-    if isinstance(data, dict):
-        resolve_paths(data, Path.cwd())  # what the overrides named, from the shell
-    config = validate(data, source)
+    config = config_from_data(data, source, Path(path).resolve().parent, overrides)
     if build:  # a run folder's config.yaml builds with its own copy of a repertoire
         check_buildable(config, source, learner_params(Path(path).parent, config))
     return config

@@ -2,6 +2,9 @@
 under its lock, from its own ``config.yaml``; :func:`resume` continues an unfinished one. The
 run's status goes into ``result.json`` as it goes (running, then done or failed, with the
 error's one line and its traceback in ``error.log``), as far as the disk lets.
+:func:`run_experiment` is ``animat run CONFIG`` from Python (a config file, a shipped config's
+name or a config mapping), in the caller's process: the learners, tasks, bodies and env ids the
+caller registered are there (docs/tutorials/extending.md).
 """
 
 from __future__ import annotations
@@ -17,8 +20,15 @@ from animat.learners.registry import make_learner
 from animat.learners.storage.files import atomic_write, open_file
 from animat.learners.storage.tree import check_tree, run_folder
 
-from .config import ExperimentConfig, learner_params, load_run_config
-from .folders import clear_debris, make_status, one_line, read_status, write_json
+from .config import (
+    ExperimentConfig,
+    check_buildable,
+    config_from_data,
+    learner_params,
+    load_config,
+    load_run_config,
+)
+from .folders import clear_debris, create_run, make_status, one_line, read_status, write_json
 from .lock import RunError, folder_busy, run_lock
 from .machine import set_threads
 
@@ -188,3 +198,40 @@ def resume(folder: Path, progress=None, threads: int | None = None,
     if status["status"] == "running" and folder_busy(folder):
         raise RunError(f"{folder}: the run is still running (pid {status.get('pid')})")
     return execute(folder, progress, threads, trust_pickles, own_files_only=True)
+
+
+def run_experiment(config: dict | str | Path, overrides: list[str] | None = None,
+                   out: str | Path | None = None, threads: int | None = None,
+                   progress: bool = True) -> tuple[Path, dict]:
+    """What ``animat run CONFIG [--set ...] [--out DIR] [--threads N]`` does, from Python: check
+    ``config`` (a config file, a shipped config's name, or a mapping of the file's fields),
+    with ``overrides`` (``key.path=value``) applied, and build its env and learner once; make
+    its run folder (``out`` exactly, or one under ``runs/``); run it here (``threads``: Numba's
+    threads, default every CPU this process may use), with the progress lines of
+    :mod:`.progress` unless ``progress`` is False or the config's ``logging.progress`` is.
+    Returns (the run folder, its final result.json). Refusals as the command's:
+    :class:`~.config_yaml.ConfigError` naming the field, :class:`~.lock.RunError`.
+
+    It runs in the caller's process, so a config may name what the caller registered
+    (:func:`animat.learners.register_learner`, :func:`animat.envs.register_env`); ``animat run``
+    in another process knows only the package's own. A mapping's relative file params are
+    taken from the current directory."""
+    from .progress import ProgressSink, compile_notice
+    from .shipped import find_config
+
+    if threads is not None and (type(threads) is not int or threads < 1):
+        raise RunError(f"threads must be an integer of at least 1, got {threads!r}")
+    if isinstance(config, dict):
+        source = "<config mapping>"
+        loaded = config_from_data(config, source, Path.cwd(), overrides)
+        check_buildable(loaded, source)
+    else:
+        source = str(find_config(config))
+        loaded = load_config(source, overrides)
+    command = ["run_experiment", source, *[f"--set={o}" for o in overrides or []]]
+    folder = create_run(loaded, Path(out) if out is not None else None, command)
+    sink = None
+    if progress and loaded.logging.progress:
+        compile_notice()
+        sink = ProgressSink.for_output(loaded.budget.env_steps, loaded.eval.metric)
+    return folder, execute(folder, sink, threads)
