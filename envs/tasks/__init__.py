@@ -13,7 +13,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import fields, is_dataclass
-from typing import TypeVar, overload
+from typing import Any, TypeVar, overload
 
 from ..checks import shown
 from .base import Task
@@ -40,7 +40,8 @@ def make_task(name: str, **kwargs) -> Task:
     name or argument (each task checks its arguments' values)."""
     if not (isinstance(name, str) and name in TASKS):
         raise ValueError(f"unknown task {shown(name)}; choose one of {sorted(TASKS)}")
-    known = sorted(f.name for f in fields(TASKS[name])) if is_dataclass(TASKS[name]) else []
+    cls: Any = TASKS[name]  # a dataclass, most tasks; fields() reads its arguments' names
+    known = sorted(f.name for f in fields(cls)) if is_dataclass(cls) else []
     unknown = sorted(map(str, set(kwargs) - set(known)))
     if known and unknown:
         raise ValueError(f"task {name!r} has no argument(s) {unknown}; its arguments: {known}")

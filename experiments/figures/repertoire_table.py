@@ -7,8 +7,8 @@ run's own starts, and its parameter counts) and its ``eval.json`` (``animat eval
 --episodes N``: the repertoire's abstractions played from N unseen starts), and prints a
 Markdown table: for a swim its speed (BL/s) and the abstraction's share of the learned speed,
 for a turn its final heading error (deg); the dolphin's skills likewise (an arc's speed round
-it, a spin's pitch rate). The basic-training table of ``docs/fish_basic_training.md`` is this command's
-output for ``results/fish_basic_training``.
+it, a spin's pitch rate). The basic-training table of ``docs/fish_basic_training.md`` is this
+command's output for ``results/fish_basic_training``.
 """
 
 from __future__ import annotations

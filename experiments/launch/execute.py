@@ -15,7 +15,7 @@ import sys
 import traceback
 from pathlib import Path
 
-from animat.learners.logger import CsvSink, Logger, TensorBoardSink
+from animat.learners.logger import CsvSink, Logger, Sink, TensorBoardSink
 from animat.learners.registry import make_learner
 from animat.learners.storage.files import atomic_write, open_file
 from animat.learners.storage.tree import check_tree, run_folder
@@ -101,7 +101,7 @@ def _failed(folder: Path, error: BaseException, threads: int | None) -> None:
                                 threads=threads))
     log: Path | None = folder / ERROR_LOG
     try:
-        atomic_write(log, lambda file: file.write(trace))
+        atomic_write(folder / ERROR_LOG, lambda file: file.write(trace))
     except OSError:
         log = None
     for name, value in (("run_folder", folder), ("error_log", log)):
@@ -154,7 +154,7 @@ def _execute_locked(folder: Path, progress, threads: int | None, trust_pickles: 
         raise
     threads = set_threads(threads)
     write_json(folder / "result.json", make_status("running", folder, threads=threads))
-    sinks = []
+    sinks: list[Sink] = []
     if config.logging.tensorboard:
         sinks.append(TensorBoardSink(folder / "tb"))
     if config.logging.csv:
