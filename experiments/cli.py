@@ -18,7 +18,7 @@
     animat list
     animat --version
 
-CONFIG is a YAML file, or a shipped config by name (``quickstart``, ``tune/fish_swim_ppo``;
+CONFIG is a YAML file, or a shipped config by name (``quickstart``, ``fish_swim/tune_ppo``;
 ``animat list`` names them all), from any directory. A bad config or override stops before any
 work with one line naming the file, the field path and what is wrong, and exit status 2; so
 does a file given that will not be read (a link in a run folder, a FIFO, a device, one too

@@ -13,12 +13,12 @@ from pathlib import Path
 EXAMPLES = """examples:
   animat run quickstart                                    # a shipped config, from anywhere
   animat run configs/quickstart.yaml                       # one run, folder under runs/
-  animat run configs/fish_swim_ppo.yaml --set seed=3 --set budget.env_steps=20000 --out runs/try
+  animat run configs/fish_swim/ppo.yaml --set seed=3 --set budget.env_steps=20000 --out runs/try
   animat run --resume runs/try                             # continue a killed or failed run
-  animat sweep configs/fish_swim_cmaes.yaml --seeds 0-4 --jobs 2 --out runs/cmaes
+  animat sweep configs/fish_swim/cmaes.yaml --seeds 0-4 --jobs 2 --out runs/cmaes
   animat compare runs/cmaes runs/ppo --metric eval/speed_bl_per_s -o docs/report.md
   animat eval runs/try --episodes 4 --video videos/        # re-score and film a finished run
-  animat tune configs/tune/fish_swim_annealing.yaml --trials 12 --out runs/tune/annealing
+  animat tune configs/fish_swim/tune_annealing.yaml --trials 12 --out runs/tune/annealing
   animat list                                              # envs, learners, shipped configs
 """
 

@@ -121,7 +121,7 @@ def test_the_wheel_holds_every_file_of_code_every_shipped_file_and_py_typed(tmp_
     for prefix, folder in DATA.items():
         wanted |= {f"{prefix}/{p.relative_to(ROOT / folder).as_posix()}"
                    for p in (ROOT / folder).rglob("*") if p.is_file()}
-    assert "animat/envs/world/life.py" in wanted and "animat/configs/tune/fish_swim_ppo.yaml" \
+    assert "animat/envs/world/life.py" in wanted and "animat/configs/fish_swim/tune_ppo.yaml" \
         in wanted
     assert not wanted - names, sorted(wanted - names)
 

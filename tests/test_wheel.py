@@ -67,8 +67,9 @@ def test_the_wheel_installs_into_a_clean_venv_and_runs_from_outside_the_checkout
     assert len(ids) == 14
     listed = _run([animat, "list"], outside)
     assert all(env_id in listed for env_id in ids)
-    assert "quickstart" in listed and "tune/fish_swim_ppo" in listed and "tuned/" in listed
-    for config, out in (("quickstart", "quick"), ("configs/fish_reach_macro.yaml", "reach")):
+    assert all(name in listed for name in
+               ("quickstart", "fish_swim/tune_ppo", "fish_swim/tuned_ppo"))
+    for config, out in (("quickstart", "quick"), ("configs/fish_reach/macro.yaml", "reach")):
         _run([animat, "run", config, "--set", "budget.env_steps=20000", "--out", f"runs/{out}",
               "--quiet"], outside)
         result = json.loads((outside / "runs" / out / "result.json").read_text())

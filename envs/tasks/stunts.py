@@ -194,11 +194,11 @@ class LeapTask(StuntTask):
 @dataclass
 class BallTask(StuntTask):
     """Bounce the beach ball off its support with ``part`` (nose or tail). The ball rests on a
-    support with its top at (``ball_x``, ``ball_y``, ``ball_height``) m (by default where the
-    leap macro controller of ``configs/dolphin_leap_macro.yaml`` broke the surface: where a
-    trainer holds the ball); observation: height, then the ball relative to the centre of
-    mass in the body frame, BL. Ranges: ``ball_x``, ``ball_y`` in [-1000, 1000] m,
-    ``ball_height`` in [-100, 100] m (from the surface, z = 0), ``ball_radius`` in (0, 5] m."""
+    support with its top at (``ball_x``, ``ball_y``, ``ball_height``) m (by default where a
+    leap learned in the paper's water broke the surface: where a trainer holds the ball);
+    observation: height, then the ball relative to the centre of mass in the body frame, BL.
+    Ranges: ``ball_x``, ``ball_y`` in [-1000, 1000] m, ``ball_height`` in [-100, 100] m (from
+    the surface, z = 0), ``ball_radius`` in (0, 5] m."""
 
     part: str = "nose"
     ball_x: float = 15.3

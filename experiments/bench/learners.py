@@ -5,7 +5,7 @@ native batch they step, measured in the same process and in interleaved rounds.
 
 * the anchor: the native batch of 64 envs stepped with random actions, with nothing learned;
 * annealing (the paper's learner), CMA-ES and PPO, each with its shipped swim config's params
-  (``configs/fish_swim_{annealing,cmaes,ppo}.yaml``: 64 chains, a population of 64, 64 envs and
+  (``configs/fish_swim/{annealing,cmaes,ppo}.yaml``: 64 chains, a population of 64, 64 envs and
   rl-baselines3-zoo's settings), learning for a budget of about ``seconds`` of the anchor's
   steps (rounded to whole rounds or rollouts), their evaluations included;
 
@@ -23,8 +23,8 @@ import numpy as np
 import animat  # noqa: F401  (registers Animat/*)
 
 ENV_ID, ENV_KWARGS, NUM_ENVS = "Animat/FishSwim-v0", {"duration": 5.0}, 64
-CONFIGS = {"annealing": "fish_swim_annealing.yaml", "CMA-ES": "fish_swim_cmaes.yaml",
-           "PPO": "fish_swim_ppo.yaml"}
+CONFIGS = {"annealing": "fish_swim/annealing.yaml", "CMA-ES": "fish_swim/cmaes.yaml",
+           "PPO": "fish_swim/ppo.yaml"}
 ANCHOR = f"native batch of {NUM_ENVS}, random actions (anchor)"
 
 

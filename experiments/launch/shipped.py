@@ -27,7 +27,7 @@ def is_shipped_result(folder: str | Path) -> bool:
 
 def shipped_configs() -> list[str]:
     """Every shipped config's name: its path under the configs folder without ``.yaml``
-    (``quickstart``, ``tune/fish_swim_ppo``), sorted."""
+    (``quickstart``, ``fish_swim/tune_ppo``), sorted."""
     if not CONFIGS.is_dir():
         return []
     return sorted(p.relative_to(CONFIGS).with_suffix("").as_posix()
@@ -35,22 +35,19 @@ def shipped_configs() -> list[str]:
 
 
 def describe_config(name: str, width: int = 72) -> str:
-    """A shipped config's description: the first sentence of its leading comment, cut to
-    ``width`` characters (with an ellipsis); empty for a config without one."""
-    lines = []
-    for line in (CONFIGS / f"{name}.yaml").read_text(encoding="utf-8").splitlines():
-        if not line.startswith("#"):
-            break
-        lines.append(line.lstrip("#").strip())
-    text = " ".join(" ".join(lines).split())
-    sentence = text.split(". ", 1)[0].rstrip(".")
-    return sentence if len(sentence) <= width else sentence[:width - 1].rstrip() + "…"
+    """A shipped config's description: its first line, a comment (``# Swim by CMA-ES ...``),
+    cut to ``width`` characters (with an ellipsis); empty for a config that opens otherwise."""
+    first = (CONFIGS / f"{name}.yaml").read_text(encoding="utf-8").split("\n", 1)[0]
+    if not first.startswith("#"):
+        return ""
+    text = first.lstrip("#").strip()
+    return text if len(text) <= width else text[:width - 1].rstrip() + "…"
 
 
 def find_config(name: str | Path) -> Path:
     """The config a user names: a file that exists (relative to the current directory), else
     the shipped config of that name (``quickstart`` or ``quickstart.yaml``,
-    ``tune/fish_swim_ppo``). A name that is neither is returned as given, for the reader to
+    ``fish_swim/tune_ppo``). A name that is neither is returned as given, for the reader to
     refuse with the file's name."""
     path = Path(name)
     if path.is_file():

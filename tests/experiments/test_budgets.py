@@ -12,16 +12,16 @@ from animat.experiments.launch.config import ConfigError, load_config
 from tests.experiments.test_cli import animat
 
 ROOT = Path(__file__).resolve().parents[2]
-CONFIGS = sorted((ROOT / "configs").rglob("*.yaml"))  # tune/ and tuned/ included
+CONFIGS = sorted((ROOT / "configs").rglob("*.yaml"))
 # cheap enough to run at 20 k env steps in CI (the pursuit's PPO at 20 k takes minutes of
 # rendering; it is validated at both budgets below); the active-vision pursuit scores its 16
 # episodes whatever the budget (75 s), among the slow checks
-CHEAP = ["quickstart.yaml", "fish_swim_annealing.yaml", "fish_swim_cmaes.yaml",
-         "fish_swim_handmc.yaml", "fish_swim_ppo.yaml", "fish_reach_macro.yaml",
-         "fish_basic_training.yaml",
-         pytest.param("fish_pursuit_active_vision.yaml", marks=pytest.mark.slow),
-         "dolphin_basic_training.yaml", "dolphin_leap_macro.yaml", "dolphin_nose_ball_macro.yaml",
-         "dolphin_leap_ppo.yaml"]
+CHEAP = ["quickstart.yaml", "fish_swim/annealing.yaml", "fish_swim/cmaes.yaml",
+         "fish_swim/handmc.yaml", "fish_swim/ppo.yaml", "fish_reach/macro.yaml",
+         "fish_basic_training/default.yaml",
+         pytest.param("fish_pursuit/active_vision.yaml", marks=pytest.mark.slow),
+         "dolphin/basic_training.yaml", "dolphin/leap_macro.yaml", "dolphin/nose_ball_macro.yaml",
+         "dolphin/leap_ppo.yaml"]
 
 
 @pytest.mark.parametrize("budget", [20_000, 600_000])
@@ -48,7 +48,7 @@ def test_cheap_shipped_configs_run_at_20k_env_steps_and_change_no_shipped_file(t
 
 
 def test_a_budget_below_one_round_is_refused_in_one_line_with_no_folder(tmp_path):
-    config = ROOT / "configs" / "fish_swim_annealing.yaml"
+    config = ROOT / "configs" / "fish_swim" / "annealing.yaml"
     with pytest.raises(ConfigError, match="budget.env_steps: 300 is less than one round"):
         load_config(config, ["budget.env_steps=300"])
     out = tmp_path / "run"

@@ -141,11 +141,11 @@ def test_bad_override_fails_in_one_line(tmp_path):
 
 
 def test_every_shipped_config_takes_seed_and_budget_overrides():
-    configs = sorted((ROOT / "configs").glob("*.yaml"))
-    assert {c.name for c in configs} >= {
-        "quickstart.yaml", "fish_swim_annealing.yaml", "fish_swim_cmaes.yaml",
-        "fish_swim_ppo.yaml", "fish_swim_handmc.yaml", "fish_basic_training.yaml",
-        "fish_reach_macro.yaml"}
+    configs = sorted((ROOT / "configs").rglob("*.yaml"))
+    assert {c.relative_to(ROOT / "configs").as_posix() for c in configs} >= {
+        "quickstart.yaml", "fish_swim/annealing.yaml", "fish_swim/cmaes.yaml",
+        "fish_swim/ppo.yaml", "fish_swim/handmc.yaml", "fish_basic_training/default.yaml",
+        "fish_reach/macro.yaml"}
     for path in configs:
         config = load_config(path, ["seed=3", "budget.env_steps=5000000"])
         assert config.seed == 3 and config.budget.env_steps == 5_000_000

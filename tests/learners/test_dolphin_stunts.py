@@ -40,9 +40,10 @@ def test_shipped_dolphin_skills_turn_and_swim_and_keep_their_score_at_half_the_s
 
 @pytest.mark.slow  # 1 M env steps of learning: 57 s
 def test_the_macro_learner_discovers_a_leap_from_the_repertoire():
-    """configs/dolphin_leap_macro.yaml at a quarter of its budget (1 M env steps, its water): the
-    learned sequence turns up and drives forward, and its centre of mass clears the surface
-    by over half a body length at the apex, at the default step and at half of it."""
+    """The macro learner over the paper's-water repertoire (repertoires/dolphin.json) in that
+    water, 1 M env steps, from the point start, on the stages schedule: the learned sequence
+    turns up and drives forward, and its centre of mass clears the surface by over half a body
+    length at the apex, at the default step and at half of it."""
     learner = MacroLearner("Animat/DolphinLeap-v0", {"duration": 8.0, "water": PAPER_WATER},
                            {"repertoire": str(REPERTOIRE), "slots": 4, "min_duration": 0.25,
                             "max_duration": 4.0, "chains": 64, "schedule": "stages"}, 0)

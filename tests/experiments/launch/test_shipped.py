@@ -38,11 +38,11 @@ def test_shipped_configs_are_found_by_name_or_checkout_path_from_anywhere(tmp_pa
                                                                            monkeypatch):
     monkeypatch.chdir(tmp_path)  # outside the checkout
     names = shipped_configs()
-    assert "quickstart" in names and "tune/fish_swim_ppo" in names and "tuned/fish_swim_cmaes" \
+    assert "quickstart" in names and "fish_swim/tune_ppo" in names and "fish_swim/tuned_cmaes" \
         in names and len(names) == len(list((ROOT / "configs").rglob("*.yaml")))
     for name in ("quickstart", "quickstart.yaml", "configs/quickstart.yaml"):
         assert find_config(name) == CONFIGS / "quickstart.yaml"
-    assert find_config("tune/fish_swim_ppo") == CONFIGS / "tune" / "fish_swim_ppo.yaml"
+    assert find_config("fish_swim/tune_ppo") == CONFIGS / "fish_swim" / "tune_ppo.yaml"
     assert find_config("nope") == Path("nope")
     animat("run", "quickstart", "--set", "budget.env_steps=20000", "--out", tmp_path / "q",
            "--quiet", cwd=tmp_path)
@@ -56,7 +56,7 @@ def test_relative_paths_are_the_config_folders_and_an_overrides_the_current_dire
     (tmp_path / "mine" / "configs").mkdir(parents=True)
     (tmp_path / "mine" / "reps").mkdir()
     shutil.copyfile(ROOT / "repertoires" / "fish.json", tmp_path / "mine" / "reps" / "fish.json")
-    data = yaml.safe_load((CONFIGS / "fish_reach_macro.yaml").read_text())
+    data = yaml.safe_load((CONFIGS / "fish_reach" / "macro.yaml").read_text())
     data["learner"]["params"]["repertoire"] = "../reps/fish.json"
     config = write_config(tmp_path / "mine" / "configs" / "reach.yaml", data)
     elsewhere = tmp_path / "elsewhere"
@@ -67,8 +67,8 @@ def test_relative_paths_are_the_config_folders_and_an_overrides_the_current_dire
     shutil.copyfile(ROOT / "repertoires" / "fish.json", elsewhere / "here.json")
     overridden = load_config(config, ["learner.params.repertoire=here.json"])
     assert overridden.learner.params["repertoire"] == str(elsewhere / "here.json")
-    shipped = load_config(CONFIGS / "fish_reach_macro.yaml")  # ../repertoires from configs/
-    assert shipped.learner.params["repertoire"] == str(ROOT / "repertoires" / "fish.json")
+    shipped = load_config(CONFIGS / "fish_reach" / "macro.yaml")  # ../../repertoires
+    assert shipped.learner.params["repertoire"] == str(ROOT / "repertoires" / "fish_reactive.json")
 
 
 def test_list_names_every_registered_env_and_every_shipped_config():
@@ -77,9 +77,11 @@ def test_list_names_every_registered_env_and_every_shipped_config():
     assert len(envs) == 14 and f"envs ({len(envs)}):" in out
     assert all(f"  {e}\n" in out for e in envs)
     lines = out.splitlines()
-    for name in shipped_configs():  # each with the first sentence of its leading comment
+    for name in shipped_configs():  # each with its first line, a one-sentence description
+        first = (CONFIGS / f"{name}.yaml").read_text().split("\n", 1)[0]
+        assert first.startswith("# ") and first.endswith(".") and len(first) <= 2 + 72, name
         line = next(line for line in lines if line.split()[:1] == [name])
-        assert len(line.split(maxsplit=1)) == 2 and len(line) <= 2 + 42 + 2 + 72, line
+        assert line.split(maxsplit=1)[1] == first[2:], line
     assert "  quickstart " in out and "A small default" in out
 
 
@@ -148,7 +150,7 @@ def test_a_run_folder_that_can_no_longer_build_is_marked_failed_with_the_reason(
 
     repertoire = tmp_path / "fish.json"
     shutil.copyfile(ROOT / "repertoires" / "fish.json", repertoire)
-    config = load_config(CONFIGS / "fish_reach_macro.yaml",
+    config = load_config(CONFIGS / "fish_reach" / "macro.yaml",
                          [f"learner.params.repertoire={repertoire}", "budget.env_steps=20000"])
     folder = create_run(config, tmp_path / "run", ["test"])
     repertoire.unlink()  # the folder keeps its own copy from the moment it is made
