@@ -98,3 +98,33 @@ def check_range(name: str, value: Any, low: float, high: float, unit: str = ""
         raise ValueError(f"{name} must be a (low, high) range within "
                          f"{_interval(low, high, False, unit)}, got {shown(value)}")
     return first, second
+
+
+def check_entry_name(caller: str, name: Any) -> str:
+    """``name`` for a registry entry: a non-empty string; else a ValueError of one line naming
+    ``caller`` (``register_task``, ...)."""
+    if not (isinstance(name, str) and name):
+        raise ValueError(f"{caller}: the name must be a non-empty string, got {shown(name)}")
+    return name
+
+
+def is_new_entry(caller: str, kind: str, table: dict, name: str, entry: Any) -> bool:
+    """Whether ``entry`` is still to be put in ``table`` under ``name``: False where it is there
+    already (registering it again is no change); a ValueError of one line where the name is
+    taken by another entry (``kind``: what the table holds, for the message)."""
+    if table.get(name) is entry:
+        return False
+    if name in table:
+        taken = getattr(table[name], "__name__", shown(table[name]))
+        raise ValueError(f"{caller}: {kind} name {name!r} is taken (by {taken}); choose "
+                         "another name")
+    return True
+
+
+def adopt_name(caller: str, cls: Any, name: str) -> None:
+    """Give ``cls`` the registered ``name`` as its ``name`` attribute (what its messages say),
+    unless it sets another of its own: then a ValueError of one line."""
+    if "name" in vars(cls) and cls.name != name:
+        raise ValueError(f"{caller}({name!r}, {cls.__name__}): the class is named "
+                         f"{cls.name!r}; register it under that name or drop its own")
+    cls.name = name

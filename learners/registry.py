@@ -14,7 +14,7 @@ import inspect
 from collections.abc import Callable
 from typing import TypeVar, overload
 
-from animat.envs.checks import shown
+from animat.envs.checks import adopt_name, check_entry_name, is_new_entry, shown
 
 from .base import Learner
 from .blackbox import AnnealingLearner, CMAESLearner
@@ -70,16 +70,11 @@ def register_learner(name: str, cls=None):
     that is not a ``Learner`` subclass, a class that does not implement ``learn``, a class
     whose own ``name`` is another.
     """
-    if not (isinstance(name, str) and name):
-        raise ValueError(f"register_learner: the name must be a non-empty string, got "
-                         f"{shown(name)}")
+    check_entry_name("register_learner", name)
     if cls is None:
         return lambda given: register_learner(name, given)
-    if LEARNERS.get(name) is cls:
+    if not is_new_entry("register_learner", "learner", LEARNERS, name, cls):
         return cls
-    if name in LEARNERS:
-        raise ValueError(f"register_learner: learner name {name!r} is taken (by "
-                         f"{LEARNERS[name].__name__}); choose another name")
     if not (isinstance(cls, type) and issubclass(cls, Learner)):
         raise ValueError(f"register_learner({name!r}, ...): not a subclass of "
                          f"animat.learners.base.Learner: {shown(cls)}")
@@ -87,10 +82,7 @@ def register_learner(name: str, cls=None):
         missing = sorted(getattr(cls, "__abstractmethods__", ()))
         raise ValueError(f"register_learner({name!r}, {cls.__name__}): it does not implement "
                          f"{', '.join(missing)}")
-    if "name" in vars(cls) and cls.name != name:
-        raise ValueError(f"register_learner({name!r}, {cls.__name__}): the class is named "
-                         f"{cls.name!r}; register it under that name or drop its own")
-    cls.name = name
+    adopt_name("register_learner", cls, name)
     LEARNERS[name] = cls
     DRIVES[name] = (ALL_ENVS, "this project's envs")
     return cls

@@ -15,7 +15,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import overload
 
-from ..checks import shown
+from ..checks import check_entry_name, is_new_entry, shown
 from .dolphin import dolphin_body
 from .fish import fish_body
 from .spec import BodySpec
@@ -54,15 +54,11 @@ def register_body(name: str, factory: BodyFactory | None = None):
     same factory registered again is no change), a factory that is not callable or does not
     return a ``BodySpec``.
     """
-    if not (isinstance(name, str) and name):
-        raise ValueError(f"register_body: the name must be a non-empty string, got {shown(name)}")
+    check_entry_name("register_body", name)
     if factory is None:
         return lambda given: register_body(name, given)
-    if BODIES.get(name) is factory:
+    if not is_new_entry("register_body", "body", BODIES, name, factory):
         return factory
-    if name in BODIES:
-        raise ValueError(f"register_body: body name {name!r} is taken (by "
-                         f"{shown(BODIES[name])}); choose another name")
     if not callable(factory):
         raise ValueError(f"register_body({name!r}, ...): the factory must be a function "
                          f"returning a BodySpec, got {shown(factory)}")

@@ -15,7 +15,7 @@ from collections.abc import Callable
 from dataclasses import fields, is_dataclass
 from typing import Any, TypeVar, overload
 
-from ..checks import shown
+from ..checks import adopt_name, check_entry_name, is_new_entry, shown
 from .base import Task
 from .dolphin import (
     DolphinArcTask,
@@ -64,21 +64,14 @@ def register_task(name: str, cls=None):
     by another class (the same class registered again is no change), an object that is not a
     ``Task`` subclass, a class whose own ``name`` is another.
     """
-    if not (isinstance(name, str) and name):
-        raise ValueError(f"register_task: the name must be a non-empty string, got {shown(name)}")
+    check_entry_name("register_task", name)
     if cls is None:
         return lambda given: register_task(name, given)
-    if TASKS.get(name) is cls:
+    if not is_new_entry("register_task", "task", TASKS, name, cls):
         return cls
-    if name in TASKS:
-        raise ValueError(f"register_task: task name {name!r} is taken (by "
-                         f"{TASKS[name].__name__}); choose another name")
     if not (isinstance(cls, type) and issubclass(cls, Task)):
         raise ValueError(f"register_task({name!r}, ...): not a subclass of "
                          f"animat.envs.tasks.base.Task: {shown(cls)}")
-    if "name" in vars(cls) and cls.name != name:
-        raise ValueError(f"register_task({name!r}, {cls.__name__}): the class is named "
-                         f"{cls.name!r}; register it under that name or drop its own")
-    cls.name = name
+    adopt_name("register_task", cls, name)
     TASKS[name] = cls
     return cls
