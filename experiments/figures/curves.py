@@ -44,7 +44,10 @@ def plot(runs: list[RunCurves], metric: str, path: Path) -> list[str]:
     axes.set_xlabel("env steps")
     axes.set_ylabel(metric)
     axes.grid(alpha=0.3)
-    axes.legend()
+    if drawn:
+        axes.legend()
+    else:  # folders that keep no scalars.csv (as the shipped results)
+        axes.text(0.5, 0.5, f"no run logged {metric}", ha="center", transform=axes.transAxes)
     figure.tight_layout()
     figure.savefig(path, dpi=120)
     plt.close(figure)
