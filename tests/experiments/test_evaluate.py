@@ -282,6 +282,22 @@ def test_the_unseen_table_groups_runs_by_learner_with_own_and_unseen_figures(tmp
     assert "has no eval.json" in out.err
 
 
+def test_the_unseen_table_counts_each_runs_unseen_starts_that_meet_a_criterion(tmp_path, capsys):
+    """``unseen_table --at-least X`` / ``--at-most X``: each run's number of unseen starts (of
+    eval.json's episodes) whose figure meets the bound, in a column of its own."""
+    from animat.experiments.figures.unseen_table import main, run_rows
+
+    run = _run(tmp_path, "handmc")
+    evaluate(run, episodes=3)
+    speeds = [e["speed_bl_per_s"] for e in json.loads((run / "eval.json").read_text())["episodes"]]
+    middle = sorted(speeds)[1]
+    rows = run_rows([run], "eval/speed_bl_per_s", lambda v: v >= middle)
+    assert (rows[0]["met"], rows[0]["starts"]) == (2, 3)
+    assert main([str(run), "--metric", "eval/speed_bl_per_s", "--at-most", str(middle)]) == 0
+    table = capsys.readouterr().out.splitlines()
+    assert f"unseen starts ≤ {middle:g}, each run" in table[0] and "| 2/3 |" in table[2]
+
+
 def test_the_pursuit_table_sets_each_policy_between_its_blind_and_oracle_baselines(
         tmp_path, capsys):
     """``pursuit_table``: the unseen fovea fraction of each run of a benchmark variant, and the
