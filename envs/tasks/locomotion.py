@@ -181,6 +181,7 @@ class TurnTask(Task):
 
 
 FAR_BL = 1.0e6  # the reach's closest distance before its first step, BL
+HOLD_TOLERANCE_S = 1e-6  # s, the rounding of a sum of env steps
 
 
 @dataclass
@@ -193,9 +194,11 @@ class ReachTask(Task):
     goal in the body frame, BL. The goal counts as reached when the fish comes within
     ``reached_bl`` of it at any step (its memory: the closest it has been): the ``reached``
     metric, 1 or 0 (over episodes, the share reached), beside ``closest_bl`` and
-    ``final_distance_bl``. Ranges: ``distance_bl`` within [0, 1000] BL, ``bearing_deg`` within
-    [-360, 360] deg (each low <= high), the weights in [0, 1000], ``reached_bl`` in [0, 1000]
-    BL."""
+    ``final_distance_bl``; it counts as held when the fish ends within ``reached_bl`` of it and
+    has stayed there for the episode's last ``hold_s`` seconds (its memory: how long it has
+    been within, s): the ``held`` metric, 1 or 0. Ranges: ``distance_bl`` within [0, 1000] BL,
+    ``bearing_deg`` within [-360, 360] deg (each low <= high), the weights in [0, 1000],
+    ``reached_bl`` in [0, 1000] BL, ``hold_s`` in [0, 3600] s."""
 
     distance_bl: tuple[float, float] = (2.0, 4.0)
     bearing_deg: tuple[float, float] = (-180.0, 180.0)
@@ -203,11 +206,14 @@ class ReachTask(Task):
     path_weight: float = 1.0
     closest_weight: float = 0.0
     reached_bl: float = 0.5
+    hold_s: float = 1.0
     name = "reach"
     start_spread = FISH_START
     target_size = 3
     obs_size = 3
-    memory_size = 1  # the closest the centre of mass has been to the goal, BL
+    # the closest the centre of mass has been to the goal, BL; how long it has been within
+    # reached_bl of it without a break, s
+    memory_size = 2
     default_duration = 20.0
 
     def __post_init__(self) -> None:
@@ -217,10 +223,12 @@ class ReachTask(Task):
         for name in ("final_weight", "path_weight", "closest_weight"):
             check_number(name, getattr(self, name), 0.0, 1000.0)
         check_number("reached_bl", self.reached_bl, 0.0, 1000.0, "BL")
+        check_number("hold_s", self.hold_s, 0.0, 3600.0, "s")
 
     def initial_memory(self) -> np.ndarray:
-        """(1,) farther than any goal can be, BL (a goal is at most 1000 BL away)."""
-        return np.array([FAR_BL])
+        """(2,) farther than any goal can be, BL (a goal is at most 1000 BL away); no time
+        within reach yet, s."""
+        return np.array([FAR_BL, 0.0])
 
     def sample(self, rng):
         """(3,) the goal in the start frame (x along the start heading), BL."""
@@ -239,13 +247,21 @@ class ReachTask(Task):
     def terms(self, world: World, last: np.ndarray) -> Terms:
         distance = np.linalg.norm(self._to_goal(world), axis=1) / world.length
         closest = np.minimum(world.memory[:, 0], distance)
+        within_s = np.where(distance <= float(self.reached_bl), world.memory[:, 1] + world.dt,
+                            0.0)
         end = float(self.final_weight) * distance + float(self.closest_weight) * closest
         e_v = float(self.path_weight) * distance + np.where(last, end, 0.0)
-        return e_v, {"distance_bl": distance, "closest_bl": closest}, closest[:, None]
+        return e_v, {"distance_bl": distance, "closest_bl": closest, "within_s": within_s}, \
+            np.stack([closest, within_s], axis=1)
 
     def final_metrics(self, last):
         """``final_distance_bl``: the distance to the goal at the end; ``closest_bl``: the
-        closest the fish came; ``reached``: 1 where that is within ``reached_bl``, else 0."""
+        closest the fish came; ``reached``: 1 where that is within ``reached_bl``, else 0;
+        ``held``: 1 where the fish ended within ``reached_bl`` and had been for the last
+        ``hold_s`` (a step counts as its whole ``dt``; the tolerance is rounding's), else 0."""
         closest = np.asarray(last["closest_bl"])
+        held = np.asarray(last["within_s"]) >= float(self.hold_s) - HOLD_TOLERANCE_S
         return {"final_distance_bl": np.asarray(last["distance_bl"]), "closest_bl": closest,
-                "reached": (closest <= float(self.reached_bl)).astype(float)}
+                "reached": (closest <= float(self.reached_bl)).astype(float),
+                "held": (held & (np.asarray(last["distance_bl"]) <= float(self.reached_bl))
+                         ).astype(float)}

@@ -140,6 +140,29 @@ def test_a_goal_passed_within_reached_bl_counts_as_reached_wherever_the_fish_end
     assert summary["reached"].tolist() == [1.0, 0.0]
 
 
+def test_a_goal_counts_as_held_only_when_the_fish_ends_within_reach_and_stays_there():
+    """``held`` asks for the last ``hold_s`` within ``reached_bl`` without a break: a fish
+    resting 0.3 BL from its goal holds it; one that passes through and ends beyond it, or
+    that came within reach only for the last step, does not."""
+    from animat.envs.core.env import BodyVectorEnv
+    from animat.envs.motor.fish import to_action
+
+    env = BodyVectorEnv(2, "reach", distance_bl=(0.3, 0.3), bearing_deg=(0.0, 0.0),
+                        duration=2.0, start_spread="point", hold_s=1.0)
+    env.reset(seed=0)
+    swim = TASKS["swim"]().hand_controller()
+    for k in range(env.episode_steps):
+        action = np.stack([np.full(6, -1.0), to_action(swim((k + 1) * env.dt))])
+        info = env.step(action)[4]
+    summary = TASKS["reach"](hold_s=1.0).final_metrics(info)
+    assert info["within_s"][0] == pytest.approx(2.0)
+    assert summary["reached"].tolist() == [1.0, 1.0]
+    assert summary["held"].tolist() == [1.0, 0.0]
+    late = {**info, "within_s": np.array([env.dt, env.dt]), "distance_bl": np.array([0.1, 0.1])}
+    assert TASKS["reach"](hold_s=1.0).final_metrics(late)["held"].tolist() == [0.0, 0.0]
+    assert TASKS["reach"](hold_s=0.0).final_metrics(late)["held"].tolist() == [1.0, 1.0]
+
+
 def test_the_reach_objective_weighs_the_path_the_end_and_the_closest_approach():
     """E_v = path_weight d every step + (final_weight d + closest_weight closest) on the last,
     d the distance to the goal and closest the closest the fish has come, at every step."""
