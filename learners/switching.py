@@ -2,8 +2,9 @@
 (:mod:`animat.learners.skills.steering`) plays, choosing a repertoire skill every
 ``interval_s`` from the goal's |bearing| and range as the fish goes.
 
-A candidate is one gene in [0, 1] per cell of the table (``TABLE_SHAPE``: 6 bearing bins of
-30 deg by 4 range bins), read as a move code (rest, a swim, or a turn toward the goal;
+A candidate is one gene in [0, 1] per cell of the table (6 bearing bins of 30 deg by the
+range bins that ``range_edges_bl`` splits; by default 4, split at 1, 2 and 4 BL), read as a
+move code (rest, a swim, or a turn toward the goal;
 :func:`~animat.learners.skills.steering.table_moves`). Candidates are scored together, closed
 loop, on the native vector env (:class:`ClosedLoopEvaluator`), each from the same seeded
 start states, the goal drawn by the reach task: what the open-loop macro learner does for one
@@ -29,38 +30,45 @@ from .optimizers import annealing, coordinate
 from .rollout import START_STATES, BatchEvaluator
 from .skills.repertoire import Repertoire, kept_in_run
 from .skills.steering import (
-    TABLE_SHAPE,
+    RANGE_EDGES_BL,
     SkillSteering,
     SteeringAgent,
     SteeringParams,
     check_reach,
     repertoire_moves,
     table_moves,
+    table_shape,
 )
 
 
 @dataclass(frozen=True)
 class SwitchingParams:
     """repertoire: path of a repertoire JSON (required); interval_s: s between decisions;
-    start_states: seeded starts each candidate is scored over; checkpoint_every: rounds."""
+    range_edges_bl: BL, where the table splits the goal's range; start_states: seeded starts
+    each candidate is scored over; checkpoint_every: rounds."""
 
     repertoire: str | None = None
     interval_s: float = 0.25
+    range_edges_bl: tuple[float, ...] = RANGE_EDGES_BL
     start_states: int = START_STATES
     checkpoint_every: int = 10
 
     def __post_init__(self) -> None:
         if self.repertoire is None:
             raise ValueError("needs params.repertoire (a repertoire file)")
-        SteeringParams(interval_s=self.interval_s)  # a bad interval, in one line
+        self.steering()  # a bad interval or bad edges, in one line
         if self.start_states < 1 or self.checkpoint_every < 1:
             raise ValueError("start_states and checkpoint_every must be >= 1")
 
+    def steering(self) -> SteeringParams:
+        """The steering's settings these params give."""
+        return SteeringParams(interval_s=self.interval_s, range_edges_bl=self.range_edges_bl)
+
 
 class ClosedLoopEvaluator(BatchEvaluator):
-    """Scores tables of moves (P, *TABLE_SHAPE) closed loop: every row of the vector env is a
-    fish steered by its table (``steering(tables) -> SkillSteering``) toward its goal, the
-    reach task's observation entries."""
+    """Scores tables of moves (P, bearing bins, range bins) closed loop: every row of the
+    vector env is a fish steered by its table (``steering(tables) -> SkillSteering``) toward
+    its goal, the reach task's observation entries."""
 
     def __init__(self, steering, env_id: str, env_kwargs: dict | None = None, *args,
                  **kwargs) -> None:
@@ -69,12 +77,12 @@ class ClosedLoopEvaluator(BatchEvaluator):
         self.steering = steering
 
     def evaluate_players(self, players) -> tuple[np.ndarray, dict[str, np.ndarray]]:
-        """:meth:`evaluate_rows` of the tables ``players`` (P, *TABLE_SHAPE)."""
+        """:meth:`evaluate_rows` of the tables ``players`` (P, bearing bins, range bins)."""
         return self.evaluate_rows(np.repeat(np.asarray(players), self.num_starts, axis=0))
 
     def _player(self, rows: np.ndarray):
         """``act(k, obs)``: each row's fish steered by its table (``rows`` (num_envs,
-        *TABLE_SHAPE), padding rows all rest) toward its goal, the observation's task
+        bearing bins, range bins), padding rows all rest) toward its goal, the observation's task
         entries."""
         steering = self.steering(rows.astype(int))
         steering.reset(len(rows))
@@ -95,7 +103,8 @@ class SwitchingLearner(BlackBoxLearner):
     def _configure(self) -> None:
         check_reach(self.env_id, self.env_kwargs, f"learner {self.name!r}")
         self.repertoire = Repertoire.load(self.own.repertoire)
-        self.rules = SteeringParams(interval_s=self.own.interval_s)
+        self.rules = self.own.steering()
+        self.shape = table_shape(self.rules)
         self.move_skills = table_moves(*repertoire_moves(self.repertoire))
         self.moves = len(self.move_skills)
 
@@ -103,10 +112,10 @@ class SwitchingLearner(BlackBoxLearner):
         return opt_params  # cells are not blocks of nodal values
 
     def _genes(self, actuators: int) -> tuple[int, str]:
-        return int(np.prod(TABLE_SHAPE)), f"a table of {TABLE_SHAPE} moves"
+        return int(np.prod(self.shape)), f"a table of {self.shape} moves"
 
     def _x0(self, num_actuators: int) -> np.ndarray:
-        return np.random.default_rng(self.seed).uniform(0.0, 1.0, int(np.prod(TABLE_SHAPE)))
+        return np.random.default_rng(self.seed).uniform(0.0, 1.0, int(np.prod(self.shape)))
 
     def _evaluator(self) -> ClosedLoopEvaluator:
         dt = self._dt()
@@ -118,9 +127,9 @@ class SwitchingLearner(BlackBoxLearner):
         return float(episode_timing(self.env_id, self.env_kwargs).dt)
 
     def controller(self, vector: np.ndarray, duration: float) -> np.ndarray:
-        """The table of move codes (*TABLE_SHAPE) of a candidate's genes."""
+        """The table of move codes (bearing bins, range bins) of a candidate's genes."""
         codes = np.minimum((np.asarray(vector) * self.moves).astype(int), self.moves - 1)
-        return codes.reshape(TABLE_SHAPE)
+        return codes.reshape(self.shape)
 
     def _artefacts(self, x: np.ndarray, duration: float, evaluator) -> dict:
         names = [("rest" if left < 0 else self.repertoire.names[left]).replace("_left", "")

@@ -52,6 +52,8 @@ class SteeringParams:
             swim.
         turn_for_s: s, the longest a turn plays before the steering chooses afresh (None: the
             episode it was learned over).
+        range_edges_bl: BL, where a table of moves splits the goal's range (increasing, each
+            > 0; a table has one range bin more than edges).
     """
 
     interval_s: float = 0.25
@@ -61,8 +63,16 @@ class SteeringParams:
     slow_within_bl: float = 1.0
     fast_beyond_bl: float = 3.0
     turn_for_s: float | None = None
+    range_edges_bl: tuple[float, ...] = (1.0, 2.0, 4.0)
 
     def __post_init__(self) -> None:
+        edges = self.range_edges_bl
+        if not (isinstance(edges, (list, tuple)) and edges
+                and all(isinstance(e, (int, float)) and 0 < e < math.inf for e in edges)
+                and all(a < b for a, b in zip(edges, edges[1:]))):
+            raise ValueError(f"steering: range_edges_bl must be increasing numbers > 0 (BL), "
+                             f"got {edges!r:.60}")
+        object.__setattr__(self, "range_edges_bl", tuple(float(e) for e in edges))
         checks = [(0 < self.interval_s < math.inf, "interval_s must be > 0 s"),
                   (0 <= self.turn_below_deg <= self.turn_above_deg <= 180,
                    "need 0 <= turn_below_deg <= turn_above_deg <= 180"),
@@ -116,10 +126,16 @@ def repertoire_moves(repertoire: Repertoire) -> tuple[list[int], list[Turn]]:
 
 
 # A table of moves: a move for each cell of the goal's |bearing| (BEARING_BINS equal bins over
-# [0, 180] deg) and range (bins split at RANGE_EDGES_BL, BL).
+# [0, 180] deg) and range (bins split at the steering's range_edges_bl, BL; by default
+# RANGE_EDGES_BL, a table of TABLE_SHAPE).
 BEARING_BINS = 6
-RANGE_EDGES_BL = (1.0, 2.0, 4.0)
+RANGE_EDGES_BL = SteeringParams.range_edges_bl
 TABLE_SHAPE = (BEARING_BINS, len(RANGE_EDGES_BL) + 1)
+
+
+def table_shape(params: SteeringParams) -> tuple[int, int]:
+    """(|bearing| bins, range bins) of a table of moves for the steering ``params``."""
+    return BEARING_BINS, len(params.range_edges_bl) + 1
 
 
 def table_moves(swims: list[int], turns: list[Turn]) -> list[tuple[int, int]]:
@@ -132,15 +148,15 @@ def table_moves(swims: list[int], turns: list[Turn]) -> list[tuple[int, int]]:
     return [(REST, REST), *((swim, swim) for swim in swims), *toward]
 
 
-def check_table(table, moves: int) -> np.ndarray:
-    """``table`` as an int array (..., *TABLE_SHAPE) of codes in [0, moves); a ValueError in
-    one line otherwise."""
+def check_table(table, moves: int, shape: tuple[int, int] = TABLE_SHAPE) -> np.ndarray:
+    """``table`` as an int array (..., *shape) of codes in [0, moves); a ValueError in one
+    line otherwise."""
     codes = np.asarray(table)
-    if (codes.shape[-2:] != TABLE_SHAPE or codes.ndim not in (2, 3)
+    if (codes.shape[-2:] != shape or codes.ndim not in (2, 3)
             or not np.issubdtype(codes.dtype, np.integer) or codes.min() < 0
             or codes.max() >= moves):
         raise ValueError(f"a table of moves must be integers in [0, {moves}) of shape "
-                         f"{TABLE_SHAPE} (|bearing| bins, range bins), got {codes.tolist()!r:.80}")
+                         f"{shape} (|bearing| bins, range bins), got {codes.tolist()!r:.80}")
     return codes
 
 
@@ -151,9 +167,9 @@ class SkillSteering:
         repertoire: the skills it chooses from (:func:`repertoire_moves`).
         params: its rules (with a ``table``, only ``interval_s`` and ``turn_for_s`` are used).
         dt: s, the env step.
-        table: None (the rules choose), or a table of moves (*TABLE_SHAPE) of codes
-            (:func:`table_moves`) for every fish, or one per fish (B, *TABLE_SHAPE) (the
-            switching learner's, :mod:`animat.learners.switching`).
+        table: None (the rules choose), or a table of moves (:func:`table_shape`) of codes
+            (:func:`table_moves`) for every fish, or one per fish (B, bearing bins, range
+            bins) (the switching learner's, :mod:`animat.learners.switching`).
     """
 
     def __init__(self, repertoire: Repertoire, params: SteeringParams, dt: float,
@@ -173,7 +189,8 @@ class SkillSteering:
             self.durations[turns] = np.minimum(self.durations[turns], params.turn_for_s)
         self.every = max(1, int(round(params.interval_s / self.dt)))
         self.moves = table_moves(self.swims, self.turns)
-        self.table = None if table is None else check_table(table, len(self.moves))
+        self.table = None if table is None else check_table(table, len(self.moves),
+                                                            table_shape(params))
         self.reset(len(self.table) if self.table is not None and self.table.ndim == 3 else 1)
 
     def reset(self, batch: int) -> None:
@@ -234,12 +251,12 @@ class SkillSteering:
 
     def from_table(self, goals: np.ndarray) -> np.ndarray:
         """(B,) the skill index each fish's table gives for its goal's cell: |bearing| in
-        :data:`BEARING_BINS` equal bins over [0, 180] deg, range split at
-        :data:`RANGE_EDGES_BL`; a turn is toward the goal's side."""
+        :data:`BEARING_BINS` equal bins over [0, 180] deg, range split at the steering's
+        ``range_edges_bl``; a turn is toward the goal's side."""
         bearing = np.degrees(np.arctan2(goals[:, 1], goals[:, 0]))
         cell_b = np.minimum((np.abs(bearing) / (180.0 / BEARING_BINS)).astype(int),
                             BEARING_BINS - 1)
-        cell_r = np.searchsorted(RANGE_EDGES_BL, np.hypot(goals[:, 0], goals[:, 1]))
+        cell_r = np.searchsorted(self.params.range_edges_bl, np.hypot(goals[:, 0], goals[:, 1]))
         table = self.table if self.table.ndim == 3 else self.table[None]
         codes = table[np.arange(len(goals)) % len(table), cell_b, cell_r]
         side = (bearing < 0).astype(int)  # 0: left, 1: right

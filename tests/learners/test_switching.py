@@ -42,12 +42,18 @@ def test_the_closed_loop_batch_scores_each_table_as_one_env_steered_by_it():
             np.mean([r["closest_bl"] for r in single]), rel=1e-9)
 
 
+@pytest.mark.parametrize("edges", [None, [0.5, 1.0, 2.0, 4.0]])
 def test_the_switching_learner_learns_within_its_budget_and_its_agent_plays_its_result(
-        tmp_path):
-    learner = make_learner("switching", "Animat/FishReach-v0", REACH,
-                           {"repertoire": REPERTOIRE, "start_states": 2, "chains": 4}, seed=3)
+        tmp_path, edges):
+    """By default a table of TABLE_SHAPE; with ``range_edges_bl``, one range bin more than
+    edges, which its agent reads the same way."""
+    params = {"repertoire": REPERTOIRE, "start_states": 2, "chains": 4}
+    if edges:
+        params["range_edges_bl"] = edges
+    learner = make_learner("switching", "Animat/FishReach-v0", REACH, params, seed=3)
     result = learner.learn(4 * 2 * 40 * 3, tmp_path)
-    assert result.env_steps <= 960 and np.array(result.artefacts["table"]).shape == TABLE_SHAPE
+    shape = (TABLE_SHAPE[0], len(edges) + 1) if edges else TABLE_SHAPE
+    assert result.env_steps <= 960 and np.array(result.artefacts["table"]).shape == shape
     assert {"eval/reached", "eval/closest_bl"} <= set(result.metrics)
     env = gym.make("Animat/FishReach-v0", **REACH)
     agent = learner.agent(result.artefacts, tmp_path)
@@ -87,3 +93,10 @@ def test_the_coordinate_search_takes_its_levels_from_the_repertoire():
     with pytest.raises(ValueError, match="levels is the repertoire's moves"):
         make_learner("switching_coordinate", "Animat/FishReach-v0", REACH,
                      {"repertoire": REPERTOIRE, "levels": 3})
+
+
+@pytest.mark.parametrize("edges", [[], [1.0, 1.0], [0.0, 1.0], "far"])
+def test_range_edges_that_are_not_increasing_positive_numbers_are_refused_in_one_line(edges):
+    with pytest.raises(ValueError, match="range_edges_bl must be"):
+        make_learner("switching", "Animat/FishReach-v0", REACH,
+                     {"repertoire": REPERTOIRE, "range_edges_bl": edges}, seed=0)
