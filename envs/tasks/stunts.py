@@ -25,11 +25,26 @@ Every stunt reports the same metrics (read off the last step): ``apex_height_bl`
 ``airborne`` (1 if the centre of mass went above the surface), ``rotation_deg`` (pitch
 rotation above the surface, signed, over all flights), ``flight_rotation_deg`` (the largest
 |pitch rotation| of one flight), ``reentry_splash``, ``entry_pitch_deg`` (pitch as the centre of
-mass went back under, negative nose down; 0 if it did not: ``reentered`` says whether it did);
+mass went back under, negative nose down; 0 if it did not: ``reentered`` says whether it did),
+``entry_roll_deg`` (the roll then, positive with the left side up; 0 if it did not re-enter);
 with a ball also
 ``nose_gap_bl``, ``tail_gap_bl`` (closest approach to the ball), ``first_touch`` (-1 none,
 0 body, 1 nose, 2 tail: the part with most of the contact impulse in the env step the ball was
-first touched), ``ball_off`` (1 if the ball left its support) and ``ball_hit``.
+first touched), ``ball_off`` (1 if the ball left its support), ``ball_rise_bl`` (the highest
+the ball rose above its rest, BL) and ``ball_hit``.
+
+Each stunt also says whether it was done, in ``is_success`` (1 or 0; the key SB3's logger reads
+into its success rate), by what its name means:
+
+* ``leap``: the apex clears :data:`LEAP_CLEARS_BL` (0.5 BL);
+* ``somersault``: one flight turns at least :data:`FULL_TURN_DEG` (360 deg) in pitch;
+* ``nose_ball``: the rostrum touches the ball first and the ball rises at least
+  :data:`BALL_OFF_DISTANCE` (0.1 m) above its rest;
+* ``tail_ball``: the flukes touch the ball first and it leaves its support (``ball_hit``);
+* ``belly_flop``: the dolphin re-enters belly first: pitch within :data:`FLAT_PITCH_DEG` (20 deg)
+  of level and roll within :data:`FLAT_ROLL_DEG` (45 deg), the belly toward the water. That it
+  splashes more than a clean re-entry from the same height is a comparison of policies on the
+  same starts (the belly flop's ``reentry_splash`` beside the leap's), not one episode's.
 """
 
 from __future__ import annotations
@@ -54,12 +69,18 @@ TAIL_NODES = (17, 18, 19, 20, LEFT_TIP, RIGHT_TIP)
 
 # Episode memory of a stunt, by column.
 (APEX, AIRBORNE, SPLASH, ROTATION, FORWARD_X, FORWARD_Y, FORWARD_Z, ENTRY_PITCH, REENTERED,
- NOSE_GAP, TAIL_GAP, SCORE, FIRST_TOUCH, BALL_OFF, FLIGHT, BEST_FLIGHT) = range(16)
+ NOSE_GAP, TAIL_GAP, SCORE, FIRST_TOUCH, BALL_OFF, FLIGHT, BEST_FLIGHT, ENTRY_ROLL,
+ BALL_RISE) = range(18)
 BALL_OFF_DISTANCE = 0.1  # m the ball must move from its rest to have left its support
+# What each stunt's name means (is_success; the module docstring)
+LEAP_CLEARS_BL = 0.5  # BL, the apex of a leap
+FULL_TURN_DEG = 360.0  # deg of pitch in one flight, a somersault
+FLAT_PITCH_DEG, FLAT_ROLL_DEG = 20.0, 45.0  # deg from level, a belly-first entry
 MAX_BALL_OFFSET, MAX_BALL_HEIGHT, MAX_BALL_RADIUS = 1000.0, 100.0, 5.0  # m, BallTask's ranges
 FINAL_METRICS = ("apex_height_bl", "airborne", "rotation_deg", "flight_rotation_deg",
-                 "reentry_splash", "entry_pitch_deg")
-BALL_METRICS = ("nose_gap_bl", "tail_gap_bl", "first_touch", "ball_off", "ball_hit")
+                 "reentry_splash", "entry_pitch_deg", "entry_roll_deg", "is_success")
+BALL_METRICS = ("nose_gap_bl", "tail_gap_bl", "first_touch", "ball_off", "ball_rise_bl",
+                "ball_hit")
 
 
 def splash_unit_of(world: World) -> float:
@@ -84,6 +105,12 @@ def _pitch_step(previous: np.ndarray, frames: np.ndarray) -> np.ndarray:
     return np.where(np.linalg.norm(previous, axis=1) > 0.5, angle, 0.0)
 
 
+def roll_of(frames: np.ndarray) -> np.ndarray:
+    """(B,) roll about the forward axis, rad: 0 with the back up (the left axis level),
+    positive with the left side up, +-pi upside down."""
+    return np.arctan2(frames[:, 1, 2], frames[:, 2, 2])
+
+
 @dataclass
 class StuntTask(Underwater, Task):
     """Base of the stunts: the episode memory and metrics they share; a stunt defines
@@ -93,7 +120,7 @@ class StuntTask(Underwater, Task):
     start_pitch_deg: float = 0.0
     start_speed: float = 0.0
     name = "stunt"
-    memory_size = 16
+    memory_size = 18
     obs_size = 1
     default_duration = 8.0
 
@@ -126,6 +153,8 @@ class StuntTask(Underwater, Task):
         entering = was_airborne & ~above & (m[:, REENTERED] == 0)
         m[:, ENTRY_PITCH] = np.where(entering, np.degrees(pitch_of(world.frames)),
                                      m[:, ENTRY_PITCH])
+        m[:, ENTRY_ROLL] = np.where(entering, np.degrees(roll_of(world.frames)),
+                                    m[:, ENTRY_ROLL])
         m[:, REENTERED] = np.maximum(m[:, REENTERED], entering)
         m[:, AIRBORNE] = np.maximum(m[:, AIRBORNE], above)
         if self.ball is not None:
@@ -138,6 +167,7 @@ class StuntTask(Underwater, Task):
             m[:, FIRST_TOUCH] = np.where(m[:, FIRST_TOUCH] < 0, first, m[:, FIRST_TOUCH])
             moved = np.linalg.norm(world.ball[:, :3] - self.ball.rest, axis=1)
             m[:, BALL_OFF] = np.maximum(m[:, BALL_OFF], moved > BALL_OFF_DISTANCE)
+            m[:, BALL_RISE] = np.maximum(m[:, BALL_RISE], world.ball[:, 2] - self.ball.rest[2])
         return m
 
     def score(self, m: np.ndarray, world: World) -> np.ndarray:
@@ -146,6 +176,11 @@ class StuntTask(Underwater, Task):
 
     def ball_hit(self, m: np.ndarray) -> np.ndarray:
         return np.zeros(len(m))
+
+    def succeeded(self, m: np.ndarray, world: World) -> np.ndarray:
+        """(B,) 1 where the stunt was done as its name means (the module docstring), else 0,
+        from the updated memory."""
+        raise NotImplementedError
 
     def terms(self, world: World, last: np.ndarray) -> Terms:
         """E_v = -(S_t - S_t-1) / dt (0 on the first step), the metrics and the memory."""
@@ -163,12 +198,14 @@ class StuntTask(Underwater, Task):
             "flight_rotation_deg": np.degrees(m[:, BEST_FLIGHT]),
             "reentry_splash": m[:, SPLASH] / splash_unit,
             "entry_pitch_deg": np.where(m[:, REENTERED] > 0, m[:, ENTRY_PITCH], 0.0),
+            "entry_roll_deg": np.where(m[:, REENTERED] > 0, m[:, ENTRY_ROLL], 0.0),
             "reentered": m[:, REENTERED],
+            "is_success": self.succeeded(m, world).astype(float),
         }
         if self.ball is not None:
             metrics.update(nose_gap_bl=m[:, NOSE_GAP] / length, tail_gap_bl=m[:, TAIL_GAP] / length,
                            first_touch=m[:, FIRST_TOUCH], ball_off=m[:, BALL_OFF],
-                           ball_hit=self.ball_hit(m))
+                           ball_rise_bl=m[:, BALL_RISE] / length, ball_hit=self.ball_hit(m))
         return -gain / world.dt, metrics, m
 
     def final_metrics(self, last):
@@ -183,12 +220,16 @@ def _below(apex_bl: np.ndarray) -> np.ndarray:
 
 @dataclass
 class LeapTask(StuntTask):
-    """Leap: S = the apex of the centre of mass above the surface, BL."""
+    """Leap: S = the apex of the centre of mass above the surface, BL. Done (``is_success``)
+    when the apex clears :data:`LEAP_CLEARS_BL` (0.5 BL)."""
 
     name = "leap"
 
     def score(self, m, world):
         return m[:, APEX] / world.length
+
+    def succeeded(self, m, world):
+        return m[:, APEX] / world.length >= LEAP_CLEARS_BL
 
 
 @dataclass
@@ -198,7 +239,9 @@ class BallTask(StuntTask):
     leap learned in the paper's water broke the surface: where a trainer holds the ball);
     observation: height, then the ball relative to the centre of mass in the body frame, BL.
     Ranges: ``ball_x``, ``ball_y`` in [-1000, 1000] m, ``ball_height`` in [-100, 100] m (from
-    the surface, z = 0), ``ball_radius`` in (0, 5] m."""
+    the surface, z = 0), ``ball_radius`` in (0, 5] m. Done (``is_success``) when the named
+    part touches the ball first and the ball leaves its support; for the nose, up: it rises
+    at least :data:`BALL_OFF_DISTANCE` (0.1 m) above its rest."""
 
     part: str = "nose"
     ball_x: float = 15.3
@@ -233,6 +276,12 @@ class BallTask(StuntTask):
     def ball_hit(self, m):
         return ((m[:, FIRST_TOUCH] == self.part_index) & (m[:, BALL_OFF] > 0)).astype(float)
 
+    def succeeded(self, m, world):
+        """The named part touched the ball first and the ball left its support: up, for the
+        nose (it rose at least :data:`BALL_OFF_DISTANCE`)."""
+        hit = self.ball_hit(m) > 0
+        return hit & (m[:, BALL_RISE] >= BALL_OFF_DISTANCE) if self.part == "nose" else hit
+
     def score(self, m, world):
         gap = m[:, NOSE_GAP if self.part == "nose" else TAIL_GAP]
         named = (m[:, FIRST_TOUCH] == self.part_index).astype(float)
@@ -243,19 +292,33 @@ class BallTask(StuntTask):
 class SomersaultTask(StuntTask):
     """Somersault: S = the largest |pitch rotation| of one flight (one stretch with the
     centre of mass above the surface), in turns, + the way up: leaps that each turn part of
-    a circle do not add up to one."""
+    a circle do not add up to one. Done (``is_success``) when one flight turns at least
+    :data:`FULL_TURN_DEG` (360 deg)."""
 
     name = "somersault"
 
     def score(self, m, world):
         return m[:, BEST_FLIGHT] / (2.0 * np.pi) + _below(m[:, APEX] / world.length)
 
+    def succeeded(self, m, world):
+        return np.degrees(m[:, BEST_FLIGHT]) >= FULL_TURN_DEG
+
 
 @dataclass
 class BellyFlopTask(StuntTask):
-    """Belly flop: S = the re-entry splash in units of ``mass sqrt(g L)`` + the way up."""
+    """Belly flop: S = the re-entry splash in units of ``mass sqrt(g L)`` + the way up. Done
+    (``is_success``) when the dolphin re-enters belly first: pitch within
+    :data:`FLAT_PITCH_DEG` (20 deg) of level and roll within :data:`FLAT_ROLL_DEG` (45 deg)
+    (``entry_pitch_deg``, ``entry_roll_deg``); that it splashes more than a clean re-entry
+    from the same height is measured against the leap's policy on the same starts."""
 
     name = "belly_flop"
 
     def score(self, m, world):
         return m[:, SPLASH] / splash_unit_of(world) + _below(m[:, APEX] / world.length)
+
+    def succeeded(self, m, world):
+        """Re-entered belly first: pitch within :data:`FLAT_PITCH_DEG` of level and roll
+        within :data:`FLAT_ROLL_DEG`."""
+        return ((m[:, REENTERED] > 0) & (np.abs(m[:, ENTRY_PITCH]) <= FLAT_PITCH_DEG)
+                & (np.abs(m[:, ENTRY_ROLL]) <= FLAT_ROLL_DEG))

@@ -112,6 +112,59 @@ def test_a_somersault_is_one_flights_turn_not_the_sum_of_several_leaps():
     assert metrics["score"][0] == pytest.approx(0.3, rel=1e-6)
 
 
+def _flight(task, heights_pitches_rolls):
+    """The last step's metrics of ``task`` over a flight given step by step as (height of the
+    centre of mass, m; rotation about the lateral axis, nose up, deg, any angle; then roll
+    about the forward axis, deg)."""
+    from animat.envs.bodies import make_body
+    from animat.envs.tasks.stunts import World
+
+    body, memory = make_body("dolphin"), np.tile(task.initial_memory(), (1, 1))
+    for height, pitch, roll in heights_pitches_rolls:
+        p, r = np.radians(pitch), np.radians(roll)
+        forward = np.array([np.cos(p), 0.0, np.sin(p)])
+        level_left, level_up = np.array([0.0, 1.0, 0.0]), np.array([-np.sin(p), 0.0, np.cos(p)])
+        left = np.cos(r) * level_left + np.sin(r) * level_up  # rolled: the left side up
+        up = np.cross(forward, left)
+        position = np.array([[0.0, 0.0, height]])
+        world = World(com=position, com_vel=np.zeros((1, 3)),
+                      frames=np.array([[forward, left, up]]), targets=None, length=2.5,
+                      position=position, x=None, v=None, splash=np.zeros(1), memory=memory,
+                      ball=None, touch=None, surface_z=0.0, body=body, dt=0.05,
+                      start_yaw=np.zeros(1))
+        _, metrics, memory = task.terms(world, np.zeros(1, bool))
+    return metrics
+
+
+@pytest.mark.parametrize("apex, pitch, roll, leap, flop", [
+    (1.5, 0.0, 0.0, 1, 1), (1.0, 0.0, 0.0, 0, 1), (1.5, -30.0, 0.0, 1, 0),
+    (1.5, 15.0, 40.0, 1, 1), (1.5, 0.0, -60.0, 1, 0), (1.5, 0.0, 180.0, 1, 0)])
+def test_a_leap_clears_half_a_body_length_and_a_belly_flop_enters_belly_first(
+        apex, pitch, roll, leap, flop):
+    """is_success of a leap: its apex (m, of a 2.5 m dolphin) at least 0.5 BL; of a belly
+    flop: the re-entry within 20 deg of level in pitch and 45 deg in roll, the entry's pitch and
+    roll reported (the roll positive with the left side up)."""
+    from animat.envs.tasks.stunts import BellyFlopTask, LeapTask
+
+    flight = [(-1.0, 0.0, 0.0), (apex, 0.0, 0.0), (0.2, pitch, roll), (-0.5, pitch, roll)]
+    leaped, flopped = _flight(LeapTask(), flight), _flight(BellyFlopTask(), flight)
+    assert leaped["is_success"][0] == leap and flopped["is_success"][0] == flop
+    assert flopped["entry_pitch_deg"][0] == pytest.approx(pitch, abs=1e-9)
+    assert abs(flopped["entry_roll_deg"][0]) == pytest.approx(abs(roll), abs=1e-9)
+    assert np.sign(flopped["entry_roll_deg"][0]) == np.sign(roll) or abs(roll) == 180.0
+
+
+@pytest.mark.parametrize("turned, success", [(350.0, 0), (370.0, 1)])
+def test_a_somersault_is_done_when_one_flight_turns_a_full_circle(turned, success):
+    from animat.envs.tasks.stunts import SomersaultTask
+
+    steps = 36
+    flight = [(-1.0, 0.0, 0.0)] + [(1.0, k * turned / steps, 0.0) for k in range(1, steps + 1)]
+    metrics = _flight(SomersaultTask(), flight)  # the frames rotate about the lateral axis
+    assert metrics["flight_rotation_deg"][0] == pytest.approx(turned, abs=1e-6)
+    assert metrics["is_success"][0] == success
+
+
 def test_the_ball_stays_on_its_support_until_touched_then_knows_the_nose_hit_it():
     env = gym.make("Animat/DolphinNoseBall-v0", duration=10.0, start_spread="point").unwrapped
     env.reset(seed=0)
@@ -126,6 +179,7 @@ def test_the_ball_stays_on_its_support_until_touched_then_knows_the_nose_hit_it(
     for k in range(env.episode_steps):
         _, _, _, _, info = env.step(_swim(k))
     assert info["first_touch"] == NOSE_PART and info["ball_off"] == 1 and info["ball_hit"] == 1
+    assert info["ball_rise_bl"] * env.core.body.length >= 0.1 and info["is_success"] == 1
     ball = env.core.state.ball[0]
     assert abs(ball[2] - env.core.ball.radius) < 0.05 and np.abs(ball[3:]).max() < 0.5  # floats
 
