@@ -61,6 +61,8 @@ class NativeVecEnv(VecEnv):
                 {key: value[i] for key, value in final.items()} if isinstance(final, dict)
                 else final[i])
             infos[i]["TimeLimit.truncated"] = bool(truncated[i] and not terminated[i])
+            if "is_success" in info:  # a task that says whether it was done: SB3's success rate
+                infos[i]["is_success"] = bool(info["is_success"][i])
         return obs, reward.astype(np.float32), dones, infos
 
     def close(self) -> None:
