@@ -22,7 +22,7 @@ from pathlib import Path
 
 from animat.learners.storage.files import read_json
 
-from ..evaluate import evaluate, figure_names, largest_move
+from ..evaluate import evaluate, figure_names, figures_of, largest_move
 from ..launch.lock import RunError
 from ..launch.shipped import RESULTS, is_shipped_result
 
@@ -45,8 +45,9 @@ def rescore_row(folder: Path) -> dict:
     start = time.perf_counter()
     shipped = read_json(folder / "eval.json")
     result = evaluate(folder, seeds=shipped["seeds"])
-    if figure_names(shipped["metrics"]) == figure_names(result["metrics"]):
-        name, relative, in_spread = largest_move(shipped["metrics"], result["metrics"])
+    if set(figure_names(shipped["metrics"])) <= set(figure_names(result["metrics"])):
+        name, relative, in_spread = largest_move(
+            shipped["metrics"], figures_of(result["metrics"], shipped["metrics"]))
     else:
         name, relative, in_spread = "(other figures)", float("inf"), float("inf")
     return {"folder": folder, "same": result.get("shipped", "").startswith("the same as"),

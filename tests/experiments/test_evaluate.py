@@ -259,6 +259,19 @@ def test_a_shipped_comparison_says_when_only_spreads_or_the_figures_themselves_d
     assert shipped_comparison(path, {"seeds": [1], "metrics": other}).endswith("(other figures)")
 
 
+def test_a_figure_a_task_added_since_is_named_and_the_shipped_ones_are_compared(tmp_path):
+    """A re-score with a figure the shipped file predates (a metric added to the task since)
+    is the same on the figures the file quotes; a move of one of those is still a move."""
+    path = tmp_path / "eval.json"
+    path.write_text(json.dumps({"seeds": [1], "metrics": {"skill": {"eval/a": 1.0}}}))
+    added = {"skill": {"eval/a": 1.0, "eval/held": 0.0}}
+    assert shipped_comparison(path, {"seeds": [1], "metrics": added}).endswith(
+        "(on its figures; added since: skill/eval/held)")
+    moved = {"skill": {"eval/a": 2.0, "eval/held": 0.0}}
+    assert "the largest move: skill/eval/a" in shipped_comparison(
+        path, {"seeds": [1], "metrics": moved})
+
+
 def test_the_unseen_table_groups_runs_by_learner_with_own_and_unseen_figures(tmp_path, capsys):
     """``unseen_table``: one row per learner over its seeds, the own-start figure from
     result.json and the unseen one from eval.json (a run without one is named and left out of
