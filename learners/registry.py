@@ -26,6 +26,7 @@ from .scorers.living_world import BehavioursLearner
 from .scorers.pursuit import ActiveVisionLearner
 from .scorers.steering import SteeringLearner
 from .skills.basic_training import BasicTrainingLearner
+from .skills.stunt_learner import StuntTableLearner
 from .stroke import StrokeCMAESLearner, StrokeLearner
 from .switching import CoordinateSwitchingLearner, SwitchingLearner
 from .validation import ALL_ENVS, DRIVES, check_drives
@@ -35,7 +36,7 @@ LEARNERS: dict[str, type[Learner]] = {
                               BasicTrainingLearner, MacroLearner, ActiveVisionLearner,
                               BehavioursLearner, StrokeLearner, StrokeCMAESLearner,
                               SteeringLearner, SwitchingLearner,
-                              CoordinateSwitchingLearner)
+                              CoordinateSwitchingLearner, StuntTableLearner)
 }
 L = TypeVar("L", bound=type[Learner])
 
