@@ -26,7 +26,7 @@ from .scorers.living_world import BehavioursLearner
 from .scorers.pursuit import ActiveVisionLearner
 from .scorers.steering import SteeringLearner
 from .skills.basic_training import BasicTrainingLearner
-from .skills.stunt_learner import StuntTableLearner
+from .skills.stunt_learner import CoordinateStuntTableLearner, StuntTableLearner
 from .stroke import StrokeCMAESLearner, StrokeLearner
 from .switching import CoordinateSwitchingLearner, SwitchingLearner
 from .validation import ALL_ENVS, DRIVES, check_drives
@@ -36,7 +36,8 @@ LEARNERS: dict[str, type[Learner]] = {
                               BasicTrainingLearner, MacroLearner, ActiveVisionLearner,
                               BehavioursLearner, StrokeLearner, StrokeCMAESLearner,
                               SteeringLearner, SwitchingLearner,
-                              CoordinateSwitchingLearner, StuntTableLearner)
+                              CoordinateSwitchingLearner, StuntTableLearner,
+                              CoordinateStuntTableLearner)
 }
 L = TypeVar("L", bound=type[Learner])
 

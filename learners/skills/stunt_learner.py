@@ -6,7 +6,9 @@ A candidate is one gene in [0, 1] per cell of the table, read as a move code (0 
 the k-th of ``skills``). Candidates are scored together, closed loop, on the native vector env
 of the stunt (:class:`StuntTableEvaluator`), each from the same seeded start states, by the
 stunt's own objective: where the open-loop macro learner fixes one sequence for every start,
-this learns what to do from what the dolphin senses as it goes.
+this learns what to do from what the dolphin senses as it goes. ``stunt_table_coordinate``
+searches the same table a cell at a time (:mod:`animat.learners.optimizers.coordinate`), as the
+fish's ``switching_coordinate`` does.
 """
 
 from __future__ import annotations
@@ -20,7 +22,7 @@ from animat.envs.tasks.stunts import StuntTask
 
 from ..base import episode_timing
 from ..blackbox import BlackBoxLearner
-from ..optimizers import annealing
+from ..optimizers import annealing, coordinate
 from ..rollout import START_STATES, BatchEvaluator
 from .repertoire import Repertoire, kept_in_run
 from .stunt_table import StuntTable, StuntTableAgent, table_shape
@@ -135,3 +137,20 @@ class StuntTableLearner(BlackBoxLearner):
         """The learned table, playing one dolphin in the run's env."""
         policy = self._policy(np.asarray(artefacts["table"]), tuple(artefacts["layout"]))
         return StuntTableAgent(policy, self.env_id, self.env_kwargs)
+
+
+class CoordinateStuntTableLearner(StuntTableLearner):
+    """The same table, searched a cell at a time (every other move of one cell per round, on
+    the same ``start_states``; the best kept if it beats the table so far) until a sweep
+    changes no cell or the budget ends. ``candidates`` (moves tried a round) follows the
+    budget."""
+
+    name = "stunt_table_coordinate"
+    optimizer = coordinate
+    params_class = coordinate.CoordinateParams
+
+    def _fit_encoding(self, opt_params: dict) -> dict:
+        if "levels" in opt_params:
+            raise ValueError(f"learner {self.name!r}: levels is the table's moves "
+                             f"({self.moves}), not a parameter")
+        return {**opt_params, "levels": self.moves}

@@ -48,10 +48,13 @@ def test_a_table_of_rest_relaxes_and_a_table_of_one_skill_plays_it_from_its_star
         np.testing.assert_allclose(swim.act(obs), np.repeat(expected, 2, axis=0), rtol=1e-6)
 
 
-def test_the_learner_learns_within_its_budget_and_its_agent_replays_its_score(tmp_path):
-    learner = make_learner("stunt_table", "Animat/DolphinLeap-v0", LEAP,
-                           {"repertoire": REPERTOIRE, "skills": SKILLS, "chains": 4,
-                            "start_states": 2}, seed=3)
+@pytest.mark.parametrize("name, search", [("stunt_table", {"chains": 4}),
+                                          ("stunt_table_coordinate", {"candidates": 4})])
+def test_the_learner_learns_within_its_budget_and_its_agent_replays_its_score(
+        tmp_path, name, search):
+    learner = make_learner(name, "Animat/DolphinLeap-v0", LEAP,
+                           {"repertoire": REPERTOIRE, "skills": SKILLS, "start_states": 2,
+                            **search}, seed=3)
     result = learner.learn(4 * 2 * 20 * 3, tmp_path)
     assert result.env_steps <= 480
     assert np.array(result.artefacts["table"]).shape == table_shape()
