@@ -310,12 +310,23 @@ class BellyFlopTask(StuntTask):
     (``is_success``) when the dolphin re-enters belly first: pitch within
     :data:`FLAT_PITCH_DEG` (20 deg) of level and roll within :data:`FLAT_ROLL_DEG` (45 deg)
     (``entry_pitch_deg``, ``entry_roll_deg``); that it splashes more than a clean re-entry
-    from the same height is measured against the leap's policy on the same starts."""
+    from the same height is measured against the leap's policy on the same starts.
+    ``flat_weight`` (in [0, 100]; default 0, the score above) takes ``flat_weight`` times the
+    re-entry's tilt, |pitch| / 90 deg + |roll| / 180 deg, off S once the dolphin is back in:
+    a score for a flop that lands flat, not only one that splashes."""
 
+    flat_weight: float = 0.0
     name = "belly_flop"
 
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        check_number("flat_weight", self.flat_weight, 0.0, 100.0)
+
     def score(self, m, world):
-        return m[:, SPLASH] / splash_unit_of(world) + _below(m[:, APEX] / world.length)
+        tilt = np.where(m[:, REENTERED] > 0, np.abs(np.nan_to_num(m[:, ENTRY_PITCH])) / 90.0
+                        + np.abs(m[:, ENTRY_ROLL]) / 180.0, 0.0)
+        return (m[:, SPLASH] / splash_unit_of(world) + _below(m[:, APEX] / world.length)
+                - float(self.flat_weight) * tilt)
 
     def succeeded(self, m, world):
         """Re-entered belly first: pitch within :data:`FLAT_PITCH_DEG` of level and roll

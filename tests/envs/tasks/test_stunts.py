@@ -154,6 +154,20 @@ def test_a_leap_clears_half_a_body_length_and_a_belly_flop_enters_belly_first(
     assert np.sign(flopped["entry_roll_deg"][0]) == np.sign(roll) or abs(roll) == 180.0
 
 
+def test_a_flat_weight_takes_the_reentrys_tilt_off_the_belly_flops_score():
+    """flat_weight w: S less w (|pitch| / 90 + |roll| / 180) once back in; none before."""
+    from animat.envs.tasks.stunts import BellyFlopTask
+
+    flight = [(-1.0, 0.0, 0.0), (1.5, 0.0, 0.0), (0.2, -30.0, 60.0), (-0.5, -30.0, 60.0)]
+    plain, flat = _flight(BellyFlopTask(), flight), _flight(BellyFlopTask(flat_weight=6.0), flight)
+    assert flat["score"][0] == pytest.approx(plain["score"][0] - 6.0 * (30 / 90 + 60 / 180))
+    airborne = flight[:2]
+    assert _flight(BellyFlopTask(flat_weight=6.0), airborne)["score"][0] == pytest.approx(
+        _flight(BellyFlopTask(), airborne)["score"][0])
+    with pytest.raises(ValueError, match="flat_weight must be"):
+        BellyFlopTask(flat_weight=101.0)
+
+
 @pytest.mark.parametrize("turned, success", [(350.0, 0), (370.0, 1)])
 def test_a_somersault_is_done_when_one_flight_turns_a_full_circle(turned, success):
     from animat.envs.tasks.stunts import SomersaultTask
