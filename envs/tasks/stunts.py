@@ -76,6 +76,7 @@ BALL_OFF_DISTANCE = 0.1  # m the ball must move from its rest to have left its s
 LEAP_CLEARS_BL = 0.5  # BL, the apex of a leap
 FULL_TURN_DEG = 360.0  # deg of pitch in one flight, a somersault
 FLAT_PITCH_DEG, FLAT_ROLL_DEG = 20.0, 45.0  # deg from level, a belly-first entry
+MAX_TILT = 2.0  # the largest |pitch| / 90 deg + |roll| / 180 deg, the belly flop's flat_weight
 MAX_BALL_OFFSET, MAX_BALL_HEIGHT, MAX_BALL_RADIUS = 1000.0, 100.0, 5.0  # m, BallTask's ranges
 FINAL_METRICS = ("apex_height_bl", "airborne", "rotation_deg", "flight_rotation_deg",
                  "reentry_splash", "entry_pitch_deg", "entry_roll_deg", "is_success")
@@ -312,8 +313,9 @@ class BellyFlopTask(StuntTask):
     (``entry_pitch_deg``, ``entry_roll_deg``); that it splashes more than a clean re-entry
     from the same height is measured against the leap's policy on the same starts.
     ``flat_weight`` (in [0, 100]; default 0, the score above) takes ``flat_weight`` times the
-    re-entry's tilt, |pitch| / 90 deg + |roll| / 180 deg, off S once the dolphin is back in:
-    a score for a flop that lands flat, not only one that splashes."""
+    re-entry's tilt, |pitch| / 90 deg + |roll| / 180 deg, off S, and the largest tilt (2)
+    until the dolphin is back in (so that staying in or over the water is never flatter): a
+    score for a flop that lands flat, not only one that splashes."""
 
     flat_weight: float = 0.0
     name = "belly_flop"
@@ -324,7 +326,7 @@ class BellyFlopTask(StuntTask):
 
     def score(self, m, world):
         tilt = np.where(m[:, REENTERED] > 0, np.abs(np.nan_to_num(m[:, ENTRY_PITCH])) / 90.0
-                        + np.abs(m[:, ENTRY_ROLL]) / 180.0, 0.0)
+                        + np.abs(m[:, ENTRY_ROLL]) / 180.0, MAX_TILT)
         return (m[:, SPLASH] / splash_unit_of(world) + _below(m[:, APEX] / world.length)
                 - float(self.flat_weight) * tilt)
 

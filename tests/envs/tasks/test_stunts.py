@@ -155,7 +155,8 @@ def test_a_leap_clears_half_a_body_length_and_a_belly_flop_enters_belly_first(
 
 
 def test_a_flat_weight_takes_the_reentrys_tilt_off_the_belly_flops_score():
-    """flat_weight w: S less w (|pitch| / 90 + |roll| / 180) once back in; none before."""
+    """flat_weight w: S less w (|pitch| / 90 + |roll| / 180) once back in; the largest tilt
+    (2) before, so that never re-entering is not flatter."""
     from animat.envs.tasks.stunts import BellyFlopTask
 
     flight = [(-1.0, 0.0, 0.0), (1.5, 0.0, 0.0), (0.2, -30.0, 60.0), (-0.5, -30.0, 60.0)]
@@ -163,7 +164,7 @@ def test_a_flat_weight_takes_the_reentrys_tilt_off_the_belly_flops_score():
     assert flat["score"][0] == pytest.approx(plain["score"][0] - 6.0 * (30 / 90 + 60 / 180))
     airborne = flight[:2]
     assert _flight(BellyFlopTask(flat_weight=6.0), airborne)["score"][0] == pytest.approx(
-        _flight(BellyFlopTask(), airborne)["score"][0])
+        _flight(BellyFlopTask(), airborne)["score"][0] - 6.0 * 2.0)
     with pytest.raises(ValueError, match="flat_weight must be"):
         BellyFlopTask(flat_weight=101.0)
 
