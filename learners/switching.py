@@ -26,6 +26,7 @@ from animat.envs.tasks import ReachTask
 
 from .base import episode_timing
 from .blackbox import BlackBoxLearner
+from .controllers.table import CellTableEncoding
 from .optimizers import annealing, coordinate
 from .rollout import START_STATES, BatchEvaluator
 from .skills.repertoire import Repertoire, kept_in_run
@@ -89,7 +90,7 @@ class ClosedLoopEvaluator(BatchEvaluator):
         return lambda k, obs: steering.act(obs[:, -ReachTask.obs_size:])
 
 
-class SwitchingLearner(BlackBoxLearner):
+class SwitchingLearner(CellTableEncoding, BlackBoxLearner):
     """Params: ``repertoire``, ``interval_s`` (0.25 s), ``start_states``, plus the annealing
     parameters (``mutation_rate`` is per cell: a small one, e.g. 0.1, changes a few moves at
     a time)."""
@@ -108,15 +109,6 @@ class SwitchingLearner(BlackBoxLearner):
         self.move_skills = table_moves(*repertoire_moves(self.repertoire))
         self.moves = len(self.move_skills)
 
-    def _fit_encoding(self, opt_params: dict) -> dict:
-        return opt_params  # cells are not blocks of nodal values
-
-    def _genes(self, actuators: int) -> tuple[int, str]:
-        return int(np.prod(self.shape)), f"a table of {self.shape} moves"
-
-    def _x0(self, num_actuators: int) -> np.ndarray:
-        return np.random.default_rng(self.seed).uniform(0.0, 1.0, int(np.prod(self.shape)))
-
     def _evaluator(self) -> ClosedLoopEvaluator:
         dt = self._dt()
         return ClosedLoopEvaluator(
@@ -125,11 +117,6 @@ class SwitchingLearner(BlackBoxLearner):
 
     def _dt(self) -> float:
         return float(episode_timing(self.env_id, self.env_kwargs).dt)
-
-    def controller(self, vector: np.ndarray, duration: float) -> np.ndarray:
-        """The table of move codes (bearing bins, range bins) of a candidate's genes."""
-        codes = np.minimum((np.asarray(vector) * self.moves).astype(int), self.moves - 1)
-        return codes.reshape(self.shape)
 
     def _artefacts(self, x: np.ndarray, duration: float, evaluator) -> dict:
         names = [("rest" if left < 0 else self.repertoire.names[left]).replace("_left", "")
@@ -162,7 +149,5 @@ class CoordinateSwitchingLearner(SwitchingLearner):
     params_class = coordinate.CoordinateParams
 
     def _fit_encoding(self, opt_params: dict) -> dict:
-        if "levels" in opt_params:
-            raise ValueError(f"learner {self.name!r}: levels is the repertoire's moves "
-                             f"({self.moves}), not a parameter")
-        return {**opt_params, "levels": self.moves}
+        return coordinate.with_levels(opt_params, self.moves, f"learner {self.name!r}",
+                                      "the repertoire's moves")

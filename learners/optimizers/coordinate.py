@@ -107,6 +107,14 @@ def refine_options(options: dict) -> dict:
     return options
 
 
+def with_levels(options: dict, levels: int, owner: str, what: str) -> dict:
+    """``options`` with ``levels`` set to the encoding's own codes (``what`` they are, e.g. a
+    table's moves); a ValueError naming ``owner`` if a config gave them."""
+    if "levels" in options:
+        raise ValueError(f"{owner}: levels is {what} ({levels}), not a parameter")
+    return {**options, "levels": levels}
+
+
 def code_of(x: np.ndarray, levels: int) -> np.ndarray:
     """The codes (D,) of genes ``x`` in [0, 1]: ``floor(x * levels)``, 1 read as the last."""
     return np.minimum((np.asarray(x) * levels).astype(int), levels - 1)

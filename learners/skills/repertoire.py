@@ -10,6 +10,8 @@ import json
 from dataclasses import dataclass
 from pathlib import Path
 
+import numpy as np
+
 from ..controllers.abstraction import AbstractController
 from ..storage.files import atomic_write, read_text
 
@@ -109,3 +111,33 @@ def kept_in_run(repertoire: Repertoire, checkpoint_dir: str | Path | None) -> Re
         return Repertoire.load(copy)
     repertoire.save(copy)
     return repertoire
+
+
+REST = -1  # the skill index of resting (muscles relaxed): the last of a player's arrays
+
+
+def switch_skills(skill: np.ndarray, clock: np.ndarray, chosen: np.ndarray,
+                  durations: np.ndarray, periodic: np.ndarray, dt: float) -> None:
+    """Move B bodies playing ``skill`` (B,) for ``clock`` (B,) env steps onto ``chosen`` (B,),
+    in place: a skill chosen again goes on from where it is; a new one, or one that is not
+    periodic and has played its ``durations`` (s; :data:`REST` last, never ended), starts
+    from its beginning."""
+    ended = (clock * dt >= durations[chosen]) & ~periodic[chosen]
+    clock[(chosen != skill) | ended] = 0
+    skill[:] = chosen
+
+
+def play_skills(controllers: list, durations: np.ndarray, periodic: np.ndarray,
+                skill: np.ndarray, clock: np.ndarray, dt: float, actuators: int) -> np.ndarray:
+    """(B, actuators) the activations in [0, 1] due at the end of the env step of B bodies
+    playing ``skill`` (B,) for ``clock`` (B,) env steps, which it then moves on by one: a
+    periodic skill plays as long as it is chosen, one that is not for its ``durations`` (s),
+    then rests (as :data:`REST` does)."""
+    u = np.zeros((len(skill), actuators))
+    t = (clock + 1) * dt
+    for index in np.unique(skill[skill != REST]):
+        rows = (skill == index) & (periodic[index] | (t <= durations[index]))
+        if rows.any():
+            u[rows] = controllers[index](t[rows])
+    clock += 1
+    return u

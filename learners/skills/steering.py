@@ -34,9 +34,7 @@ import numpy as np
 from animat.envs.registration import task_of
 from animat.envs.tasks import ReachTask
 
-from .repertoire import Repertoire
-
-REST = -1  # the skill index of resting (muscles relaxed)
+from .repertoire import REST, Repertoire, play_skills, switch_skills
 
 
 @dataclass(frozen=True)
@@ -208,17 +206,11 @@ class SkillSteering:
         goals = np.atleast_2d(np.asarray(goals, dtype=float))[:, :2]
         self.seen, self.count = self.seen + goals, self.count + 1
         if self.step % self.every == 0:  # decide on the goal seen since the last decision
-            chosen = self.choose(self.seen / self.count)
-            played = (self.clock * self.dt >= self.durations[chosen]) & ~self.periodic[chosen]
-            self.clock[(chosen != self.skill) | played] = 0
-            self.skill, self.seen, self.count = chosen, 0.0, 0
-        u = np.zeros((len(goals), len(self.controllers[0].mean)))
-        t = (self.clock + 1) * self.dt  # the activation due at the step's end (tent.play)
-        for index in np.unique(self.skill[self.skill != REST]):
-            rows = (self.skill == index) & (self.periodic[index] | (t <= self.durations[index]))
-            if rows.any():
-                u[rows] = self.controllers[index](t[rows])
-        self.clock += 1
+            switch_skills(self.skill, self.clock, self.choose(self.seen / self.count),
+                          self.durations, self.periodic, self.dt)
+            self.seen, self.count = 0.0, 0
+        u = play_skills(self.controllers, self.durations, self.periodic, self.skill,
+                        self.clock, self.dt, len(self.controllers[0].mean))
         self.step += 1
         return (2.0 * np.clip(u, 0.0, 1.0) - 1.0).astype(np.float32)
 

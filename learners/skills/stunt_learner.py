@@ -22,6 +22,7 @@ from animat.envs.tasks.stunts import StuntTask
 
 from ..base import episode_timing
 from ..blackbox import BlackBoxLearner
+from ..controllers.table import CellTableEncoding
 from ..optimizers import annealing, coordinate
 from ..rollout import START_STATES, BatchEvaluator
 from .repertoire import Repertoire, kept_in_run
@@ -76,7 +77,7 @@ class StuntTableEvaluator(BatchEvaluator):
         return lambda k, obs: policy.act(obs)
 
 
-class StuntTableLearner(BlackBoxLearner):
+class StuntTableLearner(CellTableEncoding, BlackBoxLearner):
     """Params: ``repertoire``, ``skills``, ``interval_s`` (0.25 s), ``start_states``, plus the
     annealing parameters (``mutation_rate`` is per cell: a small one, e.g. 0.1, changes a few
     moves at a time). Drives the dolphin's stunt envs."""
@@ -99,15 +100,6 @@ class StuntTableLearner(BlackBoxLearner):
         self.shape = table_shape()
         self.moves = len(self.skill_names) + 1
 
-    def _fit_encoding(self, opt_params: dict) -> dict:
-        return opt_params  # cells are not blocks of nodal values
-
-    def _genes(self, actuators: int) -> tuple[int, str]:
-        return int(np.prod(self.shape)), f"a table of {self.shape} moves"
-
-    def _x0(self, num_actuators: int) -> np.ndarray:
-        return np.random.default_rng(self.seed).uniform(0.0, 1.0, int(np.prod(self.shape)))
-
     def _policy(self, tables: np.ndarray, layout: tuple[int, int]) -> StuntTable:
         dt = float(episode_timing(self.env_id, self.env_kwargs).dt)
         return StuntTable(self.repertoire, self.skill_names, tables, dt, self.own.interval_s,
@@ -116,11 +108,6 @@ class StuntTableLearner(BlackBoxLearner):
     def _evaluator(self) -> StuntTableEvaluator:
         return StuntTableEvaluator(self._policy, self.env_id, self.env_kwargs, self.population,
                                    self.seed, self.own.start_states)
-
-    def controller(self, vector: np.ndarray, duration: float) -> np.ndarray:
-        """The table of move codes (*shape) of a candidate's genes."""
-        codes = np.minimum((np.asarray(vector) * self.moves).astype(int), self.moves - 1)
-        return codes.reshape(self.shape)
 
     def _artefacts(self, x: np.ndarray, duration: float, evaluator) -> dict:
         return {"table": self.controller(x, duration).tolist(),
@@ -150,7 +137,5 @@ class CoordinateStuntTableLearner(StuntTableLearner):
     params_class = coordinate.CoordinateParams
 
     def _fit_encoding(self, opt_params: dict) -> dict:
-        if "levels" in opt_params:
-            raise ValueError(f"learner {self.name!r}: levels is the table's moves "
-                             f"({self.moves}), not a parameter")
-        return {**opt_params, "levels": self.moves}
+        return coordinate.with_levels(opt_params, self.moves, f"learner {self.name!r}",
+                                      "the table's moves")

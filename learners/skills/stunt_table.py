@@ -23,9 +23,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .repertoire import Repertoire
+from .repertoire import REST, Repertoire, play_skills, switch_skills
 
-REST = -1  # the skill index of resting (muscles relaxed)
 SENSES = ("height_bl", "pitch_deg", "speed_bl")
 # Where each sense is split into bins: deep under, near the surface, breaking it, in the air;
 # pitched down steeply, down, level-ish up, up, steeply up; slow, cruising, fast.
@@ -103,17 +102,11 @@ class StuntTable:
     def act(self, obs: np.ndarray) -> np.ndarray:
         """(B, A) env actions in [-1, 1] for the observations (B, O)."""
         if self.step % self.every == 0:
-            chosen = self.choose(senses(np.atleast_2d(obs), *self.layout))
-            ended = (self.clock * self.dt >= self.durations[chosen]) & ~self.periodic[chosen]
-            self.clock[(chosen != self.skill) | ended] = 0
-            self.skill = chosen
-        u = np.zeros((len(self.skill), self.layout[1]))
-        t = (self.clock + 1) * self.dt  # the activation due at the step's end
-        for index in np.unique(self.skill[self.skill != REST]):
-            rows = (self.skill == index) & (self.periodic[index] | (t <= self.durations[index]))
-            if rows.any():
-                u[rows] = self.controllers[index](t[rows])
-        self.clock += 1
+            switch_skills(self.skill, self.clock,
+                          self.choose(senses(np.atleast_2d(obs), *self.layout)),
+                          self.durations, self.periodic, self.dt)
+        u = play_skills(self.controllers, self.durations, self.periodic, self.skill,
+                        self.clock, self.dt, self.layout[1])
         self.step += 1
         return (2.0 * np.clip(u, 0.0, 1.0) - 1.0).astype(np.float32)
 
