@@ -39,6 +39,8 @@ TINY = {
     "steering": ({"episodes": 2}, 20),
     "switching": ({"chains": 4, "start_states": 2}, 160),
     "switching_coordinate": ({"start_states": 2}, 160),
+    "stunt_table": ({"chains": 4, "start_states": 2}, 160),
+    "stunt_table_coordinate": ({"start_states": 2}, 160),
 }
 DOLPHIN_REPERTOIRE = str(Path(__file__).resolve().parents[2] / "repertoires" / "dolphin.json")
 FISH_REPERTOIRE = str(Path(__file__).resolve().parents[2] / "repertoires" / "fish_reactive.json")
@@ -70,7 +72,7 @@ def test_learner_runs_on_a_tiny_budget_and_logs_the_shared_tags(name, tmp_path,
     if name in ("steering", "switching", "switching_coordinate"):  # they need turns to both sides
         params = {**params, "repertoire": FISH_REPERTOIRE}
         env_id, tags = "Animat/FishReach-v0", ("eval/return", "eval/reached")
-    if name.startswith("stroke"):
+    if name.startswith("stroke") or name.startswith("stunt_table"):
         params = {**params, "repertoire": DOLPHIN_REPERTOIRE}
         env_id, tags = "Animat/DolphinSomersault-v0", ("eval/return",
                                                         "eval/flight_rotation_deg")
