@@ -20,7 +20,7 @@ from .controllers.concatenation import concatenate
 from .controllers.tent import play
 from .optimizers import annealing
 from .rollout import START_STATES
-from .skills.repertoire import Repertoire, kept_in_run
+from .skills.repertoire import Repertoire, check_skill_names, kept_in_run
 
 
 @dataclass(frozen=True)
@@ -46,11 +46,7 @@ class MacroParams:
             raise ValueError("needs params.repertoire (a repertoire file)")
         if self.slots < 1 or not 0 < self.min_duration <= self.max_duration:
             raise ValueError("need slots >= 1 and 0 < min_duration <= max_duration")
-        if self.skills is not None and not (
-                self.skills and all(isinstance(s, str) for s in self.skills)
-                and len(set(self.skills)) == len(self.skills)):
-            raise ValueError(f"skills must be a non-empty list of distinct skill names (or "
-                             f"null: all of the repertoire's), got {self.skills!r:.80}")
+        check_skill_names(self.skills)
         if self.start_from is not None:
             if not isinstance(self.start_from, list) or len(self.start_from) > self.slots or any(
                     not isinstance(s, dict) or set(s) != {"skill", "duration"}

@@ -113,6 +113,16 @@ def kept_in_run(repertoire: Repertoire, checkpoint_dir: str | Path | None) -> Re
     return repertoire
 
 
+def check_skill_names(skills: object) -> None:
+    """ValueError in one line unless ``skills`` is None (all of a repertoire's) or a non-empty
+    list of distinct skill names (a learner's ``skills`` param)."""
+    if skills is not None and not (
+            isinstance(skills, list) and skills and all(isinstance(s, str) for s in skills)
+            and len(set(skills)) == len(skills)):
+        raise ValueError(f"skills must be a non-empty list of distinct skill names (or "
+                         f"null: all of the repertoire's), got {skills!r:.80}")
+
+
 REST = -1  # the skill index of resting (muscles relaxed): the last of a player's arrays
 
 

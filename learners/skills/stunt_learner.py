@@ -25,7 +25,7 @@ from ..blackbox import BlackBoxLearner
 from ..controllers.table import CellTableEncoding
 from ..optimizers import annealing, coordinate
 from ..rollout import START_STATES, BatchEvaluator
-from .repertoire import Repertoire, kept_in_run
+from .repertoire import Repertoire, check_skill_names, kept_in_run
 from .stunt_table import StuntTable, StuntTableAgent, table_shape
 
 
@@ -48,11 +48,7 @@ class StuntTableParams:
             raise ValueError(f"interval_s must be > 0 s, got {self.interval_s!r}")
         if self.start_states < 1 or self.checkpoint_every < 1:
             raise ValueError("start_states and checkpoint_every must be >= 1")
-        if self.skills is not None and not (
-                self.skills and all(isinstance(s, str) for s in self.skills)
-                and len(set(self.skills)) == len(self.skills)):
-            raise ValueError(f"skills must be a non-empty list of distinct skill names (or "
-                             f"null: all of the repertoire's), got {self.skills!r:.80}")
+        check_skill_names(self.skills)
 
 
 class StuntTableEvaluator(BatchEvaluator):
