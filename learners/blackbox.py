@@ -217,7 +217,7 @@ class BlackBoxLearner(Learner):
         """What scores a round's candidates (:meth:`controller` of each): the open-loop
         batch of the env, ``population`` candidates at a time over the start states."""
         return BatchEvaluator(self.env_id, self.env_kwargs, self.population, self.seed,
-                              self.own.start_states)
+                              self.own.start_states, self.own.worst_share)
 
     def _saved(self, checkpoint_dir: str | Path | None) -> tuple[Path | None, object]:
         """Where the run's checkpoint goes, and what is saved there

@@ -19,7 +19,7 @@ from .blackbox import BlackBoxLearner
 from .controllers.concatenation import concatenate
 from .controllers.tent import play
 from .optimizers import annealing
-from .rollout import START_STATES
+from .rollout import START_STATES, check_worst_share
 from .skills.repertoire import Repertoire, check_skill_names, kept_in_run
 
 
@@ -28,6 +28,7 @@ class MacroParams:
     """repertoire: path of a repertoire JSON (required); skills: the names to use (None: all);
     slots; min_duration, max_duration: s per slot; overlap: the blend's share;
     checkpoint_every: rounds; start_states: seeded starts each candidate is scored over;
+    worst_share: the share of them its objective averages, its worst first (1: all);
     start_from: a sequence [{skill, duration}] the chains start from (e.g. a learned leap
     that a stunt builds on; None: a random sequence)."""
 
@@ -39,9 +40,11 @@ class MacroParams:
     overlap: float = 0.05
     checkpoint_every: int = 10
     start_states: int = START_STATES
+    worst_share: float = 1.0
     start_from: list | None = None
 
     def __post_init__(self) -> None:
+        check_worst_share(self.worst_share)
         if self.repertoire is None:
             raise ValueError("needs params.repertoire (a repertoire file)")
         if self.slots < 1 or not 0 < self.min_duration <= self.max_duration:

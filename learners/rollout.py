@@ -35,6 +35,25 @@ def unseen_seeds(seed: int, count: int) -> list[int]:
     return [UNSEEN_SEEDS_FROM + int(seed) + k for k in range(int(count))]
 
 
+def check_worst_share(worst_share: float) -> None:
+    """ValueError in one line unless ``worst_share`` (the share of start states a candidate's
+    objective averages over, its worst first) is a number in (0, 1]."""
+    if type(worst_share) not in (int, float) or not 0 < worst_share <= 1:
+        raise ValueError(f"worst_share must be a number in (0, 1] (1: the mean over every "
+                         f"start state), got {worst_share!r}")
+
+
+def worst_mean(returns: np.ndarray, worst_share: float) -> np.ndarray:
+    """(P,) the mean of each row's lowest ``ceil(worst_share * S)`` returns of (P, S): with
+    ``worst_share`` 1 the plain mean; below 1, the lower tail's mean (the conditional value at
+    risk that EPOpt, Rajeswaran et al. 2017, trains on), which a candidate raises only by
+    doing better on the starts it does worst on, not by excelling on a few."""
+    if worst_share >= 1:
+        return returns.mean(axis=1)
+    kept = max(1, int(np.ceil(worst_share * returns.shape[1] - 1e-9)))
+    return np.sort(returns, axis=1)[:, :kept].mean(axis=1)
+
+
 NARROW = 32  # rows: a part-filled chunk plays on a batch of the next multiple of this
 
 
@@ -47,13 +66,18 @@ class BatchEvaluator:
             ``num_envs * num_starts`` wide).
         seed: the first start-state seed (candidates share seeds ``seed .. seed + num_starts - 1``).
         num_starts: start states per candidate.
+        worst_share: the share of a candidate's start states its return averages, its
+            worst first (:func:`worst_mean`; 1: all of them). Its metrics are always the
+            means over every start.
     """
 
     def __init__(self, env_id: str, env_kwargs: dict | None = None, num_envs: int = 64,
-                 seed: int = 0, num_starts: int = START_STATES) -> None:
+                 seed: int = 0, num_starts: int = START_STATES,
+                 worst_share: float = 1.0) -> None:
         if type(num_starts) is not int or num_starts < 1:
             raise ValueError(f"start_states must be an integer >= 1, got {num_starts!r}")
-        self.num_starts = num_starts
+        check_worst_share(worst_share)
+        self.num_starts, self.worst_share = num_starts, float(worst_share)
         self.env_id, self.env_kwargs = env_id, dict(env_kwargs or {})
         self.env = gym.make_vec(env_id, num_envs=int(num_envs) * num_starts,
                                 **self.env_kwargs)
@@ -72,7 +96,8 @@ class BatchEvaluator:
         return self.steps * self.num_starts
 
     def evaluate(self, actions: np.ndarray) -> tuple[np.ndarray, dict[str, np.ndarray]]:
-        """Returns (P,) mean episode returns over the start states, and the task's summary
+        """Returns (P,) mean episode returns over the start states (over the worst
+        ``worst_share`` of them), and the task's summary
         metrics (P,) each, as means with their standard deviations over the start states
         (``<metric>_std``); adds the env steps simulated (P * num_starts * T) to
         ``env_steps``."""
@@ -96,7 +121,7 @@ class BatchEvaluator:
         for k in metrics[0]:
             values = np.concatenate([m[k] for m in metrics]).reshape(per_start)
             merged[k], merged[f"{k}_std"] = values.mean(axis=1), values.std(axis=1)
-        return np.concatenate(returns).reshape(per_start).mean(axis=1), merged
+        return worst_mean(np.concatenate(returns).reshape(per_start), self.worst_share), merged
 
     def evaluate_players(self, players) -> tuple[np.ndarray, dict[str, np.ndarray]]:
         """:meth:`evaluate` the action sequences of ``players`` (anything with

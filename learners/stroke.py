@@ -34,7 +34,7 @@ from .blackbox import BlackBoxLearner
 from .controllers.tent import play
 from .macro import MacroSequence, check_sequence
 from .optimizers import annealing, cmaes
-from .rollout import START_STATES
+from .rollout import START_STATES, check_worst_share
 from .skills.repertoire import Repertoire, kept_in_run
 
 NUM_ACTUATORS = 6
@@ -112,7 +112,8 @@ class StrokeLearnerParams:
     overlap: its blends' share; start_window: [earliest, latest] t0, s (None: the whole
     episode); max_hold: s (at most the episode's length); max_frequency: Hz (at most half the
     env step's rate); checkpoint_every: rounds; start_states: seeded
-    starts each candidate is scored over."""
+    starts each candidate is scored over; worst_share: the share of them its objective
+    averages, its worst first (1: all)."""
 
     repertoire: str | None = None
     prefix: list | None = None
@@ -122,8 +123,10 @@ class StrokeLearnerParams:
     max_frequency: float = 6.0
     checkpoint_every: int = 10
     start_states: int = START_STATES
+    worst_share: float = 1.0
 
     def __post_init__(self) -> None:
+        check_worst_share(self.worst_share)
         if self.repertoire is None or self.prefix is None:
             raise ValueError("needs params.repertoire (a repertoire file) and params.prefix "
                              "(the [{skill, duration}] sequence the stroke follows)")

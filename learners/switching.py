@@ -28,7 +28,7 @@ from .base import episode_timing
 from .blackbox import BlackBoxLearner
 from .controllers.table import CellTableEncoding
 from .optimizers import annealing, coordinate
-from .rollout import START_STATES, BatchEvaluator
+from .rollout import START_STATES, BatchEvaluator, check_worst_share
 from .skills.repertoire import Repertoire, kept_in_run
 from .skills.steering import (
     RANGE_EDGES_BL,
@@ -46,17 +46,20 @@ from .skills.steering import (
 class SwitchingParams:
     """repertoire: path of a repertoire JSON (required); interval_s: s between decisions;
     range_edges_bl: BL, where the table splits the goal's range; start_states: seeded starts
-    each candidate is scored over; checkpoint_every: rounds."""
+    each candidate is scored over; worst_share: the share of them its objective averages, its
+    worst first (1: all); checkpoint_every: rounds."""
 
     repertoire: str | None = None
     interval_s: float = 0.25
     range_edges_bl: tuple[float, ...] = RANGE_EDGES_BL
     start_states: int = START_STATES
+    worst_share: float = 1.0
     checkpoint_every: int = 10
 
     def __post_init__(self) -> None:
         if self.repertoire is None:
             raise ValueError("needs params.repertoire (a repertoire file)")
+        check_worst_share(self.worst_share)
         self.steering()  # a bad interval or bad edges, in one line
         if self.start_states < 1 or self.checkpoint_every < 1:
             raise ValueError("start_states and checkpoint_every must be >= 1")
@@ -113,7 +116,8 @@ class SwitchingLearner(CellTableEncoding, BlackBoxLearner):
         dt = self._dt()
         return ClosedLoopEvaluator(
             lambda tables: SkillSteering(self.repertoire, self.rules, dt, tables),
-            self.env_id, self.env_kwargs, self.population, self.seed, self.own.start_states)
+            self.env_id, self.env_kwargs, self.population, self.seed, self.own.start_states,
+            self.own.worst_share)
 
     def _dt(self) -> float:
         return float(episode_timing(self.env_id, self.env_kwargs).dt)

@@ -10,7 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..rollout import START_STATES
+from ..rollout import START_STATES, check_worst_share
 from .tent import TentController, play
 
 
@@ -29,6 +29,8 @@ class ControllerParams:
         refine: the refinement phase's settings (see
             :func:`animat.learners.blackbox_run.refine_settings`).
         start_states: seeded start states every candidate is scored over.
+        worst_share: the share of them its objective averages, its worst first (1: all;
+            :func:`~animat.learners.rollout.worst_mean`).
     """
 
     nodes: int = 20
@@ -38,8 +40,10 @@ class ControllerParams:
     checkpoint_every: int = 10
     refine: dict | None = None
     start_states: int = START_STATES
+    worst_share: float = 1.0
 
     def __post_init__(self) -> None:
+        check_worst_share(self.worst_share)
         if self.nodes < 2 or self.init not in ("random", "relaxed", "half"):
             raise ValueError("nodes must be >= 2 and init one of random, relaxed, half")
         if self.checkpoint_every < 1 or self.start_states < 1:

@@ -24,7 +24,7 @@ from ..base import episode_timing
 from ..blackbox import BlackBoxLearner
 from ..controllers.table import CellTableEncoding
 from ..optimizers import annealing, coordinate
-from ..rollout import START_STATES, BatchEvaluator
+from ..rollout import START_STATES, BatchEvaluator, check_worst_share
 from .repertoire import Repertoire, check_skill_names, kept_in_run
 from .stunt_table import StuntTable, StuntTableAgent, table_shape
 
@@ -33,17 +33,20 @@ from .stunt_table import StuntTable, StuntTableAgent, table_shape
 class StuntTableParams:
     """repertoire: path of a repertoire JSON (required); skills: the names a table may play
     (None: all of the repertoire's); interval_s: s between decisions; start_states: seeded
-    starts each candidate is scored over; checkpoint_every: rounds."""
+    starts each candidate is scored over; worst_share: the share of them its objective
+    averages, its worst first (1: all); checkpoint_every: rounds."""
 
     repertoire: str | None = None
     skills: list | None = None
     interval_s: float = 0.25
     start_states: int = START_STATES
+    worst_share: float = 1.0
     checkpoint_every: int = 10
 
     def __post_init__(self) -> None:
         if self.repertoire is None:
             raise ValueError("needs params.repertoire (a repertoire file)")
+        check_worst_share(self.worst_share)
         if not 0 < self.interval_s < np.inf:
             raise ValueError(f"interval_s must be > 0 s, got {self.interval_s!r}")
         if self.start_states < 1 or self.checkpoint_every < 1:
@@ -103,7 +106,7 @@ class StuntTableLearner(CellTableEncoding, BlackBoxLearner):
 
     def _evaluator(self) -> StuntTableEvaluator:
         return StuntTableEvaluator(self._policy, self.env_id, self.env_kwargs, self.population,
-                                   self.seed, self.own.start_states)
+                                   self.seed, self.own.start_states, self.own.worst_share)
 
     def _artefacts(self, x: np.ndarray, duration: float, evaluator) -> dict:
         return {"table": self.controller(x, duration).tolist(),
