@@ -172,7 +172,10 @@ def test_a_repertoire_run_loads_as_one_agent_per_skill(tmp_path):
     assert rows["swim_slow"]["unseen"] == result["metrics"]["swim_slow"]["eval/speed_bl_per_s"]
     assert rows["swim_slow"]["unseen_starts"] == 1
     table = repertoire_markdown(list(rows.values())).splitlines()
-    assert len(table) == 4 and table[2].startswith("| swim_slow | ") and "over 1 |" in table[2]
+    assert len(table) == 4 and table[2].startswith("| swim_slow | ") and "over 1 |  |" in table[2]
+    error = result["metrics"]["turn_left"]["eval/final_heading_error_deg"]
+    assert rows["turn_left"]["unseen_within"] == int(error <= 10.0)  # one start: 0 or 1 of 1
+    assert table[3].endswith(f"| {int(error <= 10.0)}/1 |")
 
 
 def test_only_a_finished_run_loads(tmp_path):
