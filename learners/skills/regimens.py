@@ -61,9 +61,9 @@ FISH_CMAES_TURNS_REGIMEN = [
 # The fish's regimen with its turns learned as the paper does, by annealing and then annealing
 # their FFT abstraction again (the swims as in FISH_REGIMEN): 16 chains from the half
 # activation, each candidate scored by the mean of its worst 4 of 8 starts, then half the
-# skill's budget on the abstraction's 40 largest frequency parameters. The second search, over
-# a few smooth parameters, is what makes an annealed turn hold over the start spread
-# (docs/fish_basic_training.md).
+# skill's budget on the abstraction's 40 largest frequency parameters: a second search over a
+# few smooth parameters, where the first's 126 nodal values fit the starts it is scored on
+# (docs/fish_basic_training.md compares the two).
 _REFINED_TURN = {**_TURN, "chains": 16, "init": "half", "start_states": 8, "worst_share": 0.5,
                  "refine": {"share": 0.5, "threshold": 0.0, "max_parameters": 40,
                             "step_size": 0.1}}
