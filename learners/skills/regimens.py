@@ -151,7 +151,7 @@ DOLPHIN_REGIMEN = [
 # with the FFT abstraction, the turns as the fish's in FISH_REFINED_TURNS_REGIMEN.
 DOLPHIN_ANNEALING_REGIMEN = [
     {"name": spec["name"], "env_id": spec["env_id"], "env_kwargs": spec["env_kwargs"],
-     "params": _REFINED_TURN if spec.get("learner") == "cmaes" else spec["params"]}
+     "params": _REFINED_TURN if spec["env_id"] == "Animat/DolphinTurn-v0" else spec["params"]}
     for spec in DOLPHIN_REGIMEN[:5]]
 
 REGIMENS = {"fish": FISH_REGIMEN, "fish_cmaes_turns": FISH_CMAES_TURNS_REGIMEN,
