@@ -166,7 +166,7 @@ def cmd_eval(args) -> int:
     except ValueError as error:
         raise RunError(str(error)) from None
     result = evaluate(args.run_dir, seeds, args.episodes, args.video, args.refine,
-                      args.trust_pickles)
+                      args.trust_pickles, args.point_start)
     print(report(result))
     if result.get("shipped"):
         print(result["shipped"])
@@ -174,7 +174,7 @@ def cmd_eval(args) -> int:
     if result.get("not_written"):  # scored, but the folder would not take the file
         print(f"animat: error: not written: {result['not_written']}", file=sys.stderr)
         return 1
-    print(f"written: {args.run_dir / result_name(args.refine)}" + (
+    print(f"written: {args.run_dir / result_name(args.refine, args.point_start)}" + (
         f"; videos in {args.video}" if args.video else ""))
     return 0
 

@@ -19,7 +19,8 @@ episode with Gymnasium's ``RecordVideo``, and writes ``eval.json`` into the run 
 ``refine`` k > 1 it plays the agent with the physics step divided by k (``frame_skip`` times k:
 the env step, and so what the agent sees and does, unchanged) and writes
 ``eval_step_over_<k>.json``: a learned figure that moves when the solver is refined is the
-solver's, not the animal's.
+solver's, not the animal's. With ``point_start`` it plays from the task's documented start
+(no spread, no reset noise: as the paper shows a stunt) and writes ``eval_point_start.json``.
 """
 
 from __future__ import annotations
@@ -116,20 +117,41 @@ def refined(agent, refine: int):
     return finer
 
 
+def from_point_start(agent):
+    """A copy of ``agent`` playing from its task's documented start: its placement alone
+    (``start_spread="point"``, no ``reset_noise_scale``), the same on every seed; a RunError
+    for an env without a start spread."""
+    point = copy.copy(agent)
+    point.env_kwargs = {**agent.env_kwargs, "start_spread": "point", "reset_noise_scale": 0.0}
+    try:
+        gym.make(point.env_id, **point.env_kwargs).close()
+    except TypeError as error:
+        raise RunError(f"--point-start: {agent.env_id} does not take start_spread "
+                       f"({error})") from None
+    return point
+
+
+def _played(agent, refine: int, point_start: bool):
+    """``agent`` as ``evaluate`` plays it: refined, from the documented start if asked."""
+    agent = refined(agent, refine)
+    return from_point_start(agent) if point_start else agent
+
+
 def evaluate(run_dir: str | Path, seeds: list[int] | None = None, episodes: int | None = None,
-             video: str | Path | None = None, refine: int = 1, trust_pickles: bool = False
-             ) -> dict:
+             video: str | Path | None = None, refine: int = 1, trust_pickles: bool = False,
+             point_start: bool = False) -> dict:
     """Play the run's agent on ``seeds`` (default: ``episodes`` start states the run never
     learned from, :func:`~animat.learners.rollout.unseen_seeds`, by default as many as the
     run's own scores are over); returns and writes
     ``eval.json``: the seeds, every episode's figures, and ``metrics`` (``eval/<figure>``
     means with ``_std``) - per skill for a repertoire; with ``refine`` k > 1, at the physics
-    step over k, into ``eval_step_over_<k>.json``."""
+    step over k, into ``eval_step_over_<k>.json``; with ``point_start``, from the task's
+    documented start (one episode unless told), into ``eval_point_start.json``."""
     folder = run_folder(run_dir)
     check_tree(folder)  # a folder from someone else: no link or FIFO in it is read
     config = load_run_config(folder)
     if not seeds:
-        count = episodes or _learner(folder, config).scored_episodes()
+        count = episodes or (1 if point_start else _learner(folder, config).scored_episodes())
         seeds = unseen_seeds(config.seed, count)
     if refine < 1:
         raise RunError(f"--refine must be at least 1, got {refine}")
@@ -138,22 +160,22 @@ def evaluate(run_dir: str | Path, seeds: list[int] | None = None, episodes: int 
     runs: dict[str, list[dict]] | list[dict]
     metrics: dict[str, dict[str, float]] | dict[str, float]
     if isinstance(agent, SkillSet):
-        runs = {name: _episodes(refined(skill, refine), seeds, video, name)
+        runs = {name: _episodes(_played(skill, refine, point_start), seeds, video, name)
                 for name, skill in agent.agents.items()}
         metrics = {name: spread([_figures(r) for r in rows]) for name, rows in runs.items()}
     else:
-        episodes_run = _episodes(refined(agent, refine), seeds, video,
+        episodes_run = _episodes(_played(agent, refine, point_start), seeds, video,
                                  config.learner.display_name)
         runs, metrics = episodes_run, spread([_figures(r) for r in episodes_run])
     result = {"seeds": seeds, "metric": config.eval.metric, "episodes": runs, "metrics": metrics,
-              "physics_step_over": refine}
+              "physics_step_over": refine, "start": "point" if point_start else "spread"}
     if is_shipped_result(folder):  # a quoted result: compared with what it quotes, not changed
-        result["shipped"] = shipped_comparison(folder / result_name(refine), result)
+        result["shipped"] = shipped_comparison(folder / result_name(refine, point_start), result)
         return result
     try:  # a read-only run folder (a shared one) is still scored; the CLI says what is missing
-        write_json(folder / result_name(refine), result)
+        write_json(folder / result_name(refine, point_start), result)
     except OSError as error:
-        result["not_written"] = f"{folder / result_name(refine)}: {error.strerror}"
+        result["not_written"] = f"{folder / result_name(refine, point_start)}: {error.strerror}"
     return result
 
 
@@ -226,9 +248,11 @@ def _flat(metrics: dict) -> list[float]:
             for x in (_flat(v) if isinstance(v, dict) else [float(v)])]
 
 
-def result_name(refine: int) -> str:
-    """The file :func:`evaluate` writes into the run folder."""
-    return "eval.json" if refine == 1 else f"eval_step_over_{refine}.json"
+def result_name(refine: int, point_start: bool = False) -> str:
+    """The file :func:`evaluate` writes into the run folder: ``eval.json``, with
+    ``_point_start`` and ``_step_over_<k>`` before its suffix as it was played."""
+    return ("eval" + ("_point_start" if point_start else "")
+            + (f"_step_over_{refine}" if refine != 1 else "") + ".json")
 
 
 def _figures(row: dict) -> dict:

@@ -134,6 +134,11 @@ def make_parser() -> argparse.ArgumentParser:
     evaluation.add_argument("--refine", type=int, default=1, metavar="K",
                             help="play at the physics step divided by K (frame_skip times K; "
                                  "the env step unchanged): is the figure the solver's?")
+    evaluation.add_argument("--point-start", action="store_true",
+                            help="play from the task's documented start (start_spread=point and "
+                                 "no reset noise: one episode unless told) instead of its "
+                                 "spread; writes "
+                                 "eval_point_start.json")
     bench = sub.add_parser("bench", help="simulator benchmark against Swimmer-v5")
     bench.add_argument("--seconds", type=float, default=6.0, help="wall seconds measured")
     bench.add_argument("--num-envs", type=int, default=256, help="the batch's size")

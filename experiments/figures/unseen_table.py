@@ -12,6 +12,8 @@ learner comparisons on the turn and the reach are this command's output for the 
 ``results/``. ``--at-least X`` (or ``--at-most X``) adds each run's count of unseen starts whose
 figure meets it (``14/16``): a criterion that must hold on each start, not on average (a leap's
 ``eval/apex_height_bl --at-least 0.5``, a turn's ``eval/final_heading_error_deg --at-most 10``).
+Where a run has ``eval_point_start.json`` (``animat eval RUN --point-start``: its agent from the
+task's documented start, as the paper shows a stunt), a column gives that figure too.
 """
 
 from __future__ import annotations
@@ -34,8 +36,10 @@ from .statistics import mean_std
 def run_rows(folders: list[Path], metric: str,
              criterion: Callable[[float], bool] | None = None) -> list[dict]:
     """One dict per run: learner label, seed, own-start and unseen figure (None where it has
-    no ``eval.json``), the unseen spread, env steps and wall seconds; with ``criterion``, the
-    number of unseen starts whose figure meets it and of unseen starts (``met``, ``starts``)."""
+    no ``eval.json``), the figure from the documented start (None without
+    ``eval_point_start.json``), the unseen spread, env steps and wall seconds; with
+    ``criterion``, the number of unseen starts whose figure meets it and of unseen starts
+    (``met``, ``starts``)."""
     rows = []
     for folder in map(run_folder, folders):  # its parents resolved, no link itself
         config = load_config(folder / "config.yaml", build=False, follow_links=False)
@@ -43,8 +47,11 @@ def run_rows(folders: list[Path], metric: str,
         scored = read_json(folder / "eval.json") if (folder / "eval.json").exists() else {}
         unseen = scored.get("metrics", {})
         per_start = [e[metric.removeprefix("eval/")] for e in scored.get("episodes", [])]
+        point = folder / "eval_point_start.json"
+        documented = read_json(point)["metrics"].get(metric) if point.exists() else None
         rows.append({"learner": config.learner.display_name, "seed": config.seed,
                      "own": status["metrics"].get(metric), "unseen": unseen.get(metric),
+                     "documented": documented,
                      "unseen_std": unseen.get(f"{metric}_std"),
                      "met": sum(map(criterion, per_start)) if criterion else None,
                      "starts": len(per_start),
@@ -55,7 +62,8 @@ def run_rows(folders: list[Path], metric: str,
 
 def learner_markdown(rows: list[dict], metric: str, criterion: str = "") -> str:
     """The runs' rows grouped by learner, as a Markdown table; with ``criterion`` (its words,
-    e.g. ``≥ 0.5``), a column of each run's unseen starts that meet it."""
+    e.g. ``≥ 0.5``), a column of each run's unseen starts that meet it; where any run was
+    played from the documented start, a column of that figure."""
     def pm(values) -> str:
         summary = mean_std(np.array([v for v in values if v is not None], dtype=float))
         if summary is None:
@@ -63,14 +71,18 @@ def learner_markdown(rows: list[dict], metric: str, criterion: str = "") -> str:
         return f"{summary[0]:.2f} ± {summary[1]:.2f} [{summary[2]:.2f}, {summary[3]:.2f}]"
 
     met = f" unseen starts {criterion}, each run |" if criterion else ""
-    lines = [f"| learner | seeds | {metric}, own starts | {metric}, unseen starts | "
+    point = any(r.get("documented") is not None for r in rows)
+    lines = [f"| learner | seeds |{f' {metric}, documented start |' if point else ''} "
+             f"{metric}, own starts | {metric}, unseen starts | "
              f"spread over a run's unseen starts |{met} env steps | wall s |",
-             "|---|---|---|---|---|" + ("---|" if criterion else "") + "---|---|"]
+             "|---|---|---|---|---|" + ("---|" if point else "") + ("---|" if criterion else "")
+             + "---|---|"]
     for learner in sorted({r["learner"] for r in rows}):
         group = [r for r in rows if r["learner"] == learner]
         spread = [r["unseen_std"] for r in group if r["unseen_std"] is not None]
         lines.append(
             f"| {learner} | {', '.join(str(r['seed']) for r in group)} | "
+            + (f"{pm(r.get('documented') for r in group)} | " if point else "") +
             f"{pm(r['own'] for r in group)} | {pm(r['unseen'] for r in group)} | "
             f"{f'{np.mean(spread):.2f}' if spread else 'n/a'} | "
             + (f"{', '.join(_met(r) for r in group)} | " if criterion else "")

@@ -151,6 +151,24 @@ def test_eval_at_a_finer_physics_step_plays_the_same_agent_beside_eval_json(tmp_
     assert animat("eval", folder, "--refine", "0", check=False).returncode == 2
 
 
+def test_eval_from_the_documented_start_plays_one_start_the_same_on_every_seed(tmp_path):
+    """``--point-start``: the agent from the task's placement alone (no spread, no reset
+    noise), one episode by default, beside eval.json; every seed plays the same start."""
+    folder = _run(tmp_path, "handmc")
+    spread = evaluate(folder, episodes=2)["metrics"]["eval/speed_bl_per_s"]
+    out = animat("eval", folder, "--point-start")
+    assert "eval_point_start.json" in out.stdout and "over 1 start states" in out.stdout
+    point = json.loads((folder / "eval_point_start.json").read_text())
+    assert point["start"] == "point" and len(point["episodes"]) == 1
+    again = evaluate(folder, seeds=[5, 6], point_start=True)["episodes"]
+    figures = [{k: v for k, v in e.items() if k != "seed"} for e in again]
+    assert figures[0] == figures[1] == {k: v for k, v in point["episodes"][0].items()
+                                        if k != "seed"}
+    assert point["metrics"]["eval/speed_bl_per_s"] != spread
+    assert json.loads((folder / "eval.json").read_text())["metrics"][
+        "eval/speed_bl_per_s"] == spread  # eval.json is left as it was
+
+
 def test_a_repertoire_run_loads_as_one_agent_per_skill(tmp_path):
     regimen = [{"name": "swim_slow", "env_id": "Animat/FishSwim-v0",
                 "env_kwargs": {"duration": 0.5}, "params": {"nodes": 4, "period": 0.5}},
@@ -312,6 +330,25 @@ def test_the_unseen_table_counts_each_runs_unseen_starts_that_meet_a_criterion(t
     assert main([str(run), "--metric", "eval/speed_bl_per_s", "--at-most", str(middle)]) == 0
     table = capsys.readouterr().out.splitlines()
     assert f"unseen starts ≤ {middle:g}, each run" in table[0] and "| 2/3 |" in table[2]
+
+
+def test_the_unseen_table_shows_the_documented_start_where_a_run_was_played_from_it(
+        tmp_path, capsys):
+    """A run with eval_point_start.json adds a column of its figure from the documented start;
+    a table of runs without one has no such column."""
+    from animat.experiments.figures.unseen_table import main, run_rows
+
+    run = _run(tmp_path, "handmc")
+    evaluate(run, episodes=2)
+    assert main([str(run), "--metric", "eval/speed_bl_per_s"]) == 0
+    assert "documented start" not in capsys.readouterr().out
+    point = evaluate(run, point_start=True)["metrics"]["eval/speed_bl_per_s"]
+    assert run_rows([run], "eval/speed_bl_per_s")[0]["documented"] == point
+    assert main([str(run), "--metric", "eval/speed_bl_per_s", "--at-least", "0"]) == 0
+    table = capsys.readouterr().out.splitlines()
+    assert "| eval/speed_bl_per_s, documented start |" in table[0]
+    assert table[1].count("|") == table[0].count("|") == table[2].count("|")
+    assert table[2].startswith(f"| handmc | 0 | {point:.2f} ± 0.00") and "| 2/2 |" in table[2]
 
 
 def test_the_pursuit_table_sets_each_policy_between_its_blind_and_oracle_baselines(
