@@ -32,3 +32,19 @@ def test_a_shipped_result_re_scores_to_what_it_quotes(folder):
     result = evaluate(folder, seeds=seeds)
     assert result["shipped"].startswith("the same as the shipped"), result["shipped"]
     assert {p: p.read_bytes() for p in folder.rglob("*") if p.is_file()} == before
+
+
+POINT_STARTS = [pytest.param(p.parent, id=p.parent.relative_to(RESULTS).as_posix(),
+                             marks=[pytest.mark.slow])
+                for p in sorted(RESULTS.rglob("eval_point_start.json"))]
+
+
+@pytest.mark.parametrize("folder", POINT_STARTS)
+def test_a_shipped_result_from_its_documented_start_re_scores_to_what_it_quotes(folder):
+    """The figure a shipped folder quotes from its task's documented start
+    (``animat eval RUN --point-start``) is what its agent does from there."""
+    before = {p: p.read_bytes() for p in folder.rglob("*") if p.is_file()}
+    seeds = read_json(folder / "eval_point_start.json")["seeds"]
+    result = evaluate(folder, seeds=seeds, point_start=True)
+    assert result["shipped"].startswith("the same as the shipped"), result["shipped"]
+    assert {p: p.read_bytes() for p in folder.rglob("*") if p.is_file()} == before
