@@ -78,6 +78,21 @@ def check_sequence(sequence, repertoire: Repertoire, field: str) -> list[tuple[s
     return steps
 
 
+def decode_slots(vector: np.ndarray, slots: int, skill_names: list[str], min_duration: float,
+                 max_duration: float) -> list[tuple[str, float]]:
+    """[(skill, duration s)] of the filled slots of genes ``vector`` (2 slots,): gene ``2k``
+    picks slot k's skill of ``skill_names`` (or none), gene ``2k + 1`` its duration in
+    [``min_duration``, ``max_duration``]."""
+    steps = []
+    choices = len(skill_names)
+    for k in range(slots):
+        pick = min(int(vector[2 * k] * (choices + 1)), choices) - 1
+        if pick >= 0:
+            duration = min_duration + vector[2 * k + 1] * (max_duration - min_duration)
+            steps.append((skill_names[pick], float(duration)))
+    return steps
+
+
 class MacroSequence:
     """A decoded candidate: ``steps`` [(skill name, duration s)] and its actuation."""
 
@@ -153,15 +168,8 @@ class MacroLearner(BlackBoxLearner):
 
     def decode(self, vector: np.ndarray) -> list[tuple[str, float]]:
         """[(skill, duration)] of the filled slots, in order."""
-        steps = []
-        choices = len(self.skill_names)
-        for k in range(self.slots):
-            pick = min(int(vector[2 * k] * (choices + 1)), choices) - 1
-            if pick >= 0:
-                duration = self.min_duration + vector[2 * k + 1] * (
-                    self.max_duration - self.min_duration)
-                steps.append((self.skill_names[pick], float(duration)))
-        return steps
+        return decode_slots(vector, self.slots, self.skill_names, self.min_duration,
+                            self.max_duration)
 
     def controller(self, vector: np.ndarray, duration: float) -> MacroSequence:
         return MacroSequence(self.repertoire, self.decode(vector), self.overlap)

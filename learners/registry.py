@@ -27,6 +27,7 @@ from .scorers.pursuit import ActiveVisionLearner
 from .scorers.steering import SteeringLearner
 from .skills.basic_training import BasicTrainingLearner
 from .skills.stunt_learner import CoordinateStuntTableLearner, StuntTableLearner
+from .skills.stunt_trigger import TriggeredMacroLearner
 from .stroke import StrokeCMAESLearner, StrokeLearner
 from .switching import CoordinateSwitchingLearner, SwitchingLearner
 from .validation import ALL_ENVS, DRIVES, check_drives
@@ -37,7 +38,7 @@ LEARNERS: dict[str, type[Learner]] = {
                               BehavioursLearner, StrokeLearner, StrokeCMAESLearner,
                               SteeringLearner, SwitchingLearner,
                               CoordinateSwitchingLearner, StuntTableLearner,
-                              CoordinateStuntTableLearner)
+                              CoordinateStuntTableLearner, TriggeredMacroLearner)
 }
 L = TypeVar("L", bound=type[Learner])
 

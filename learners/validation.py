@@ -63,7 +63,7 @@ DRIVES: dict[str, tuple[Sequence[str], str]] = {
     **{name: (CORE_ENVS, "the envs of the fish's and the dolphin's bodies")
        for name in ("annealing", "cmaes", "handmc", "macro", "stroke", "stroke_cmaes",
                     "steering", "switching", "switching_coordinate", "stunt_table",
-                    "stunt_table_coordinate")},
+                    "stunt_table_coordinate", "macro_triggered")},
     "ppo": (ALL_ENVS, "this project's envs"),
     "basic_training": (ALL_ENVS, "this project's envs"),
     "active_vision": (PURSUIT_ENVS, "the pursuit"),

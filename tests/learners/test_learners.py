@@ -41,6 +41,7 @@ TINY = {
     "switching_coordinate": ({"start_states": 2}, 160),
     "stunt_table": ({"chains": 4, "start_states": 2}, 160),
     "stunt_table_coordinate": ({"start_states": 2}, 160),
+    "macro_triggered": ({"chains": 4, "start_states": 2, "slots": 2, "flight_slots": 2}, 160),
 }
 DOLPHIN_REPERTOIRE = str(Path(__file__).resolve().parents[2] / "repertoires" / "dolphin.json")
 FISH_REPERTOIRE = str(Path(__file__).resolve().parents[2] / "repertoires" / "fish_reactive.json")
@@ -72,7 +73,7 @@ def test_learner_runs_on_a_tiny_budget_and_logs_the_shared_tags(name, tmp_path,
     if name in ("steering", "switching", "switching_coordinate"):  # they need turns to both sides
         params = {**params, "repertoire": FISH_REPERTOIRE}
         env_id, tags = "Animat/FishReach-v0", ("eval/return", "eval/reached")
-    if name.startswith("stroke") or name.startswith("stunt_table"):
+    if name.startswith(("stroke", "stunt_table", "macro_triggered")):
         params = {**params, "repertoire": DOLPHIN_REPERTOIRE}
         env_id, tags = "Animat/DolphinSomersault-v0", ("eval/return",
                                                         "eval/flight_rotation_deg")
