@@ -145,8 +145,8 @@ class TriggeredMacroLearner(MacroLearner):
         if not isinstance(task_of(self.env_id, self.env_kwargs), StuntTask):
             raise ValueError(f"learner {self.name!r} plays a dolphin stunt: it needs a stunt "
                              f"env (e.g. Animat/DolphinSomersault-v0), not {self.env_id}")
+        self.flight_slots = self.own.flight_slots  # read by _x0, which a start_from checks
         super()._configure()
-        self.flight_slots = self.own.flight_slots
 
     def _genes(self, actuators: int) -> tuple[int, str]:
         return (2 * (self.slots + self.flight_slots) + 1,

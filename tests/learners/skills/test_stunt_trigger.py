@@ -73,6 +73,18 @@ def test_the_learner_learns_within_its_budget_and_its_agent_replays_its_score(tm
     assert np.mean([r["return"] for r in again]) == pytest.approx(result.metrics["eval/return"])
 
 
+def test_the_approach_can_start_from_a_learned_sequence_and_the_flight_from_random_genes():
+    start = [{"skill": "turn_up", "duration": 1.5}, {"skill": "move_forward", "duration": 0.5}]
+    learner = make_learner("macro_triggered", "Animat/DolphinLeap-v0", {},
+                           {"repertoire": REPERTOIRE, "skills": SKILLS, "slots": 2,
+                            "flight_slots": 2, "start_from": start}, seed=0)
+    x0 = learner._x0(6)
+    assert x0.shape == (9,)
+    sequence = learner.controller(x0, 9.0)
+    assert sequence.approach.steps == [("turn_up", 1.5), ("move_forward", 0.5)]
+    assert -1.0 <= sequence.trigger_bl <= 0.5 and len(sequence.flight.steps) <= 2
+
+
 @pytest.mark.parametrize("env_id, params, message", [
     ("Animat/FishSwim-v0", {}, "needs a stunt env"),
     ("Animat/DolphinLeap-v0", {"flight_slots": 0}, "flight_slots must be an integer >= 1"),
