@@ -106,29 +106,29 @@ def refined(agent, refine: int):
         physics_dt, frame_skip = core.system.dt, core.frame_skip
     finally:
         env.close()
-    finer = copy.copy(agent)
-    finer.env_kwargs = {**agent.env_kwargs, "physics_dt": physics_dt / refine,
-                        "frame_skip": frame_skip * refine}
-    try:
-        gym.make(finer.env_id, **finer.env_kwargs).close()
-    except TypeError as error:
-        raise RunError(f"--refine: {agent.env_id} does not take physics_dt and frame_skip "
-                       f"({error})") from None
-    return finer
+    return _with_env_kwargs(agent, {"physics_dt": physics_dt / refine,
+                                    "frame_skip": frame_skip * refine}, "--refine")
 
 
 def from_point_start(agent):
     """A copy of ``agent`` playing from its task's documented start: its placement alone
     (``start_spread="point"``, no ``reset_noise_scale``), the same on every seed; a RunError
     for an env without a start spread."""
-    point = copy.copy(agent)
-    point.env_kwargs = {**agent.env_kwargs, "start_spread": "point", "reset_noise_scale": 0.0}
+    return _with_env_kwargs(agent, {"start_spread": "point", "reset_noise_scale": 0.0},
+                            "--point-start")
+
+
+def _with_env_kwargs(agent, kwargs: dict, option: str):
+    """A copy of ``agent`` playing in its env with ``kwargs`` over its own; a RunError naming
+    ``option`` for an env that does not take them."""
+    changed = copy.copy(agent)
+    changed.env_kwargs = {**agent.env_kwargs, **kwargs}
     try:
-        gym.make(point.env_id, **point.env_kwargs).close()
+        gym.make(changed.env_id, **changed.env_kwargs).close()
     except TypeError as error:
-        raise RunError(f"--point-start: {agent.env_id} does not take start_spread "
+        raise RunError(f"{option}: {agent.env_id} does not take {' and '.join(kwargs)} "
                        f"({error})") from None
-    return point
+    return changed
 
 
 def _played(agent, refine: int, point_start: bool):
