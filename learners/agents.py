@@ -10,6 +10,8 @@ episode; ``env_id`` and ``env_kwargs`` name the env it was learned in.
   (:func:`animat.learners.controllers.tent.play`).
 * :class:`PolicyAgent`: a closed-loop policy (PPO's network with its observation
   normalisation, the active-vision controller).
+* :class:`BatchPolicyAgent`: a batched closed-loop policy played for one body (the dolphin's
+  stunt table, its triggered macro).
 * :class:`SkillSet`: a repertoire, one open-loop agent per skill, each in its own env.
 """
 
@@ -58,6 +60,21 @@ class PolicyAgent:
         seen = self.normalize(obs) if self.normalize is not None else obs
         action, _ = self.policy.predict(seen, deterministic=deterministic)
         return np.asarray(action), None
+
+
+class BatchPolicyAgent:
+    """One body played by a batched closed-loop ``policy``: ``reset(batch)`` begins episodes
+    of ``batch`` bodies, ``act(obs (B, O)) -> (B, A)`` gives their env actions."""
+
+    def __init__(self, policy, env_id: str = "", env_kwargs: dict | None = None) -> None:
+        self.policy, self.env_id, self.env_kwargs = policy, env_id, dict(env_kwargs or {})
+        self.reset()
+
+    def reset(self) -> None:
+        self.policy.reset(1)
+
+    def predict(self, obs, state=None, episode_start=None, deterministic: bool = True):
+        return self.policy.act(np.asarray(obs)[None])[0], None
 
 
 @dataclass

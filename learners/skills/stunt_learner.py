@@ -20,13 +20,14 @@ import numpy as np
 from animat.envs.registration import task_of
 from animat.envs.tasks.stunts import StuntTask
 
+from ..agents import BatchPolicyAgent
 from ..base import episode_timing
 from ..blackbox import BlackBoxLearner
 from ..controllers.table import CellTableEncoding
 from ..optimizers import annealing, coordinate
 from ..rollout import START_STATES, BatchEvaluator, check_worst_share
 from .repertoire import Repertoire, check_skill_names, kept_in_run
-from .stunt_table import StuntTable, StuntTableAgent, table_shape
+from .stunt_table import StuntTable, table_shape
 
 
 @dataclass(frozen=True)
@@ -119,10 +120,10 @@ class StuntTableLearner(CellTableEncoding, BlackBoxLearner):
         self.repertoire = kept_in_run(self.repertoire, checkpoint_dir)
         return super().learn(budget_env_steps, checkpoint_dir)
 
-    def agent(self, artefacts: dict, folder) -> StuntTableAgent:
+    def agent(self, artefacts: dict, folder) -> BatchPolicyAgent:
         """The learned table, playing one dolphin in the run's env."""
         policy = self._policy(np.asarray(artefacts["table"]), tuple(artefacts["layout"]))
-        return StuntTableAgent(policy, self.env_id, self.env_kwargs)
+        return BatchPolicyAgent(policy, self.env_id, self.env_kwargs)
 
 
 class CoordinateStuntTableLearner(StuntTableLearner):

@@ -109,18 +109,3 @@ class StuntTable:
                         self.clock, self.dt, self.layout[1])
         self.step += 1
         return (2.0 * np.clip(u, 0.0, 1.0) - 1.0).astype(np.float32)
-
-
-class StuntTableAgent:
-    """One dolphin's table as an agent (SB3's ``predict``) in the stunt env it plays."""
-
-    def __init__(self, policy: StuntTable, env_id: str = "",
-                 env_kwargs: dict | None = None) -> None:
-        self.policy, self.env_id, self.env_kwargs = policy, env_id, dict(env_kwargs or {})
-        self.reset()
-
-    def reset(self) -> None:
-        self.policy.reset(1)
-
-    def predict(self, obs, state=None, episode_start=None, deterministic: bool = True):
-        return self.policy.act(np.asarray(obs)[None])[0], None

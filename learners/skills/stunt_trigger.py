@@ -26,6 +26,7 @@ import numpy as np
 from animat.envs.registration import task_of
 from animat.envs.tasks.stunts import StuntTask
 
+from ..agents import BatchPolicyAgent
 from ..base import episode_timing
 from ..macro import MacroLearner, MacroParams, MacroSequence, decode_slots
 from ..rollout import BatchEvaluator
@@ -79,8 +80,11 @@ class TriggeredPolicy:
         self.height_at, self.steps = int(height_at), int(steps)
         self.reset()
 
-    def reset(self) -> None:
-        """Begin B episodes: no step played, no flight launched."""
+    def reset(self, batch: int | None = None) -> None:
+        """Begin B episodes (``batch``, if given, must be B): no step played, no flight
+        launched."""
+        if batch is not None and batch != len(self.trigger):
+            raise ValueError(f"{len(self.trigger)} triggered sequences for {batch} dolphins")
         self.step = 0
         self.launched = np.full(len(self.trigger), -1)  # the env step each flight began
 
@@ -95,19 +99,6 @@ class TriggeredPolicy:
         actions[flying] = self.flight[rows[flying], k - self.launched[flying]]
         self.step += 1
         return actions
-
-
-class TriggeredAgent:
-    """One dolphin's learned sequences as an agent (SB3's ``predict``) in the stunt env."""
-
-    def __init__(self, policy: TriggeredPolicy, env_id: str, env_kwargs: dict) -> None:
-        self.policy, self.env_id, self.env_kwargs = policy, env_id, dict(env_kwargs)
-
-    def reset(self) -> None:
-        self.policy.reset()
-
-    def predict(self, obs, state=None, episode_start=None, deterministic: bool = True):
-        return self.policy.act(np.asarray(obs)[None])[0], None
 
 
 class TriggeredEvaluator(BatchEvaluator):
@@ -184,7 +175,7 @@ class TriggeredMacroLearner(MacroLearner):
                 "trigger_height_bl": trigger, "height_at": int(evaluator.height_at),
                 "parameters": int(x.size)}
 
-    def agent(self, artefacts: dict, folder) -> TriggeredAgent:
+    def agent(self, artefacts: dict, folder) -> BatchPolicyAgent:
         """The learned sequences and trigger, playing one dolphin in the run's env."""
         dt, steps = episode_timing(self.env_id, self.env_kwargs)
         sequence = TriggeredSequence(
@@ -193,7 +184,7 @@ class TriggeredMacroLearner(MacroLearner):
             float(artefacts["trigger_height_bl"]))
         policy = TriggeredPolicy([sequence], np.zeros(1, int), dt, steps,
                                  int(artefacts["height_at"]))
-        return TriggeredAgent(policy, self.env_id, self.env_kwargs)
+        return BatchPolicyAgent(policy, self.env_id, self.env_kwargs)
 
 
 def _listed(steps: list[tuple[str, float]]) -> list[dict]:
