@@ -25,13 +25,19 @@ def test_there_are_shipped_results():
         f.values[0].name for f in FOLDERS}
 
 
-@pytest.mark.parametrize("folder", FOLDERS)
-def test_a_shipped_result_re_scores_to_what_it_quotes(folder):
+def _re_scores_unchanged(folder, quoted: str, **played) -> None:
+    """``animat eval`` of ``folder`` on the seeds of its ``quoted`` file, played as ``played``
+    says, gives the figures it quotes and writes nothing into the folder."""
     before = {p: p.read_bytes() for p in folder.rglob("*") if p.is_file()}
-    seeds = read_json(folder / "eval.json")["seeds"]
-    result = evaluate(folder, seeds=seeds)
+    seeds = read_json(folder / quoted)["seeds"]
+    result = evaluate(folder, seeds=seeds, **played)
     assert result["shipped"].startswith("the same as the shipped"), result["shipped"]
     assert {p: p.read_bytes() for p in folder.rglob("*") if p.is_file()} == before
+
+
+@pytest.mark.parametrize("folder", FOLDERS)
+def test_a_shipped_result_re_scores_to_what_it_quotes(folder):
+    _re_scores_unchanged(folder, "eval.json")
 
 
 POINT_STARTS = [pytest.param(p.parent, id=p.parent.relative_to(RESULTS).as_posix(),
@@ -43,8 +49,4 @@ POINT_STARTS = [pytest.param(p.parent, id=p.parent.relative_to(RESULTS).as_posix
 def test_a_shipped_result_from_its_documented_start_re_scores_to_what_it_quotes(folder):
     """The figure a shipped folder quotes from its task's documented start
     (``animat eval RUN --point-start``) is what its agent does from there."""
-    before = {p: p.read_bytes() for p in folder.rglob("*") if p.is_file()}
-    seeds = read_json(folder / "eval_point_start.json")["seeds"]
-    result = evaluate(folder, seeds=seeds, point_start=True)
-    assert result["shipped"].startswith("the same as the shipped"), result["shipped"]
-    assert {p: p.read_bytes() for p in folder.rglob("*") if p.is_file()} == before
+    _re_scores_unchanged(folder, "eval_point_start.json", point_start=True)
