@@ -19,12 +19,15 @@ scene and the eye poses.
 
 from __future__ import annotations
 
-from typing import Protocol
+from collections.abc import Callable
+from typing import Any, Protocol, overload
 
 import gymnasium as gym
 import numpy as np
 
-from ..checks import shown
+from ..checks import check_entry_name, is_new_entry, shown
+from ..vision.pixels import RetinaPixels
+from ..vision.retina import Retina, RetinaParams
 from .batch import OBS_LIMIT, Kinematics
 
 
@@ -118,13 +121,61 @@ class TaskEntries:
         return core.task_observation(kinematics)
 
 
+SensorFactory = Callable[..., Any]
+SENSORS: dict[str, SensorFactory] = {
+    "proprioception": Proprioception, "task": TaskEntries,
+    "retina": lambda **fields: Retina(RetinaParams(**fields)), "pixels": RetinaPixels,
+}
+
+
+@overload
+def register_sensor(name: str, factory: None = None) -> Callable[[SensorFactory],
+                                                                   SensorFactory]: ...
+@overload
+def register_sensor(name: str, factory: SensorFactory) -> SensorFactory: ...
+def register_sensor(name: str, factory=None):
+    """Register ``factory`` (a sensor class, or a function of keyword arguments returning a
+    sensor) under ``name``, so that an env's ``sensors`` list, and so a config, may name it:
+    ``"name"`` or ``{"name": "name", **its keyword arguments}``. A plain call or a decorator;
+    either returns the factory. Refused with a ValueError of one line: a name that is not a
+    non-empty string, or one taken by another factory."""
+    check_entry_name("register_sensor", name)
+    if factory is None:
+        return lambda given: register_sensor(name, given)
+    if not callable(factory):
+        raise ValueError(f"register_sensor({name!r}, ...): not callable: {shown(factory)}")
+    if is_new_entry("register_sensor", "sensor", SENSORS, name, factory):
+        SENSORS[name] = factory
+    return factory
+
+
+def make_sensor(spec: Any) -> Any:
+    """A sensor from ``spec``: a sensor (returned as it is), a registered name, or a mapping
+    ``{"name": ..., **keyword arguments}``; a ValueError of one line for an unknown name or
+    bad arguments."""
+    if isinstance(spec, str):
+        spec = {"name": spec}
+    if not isinstance(spec, dict):
+        return spec
+    fields = dict(spec)
+    name = fields.pop("name", None)
+    if not (isinstance(name, str) and name in SENSORS):
+        raise ValueError(f"unknown sensor {shown(name)}; registered: {sorted(SENSORS)}")
+    try:
+        return SENSORS[name](**fields)
+    except TypeError as error:
+        raise ValueError(f"sensor {name!r}: {error}") from None
+
+
 class Observer:
-    """Assembles the observation of a batch from ``sensors`` (default: proprioception)."""
+    """Assembles the observation of a batch from ``sensors`` (default: proprioception): each a
+    sensor, or a registered sensor's name or ``{"name": ..., **arguments}``
+    (:func:`make_sensor`)."""
 
     def __init__(self, core: Sensed, sensors: list | None = None) -> None:
         if sensors is not None and not isinstance(sensors, (list, tuple)):
             raise ValueError(f"sensors must be a list of sensors, got {shown(sensors)}")
-        self.sensors = list(sensors) if sensors else [Proprioception()]
+        self.sensors = [make_sensor(s) for s in sensors] if sensors else [Proprioception()]
         for sensor in self.sensors:
             if not all(hasattr(sensor, a) for a in ("name", "space", "read")):
                 raise ValueError(f"sensors: each must have a name, space() and read() "

@@ -19,8 +19,10 @@ from __future__ import annotations
 
 import cv2
 import numpy as np
+from numba import njit
 
 BINS = (16, 16, 8)  # histogram bins on the rg, by and wb axes
+CV_CHANNELS = 128  # images blurred in one OpenCV call (its filters take up to 512 channels)
 
 
 def opponent(image: np.ndarray) -> np.ndarray:
@@ -71,6 +73,57 @@ def backproject(image: np.ndarray, model_hist: np.ndarray, radius: int) -> np.nd
     disk = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (size, size)).astype(np.float32)
     return cv2.filter2D(evidence.astype(np.float32), -1, disk / disk.sum(),
                         borderType=cv2.BORDER_CONSTANT)
+
+
+@njit(cache=True)
+def _ratios(images: np.ndarray, model: np.ndarray) -> np.ndarray:
+    """(H, W, E L) float32: each pixel's ``min(M / I, 1)`` for its colour bin, as
+    :func:`backproject` computes it, each of the E L images (``images`` (E, H, W, L, 3) uint8:
+    E eyes of L levels each, layer ``e L + l``) with its own histogram I; ``model``: the flat
+    bins."""
+    eyes, height, width, levels = images.shape[0], images.shape[1], images.shape[2], \
+        images.shape[3]
+    out = np.empty((height, width, eyes * levels), np.float32)
+    index = np.empty((height, width), np.int64)
+    tiny = np.float32(1e-6)
+    for e in range(eyes):
+        for level in range(levels):
+            hist = np.zeros(model.size, np.int64)
+            for y in range(height):
+                for x in range(width):
+                    r = np.int64(images[e, y, x, level, 0])
+                    g = np.int64(images[e, y, x, level, 1])
+                    b = np.int64(images[e, y, x, level, 2])
+                    rg = (r - g + 255) // 2 * BINS[0] // 256
+                    by = (2 * b - r - g + 510) // 4 * BINS[1] // 256
+                    wb = (r + g + b) // 3 * BINS[2] // 256
+                    k = (rg * BINS[1] + by) * BINS[2] + wb
+                    index[y, x] = k
+                    hist[k] += 1
+            layer = e * levels + level
+            for y in range(height):
+                for x in range(width):
+                    k = index[y, x]
+                    out[y, x, layer] = min(model[k] / max(np.float32(hist[k]), tiny), 1.0)
+    return out
+
+
+def backproject_layers(images: np.ndarray, model_hist: np.ndarray, radius: int) -> np.ndarray:
+    """(H, W, E L) float32: :func:`backproject` of each image of ``images`` (E, H, W, L, 3)
+    uint8 (E eyes' L levels, in any memory layout, e.g. the cameras' own) with the same model,
+    the same numbers, as the layers of one image (layer ``e L + l``): the ratios in one
+    compiled pass, the blur over :data:`CV_CHANNELS` layers an OpenCV call."""
+    model = np.ascontiguousarray(model_hist).reshape(-1)  # float32 or float64, as backproject
+    if model.dtype not in (np.float32, np.float64):
+        model = model.astype(np.float64)
+    layers = _ratios(images, model)
+    size = 2 * int(radius) + 1
+    disk = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (size, size)).astype(np.float32)
+    for start in range(0, layers.shape[2], CV_CHANNELS):
+        chunk = np.ascontiguousarray(layers[:, :, start:start + CV_CHANNELS])
+        blurred = cv2.filter2D(chunk, -1, disk / disk.sum(), borderType=cv2.BORDER_CONSTANT)
+        layers[:, :, start:start + CV_CHANNELS] = blurred.reshape(chunk.shape)
+    return layers
 
 
 def locate(image: np.ndarray, model_hist: np.ndarray, radius: int) -> tuple[float, float, float]:

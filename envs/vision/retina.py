@@ -34,17 +34,30 @@ from ..render.camera import Camera, Frame, Scene
 class RetinaParams:
     """levels: coaxial cameras per eye; size: pixels per side of each; field_of_view: level
     0's full angle, deg (level l sees half of level l-1's); eye_offset: (forward, left, up)
-    of the left eye in the head frame, body lengths (the right eye mirrors it in y)."""
+    of the left eye in the head frame, body lengths (the right eye mirrors it in y); drawn:
+    which levels' cameras are drawn, in order (default all: ``0 .. levels - 1``), e.g. (0, 3)
+    for the widest and the fovea alone."""
 
     levels: int = 4
     size: int = 64
     field_of_view: float = 120.0
     eye_offset: tuple[float, float, float] = (-0.08, 0.05, 0.02)
+    drawn: tuple[int, ...] | None = None
 
     def __post_init__(self) -> None:
         if self.levels < 1 or self.size < 8 or not 0.0 < self.field_of_view < 170.0:
             raise ValueError("RetinaParams: need levels >= 1, size >= 8, 0 < field_of_view "
                              "< 170 deg")
+        drawn = self.drawn
+        if drawn is not None and (not drawn or len(set(drawn)) < len(drawn) or any(
+                type(k) is not int or not 0 <= k < self.levels for k in drawn)):
+            raise ValueError(f"RetinaParams: drawn must name distinct levels in "
+                             f"0..{self.levels - 1}, got {drawn!r}")
+
+    @property
+    def drawn_levels(self) -> tuple[int, ...]:
+        """The levels whose cameras are drawn, in order."""
+        return tuple(range(self.levels)) if self.drawn is None else tuple(self.drawn)
 
     def focal(self, level: int) -> float:
         """Focal length of level ``level``, pixels."""
@@ -104,11 +117,12 @@ def eye_poses_batch(frames: np.ndarray, heads: np.ndarray, length: float, gaze: 
 
 def render_eye(scene: Scene, position: np.ndarray, rotation: np.ndarray,
                params: RetinaParams = RetinaParams(), frame: Frame | None = None) -> np.ndarray:
-    """(levels, size, size, 3) uint8: the eye's images from level 0 (widest) to the fovea.
-    ``frame``: the scene already prepared for this instant (both eyes share it)."""
+    """(levels, size, size, 3) uint8: the eye's images from level 0 (widest) to the fovea (its
+    ``drawn_levels``). ``frame``: the scene already prepared for this instant (both eyes share
+    it)."""
     frame = scene.prepare() if frame is None else frame
     images = []
-    for level in range(params.levels):
+    for level in params.drawn_levels:
         camera = Camera(params.size, params.size, params.focal(level), position, rotation)
         images.append(camera.draw(frame))
     return np.stack(images)
@@ -177,7 +191,7 @@ class Retina:
         if not isinstance(source, Sighted):
             raise ValueError(f"sensors: the retina needs an observer with eyes (e.g. "
                              f"Animat/FishPursuit-v0), got a {type(source).__name__}")
-        shape = (self.params.size, self.params.size, 3 * self.params.levels)
+        shape = (self.params.size, self.params.size, 3 * len(self.params.drawn_levels))
         return gym.spaces.Dict({eye: gym.spaces.Box(0, 255, shape, np.uint8)
                                 for eye in self.EYES})
 

@@ -5,6 +5,7 @@
 
 from __future__ import annotations
 
+import time
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -48,7 +49,8 @@ def progress_callback(learner: PPOLearner, model, venv, folder: Path | None, sta
     """SB3's callback for a run: an evaluation every ``eval_every`` env steps (but at the run's
     ``final`` step, where :meth:`~animat.learners.ppo.learner.PPOLearner.learn` evaluates the
     last policy: one value per step), a checkpoint every ``checkpoint_every`` between
-    rollouts."""
+    rollouts, and where the wall time goes: ``time/rollout_seconds`` (a rollout collected, its
+    evaluations included) and ``time/update_seconds`` (the update on it, before the next)."""
     from stable_baselines3.common.callbacks import BaseCallback
 
     every_eval, every_save = learner.hp["eval_every"], learner.hp["checkpoint_every"]
@@ -58,6 +60,8 @@ def progress_callback(learner: PPOLearner, model, venv, folder: Path | None, sta
             super().__init__()
             self.next_eval = _next_multiple(model.num_timesteps, every_eval)
             self.next_save = _next_multiple(model.num_timesteps, every_save)
+            self.began = time.perf_counter()
+            self.ended: float | None = None
 
         def _on_step(self) -> bool:
             if self.next_eval <= self.num_timesteps < final:
@@ -66,11 +70,20 @@ def progress_callback(learner: PPOLearner, model, venv, folder: Path | None, sta
                 self.next_eval = _next_multiple(self.num_timesteps, every_eval)
             return True
 
+        def _on_rollout_end(self) -> None:
+            self.ended = time.perf_counter()
+            learner.logger.scalar("time/rollout_seconds", self.ended - self.began,
+                                  self.num_timesteps)
+
         def _on_rollout_start(self) -> None:
+            if self.ended is not None:  # the update since the last rollout ended
+                learner.logger.scalar("time/update_seconds", time.perf_counter() - self.ended,
+                                      self.num_timesteps)
             # between rollouts (the last one trained on): a checkpoint at a whole number
             # of rollouts, so that a resumed run collects exactly what the whole one would
             if folder and self.num_timesteps >= self.next_save:
                 learner._save(folder, model, venv, state, start)
                 self.next_save = _next_multiple(self.num_timesteps, every_save)
+            self.began = time.perf_counter()
 
     return Progress()

@@ -5,7 +5,8 @@
 numbers; ``normalize: true``, ``false``, a mapping or the zoo's string
 ``"{'norm_obs': True, 'norm_reward': False}"`` (VecNormalize's keywords); ``policy_kwargs`` as a
 mapping or the zoo's string ``"dict(activation_fn=nn.Tanh, net_arch=dict(pi=[64], vf=[64]))"``
-(literals, ``dict(...)`` and ``nn.<Module>`` names only: nothing else is evaluated). Values are
+(literals, ``dict(...)``, ``nn.<Module>`` names and the project's feature extractors
+(:mod:`.extractors`, e.g. ``RetinaCNN``) only: nothing else is evaluated). Values are
 kept as written (they go into run folders as such); :func:`schedule`,
 :func:`normalize_kwargs` and :func:`policy_kwargs` turn them into what SB3 takes.
 """
@@ -43,7 +44,8 @@ def normalize_kwargs(value: bool | dict | str) -> dict | None:
 
 
 def _evaluate(node: ast.AST):
-    """Literals, lists, tuples, dicts, ``dict(k=v)``, ``-x`` and ``nn.<Module>`` names."""
+    """Literals, lists, tuples, dicts, ``dict(k=v)``, ``-x``, ``nn.<Module>`` names and the
+    feature extractors' names (:data:`animat.learners.ppo.extractors.EXTRACTORS`)."""
     if isinstance(node, ast.Constant):
         return node.value
     if isinstance(node, (ast.List, ast.Tuple)):
@@ -56,6 +58,11 @@ def _evaluate(node: ast.AST):
     if (isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id == "dict"
             and not node.args):
         return {kw.arg: _evaluate(kw.value) for kw in node.keywords}
+    if isinstance(node, ast.Name):
+        from .extractors import EXTRACTORS
+
+        if node.id in EXTRACTORS:
+            return EXTRACTORS[node.id]
     if isinstance(node, ast.Attribute):
         import torch.nn as nn
 
@@ -64,8 +71,8 @@ def _evaluate(node: ast.AST):
         if owner in ("nn", "th.nn", "torch.nn") and isinstance(found, type) and issubclass(
                 found, nn.Module):
             return found
-    raise ValueError(f"{ast.unparse(node)!r} is not allowed here (literals, dict(...) and "
-                     "nn.<Module> only)")
+    raise ValueError(f"{ast.unparse(node)!r} is not allowed here (literals, dict(...), "
+                     "nn.<Module> and the extractors RetinaCNN only)")
 
 
 def policy_kwargs(value: dict | str) -> dict:

@@ -144,7 +144,7 @@ class FishPursuitEnv(gym.Env):
         self.glances = params.glances
         self.view = ObserverView(self.worlds)
         self.observer, space = pursuit_observer(self.view, sensors, oracle, eyes)
-        self.stack = FrameStack(frames, space)
+        self.stack = FrameStack(frames, space, self.observer.channels_first)
         self.observation_space = self.stack.space(space)
         self.action_space = gym.spaces.Box(-1.0, 1.0, (7,), np.float32)
         self._started = False

@@ -22,9 +22,12 @@ import gymnasium as gym
 import numpy as np
 
 from ...core.batch import Kinematics
-from ...core.sensors import Observer, Proprioception, Sensed
+from ...core.sensors import Observer, Proprioception, Sensed, register_sensor
 from ...render.camera import Scene
+from ...vision.pixels import TargetEvidence
 from ...vision.retina import Retina, RetinaParams
+from .memory import prey_model_histogram
+from .start import PREY
 
 THETA_RANGE, PHI_RANGE = np.radians(60.0), np.radians(30.0)  # the gaze's units, rad
 
@@ -129,6 +132,19 @@ class PreyPosition:
         return np.clip(local, -self.LIMIT, self.LIMIT).astype(np.float32)
 
 
+def prey_evidence(levels: list[int] | tuple[int, ...] = (0, 3), size: int = 32,
+                  radius: int = 2) -> TargetEvidence:
+    """The ``evidence`` sensor of the pursuit: each chosen camera's backprojection of the
+    pursuer's colour memory of its prey (:func:`~.memory.prey_model_histogram`, made from
+    model images before any episode), the paper's perception without its controller."""
+    return TargetEvidence(prey_model_histogram(), levels, size, radius)
+
+
+register_sensor("gaze", Gaze)
+register_sensor("prey", lambda target=PREY: PreyPosition(target))
+register_sensor("evidence", prey_evidence)
+
+
 def default_sensors(retina: RetinaParams = RetinaParams()) -> list:
     """The pursuit's sensors: the eyes (``left_eye``, ``right_eye``), the gaze and
     proprioception."""
@@ -150,6 +166,8 @@ class PursuitObserver(Observer):
                 raise ValueError(f"sensors: entry names must be unique, got {twice} twice")
             spaces.update(entries)
         self.single_space = gym.spaces.Dict(spaces)
+        self.channels_first = frozenset(  # image entries whose channels come first
+            s.name for s in self.sensors if getattr(s, "channels_first", False))
 
     def observe(self, view: Sensed, kinematics: Kinematics) -> dict[str, np.ndarray]:
         """Entry name -> (1, *shape) array: the sensors' readings of the observer (``view``,

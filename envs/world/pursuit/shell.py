@@ -86,20 +86,26 @@ def pursuit_observer(view: ObserverView, sensors: list | None, oracle: bool, eye
 
 class FrameStack:
     """The last ``frames`` readings of a ``Dict`` observation's images (its uint8 entries of
-    shape (H, W, C)), stacked along their channels, the oldest first: (H, W, frames C). A
-    reset fills the stack with its first reading. The rest of the observation is as read."""
+    three dimensions), stacked along their channels, the oldest first: (H, W, frames C), or
+    (frames C, H, W) for the entries named in ``first`` (channel-first images, e.g. the
+    ``pixels`` sensor's). A reset fills the stack with its first reading. The rest of the
+    observation is as read."""
 
-    def __init__(self, frames: int, space: gym.spaces.Dict) -> None:
+    def __init__(self, frames: int, space: gym.spaces.Dict,
+                 first: frozenset[str] = frozenset()) -> None:
         self.frames = check_integer("frames", frames, 1, MAX_FRAMES)
         self.images = [key for key, sub in space.spaces.items()
                        if sub.dtype == np.uint8 and len(sub.shape) == 3]
+        self.axis = {key: -3 if key in first else -1 for key in self.images}
         self._stacks: dict[str, np.ndarray] = {}
 
     def space(self, space: gym.spaces.Dict) -> gym.spaces.Dict:
         """One observer's stacked space."""
-        stacked = {key: gym.spaces.Box(0, 255, (*space[key].shape[:2],
-                                               self.frames * space[key].shape[2]), np.uint8)
-                   for key in self.images}
+        stacked = {}
+        for key in self.images:
+            shape = list(space[key].shape)
+            shape[self.axis[key]] *= self.frames
+            stacked[key] = gym.spaces.Box(0, 255, tuple(shape), np.uint8)
         return gym.spaces.Dict({**space.spaces, **stacked})
 
     def __call__(self, obs: dict[str, np.ndarray], fresh: bool) -> dict[str, np.ndarray]:
@@ -108,12 +114,12 @@ class FrameStack:
         if self.frames == 1:
             return obs
         for key in self.images:
-            now = obs[key]
+            now, axis = obs[key], self.axis[key]
             if fresh or key not in self._stacks:
-                self._stacks[key] = np.concatenate([now] * self.frames, axis=-1)
+                self._stacks[key] = np.concatenate([now] * self.frames, axis=axis)
             else:
-                kept = self._stacks[key][..., now.shape[-1]:]
-                self._stacks[key] = np.concatenate([kept, now], axis=-1)
+                kept = np.delete(self._stacks[key], np.s_[:now.shape[axis]], axis=axis)
+                self._stacks[key] = np.concatenate([kept, now], axis=axis)
             obs[key] = self._stacks[key].copy()
         return obs
 

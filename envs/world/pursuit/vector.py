@@ -65,7 +65,7 @@ class FishPursuitVectorEnv(VectorEnv):
             self.worlds.body_length
         self.view = ObserverView(self.worlds)
         self.observer, space = pursuit_observer(self.view, sensors, oracle, eyes)
-        self.stack = FrameStack(frames, space)
+        self.stack = FrameStack(frames, space, self.observer.channels_first)
         self.single_observation_space = self.stack.space(space)
         self.single_action_space = gym.spaces.Box(-1.0, 1.0, (7,), np.float32)
         self.observation_space = batch_space(self.single_observation_space, self.num_envs)

@@ -169,11 +169,13 @@ class PursuitWorlds:
 
     def eye_images(self, params: RetinaParams, kinematics: Kinematics) -> np.ndarray:
         """(N, 2, levels, size, size, 3) uint8: every observer's eyes, through ``params``'
-        cameras, drawn in one call (the cameras of all worlds over threads)."""
+        cameras (its ``drawn_levels``), drawn in one call (the cameras of all worlds over
+        threads)."""
         positions, rotations = self.eye_poses(kinematics)
         triangles, colours = self._triangles()
-        levels, n = params.levels, self.num_worlds
-        focals = np.array([params.focal(level) for level in range(levels)])
+        drawn, n = params.drawn_levels, self.num_worlds
+        levels = len(drawn)
+        focals = np.array([params.focal(level) for level in drawn])
         images = draw_cameras(
             triangles, colours, np.repeat(np.arange(n), 2 * levels),
             np.repeat(positions.reshape(-1, 3), levels, axis=0),
