@@ -17,10 +17,10 @@ speed), ``Animat/DolphinSpin-v0`` (a pitch spin), ``Animat/DolphinLeap-v0``,
 
 A user adds to them from their own module, without editing the package
 (docs/tutorials/extending.md): :func:`register_body` (a body by name), :func:`register_task` (a
-task by name) and :func:`register_env` (an env id of a task and a body, with the native vector
-env); a sensor needs no registration, it is given to an env as ``sensors=[...]`` (or among an
-id's registered kwargs). The first two are imported when first asked for, so that ``import
-animat`` stays light.
+task by name), :func:`register_sensor` (a sensor by name, so that a config's ``sensors`` list
+may name it; a sensor object is taken as it is, too) and :func:`register_env` (an env id of a
+task and a body, with the native vector env). The first three are imported when first asked
+for, so that ``import animat`` stays light.
 """
 
 from __future__ import annotations
@@ -31,14 +31,15 @@ from .registration import register, register_env
 
 if TYPE_CHECKING:
     from .bodies import register_body
+    from .core.sensors import register_sensor
     from .tasks import register_task
 
-__all__ = ["register", "register_body", "register_env", "register_task"]
+__all__ = ["register", "register_body", "register_env", "register_sensor", "register_task"]
 
 
 def __getattr__(name: str) -> Any:
-    """:func:`register_body` and :func:`register_task`, their rooms imported when first asked
-    for (the tasks import the physics)."""
+    """:func:`register_body`, :func:`register_sensor` and :func:`register_task`, their rooms
+    imported when first asked for (the tasks import the physics)."""
     if name == "register_body":
         from .bodies import register_body
 
@@ -47,6 +48,10 @@ def __getattr__(name: str) -> Any:
         from .tasks import register_task
 
         return register_task
+    if name == "register_sensor":
+        from .core.sensors import register_sensor
+
+        return register_sensor
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 

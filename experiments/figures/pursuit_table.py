@@ -4,8 +4,8 @@
 FOLDERs scored on ``Animat/FishPursuit-v0`` (``result.json``, ``config.yaml`` and the
 ``eval.json`` of ``animat eval RUN --episodes N``: N episodes of seeds it never saw) and prints a
 Markdown table per benchmark variant (the env's arguments but those that are the agent's: the
-privileged ``oracle`` entry, ``eyes`` and ``frames``, what it observes, and ``glances``, the
-looks a frame, a column of the table): for each
+privileged ``oracle`` entry, ``eyes``, ``sensors`` and ``frames``, what it observes, and
+``glances``, the looks a frame, a column of the table): for each
 run, on the unseen episodes, ``eval/fovea_fraction`` (the share of all frames with the prey in
 both foveas; mean ± std over the episodes, and a 95% bootstrap interval of the mean), the same
 normalised between the
@@ -33,7 +33,7 @@ from .statistics import mean_std
 
 # the env's arguments that are the agent's (what it observes, how often it looks), not the
 # benchmark's: runs that differ only in them are rows of one table
-AGENTS = ("oracle", "glances", "eyes", "frames")
+AGENTS = ("oracle", "glances", "eyes", "frames", "sensors")
 COLUMNS = (("first_foveation_s", "first foveation, s", 1), ("distance_closed_bl",
            "closed, BL", 1), ("captured", "captured", 2), ("distractor_fraction",
            "distractor", 2))

@@ -30,6 +30,12 @@ action's units) and ``proprioception`` (the fish envs' 150 entries); with ``glan
 ``glance`` ``Box(0, glances - 1, (1,))``, the looks left before the body moves. It takes
 stable-baselines3's ``MultiInputPolicy`` as it is.
 
+Sized for a learner (:mod:`animat.envs.vision.pixels`), the retina's place may go to
+``pixels`` (the chosen cameras of both eyes, e.g. ``{"name": "pixels", "levels": [0, 3],
+"size": 32}``: ``Box(0, 255, (4, 32, 32), uint8)``, grey, channel-first) or ``evidence`` (each
+chosen camera's backprojection of the prey's colour memory, the paper's perception, the same
+shapes); with ``frames`` they stack along their first axis.
+
 ## Glances
 With ``glances`` = G > 1 each frame (``dt``) is G env steps: the first G - 1 move the eyes
 alone (the action's gaze; its swim, turn and pitch are ignored), with the scene still and the
@@ -77,8 +83,10 @@ left: (-60, 60); within [-360, 360], spanning at most 360), ``flee_distance_bl``
 (0, 100]), ``prey_speed`` (0.5; the swim-MC's speed, in [0, 1]), ``distractors`` (1) and
 ``passers`` (3) (integers in [0, 8]), ``occluders`` (True), ``glances`` (1; in [1, 4]: looks
 per frame, see Glances),
-``sensors`` (a list of sensors that read the observer's view, their entries' names unique;
-default :func:`~animat.envs.world.pursuit.senses.default_sensors`: the retina, the gaze and
+``sensors`` (a list of sensors that read the observer's view, their entries' names unique,
+each a sensor or a registered one's name or ``{"name": ..., **arguments}``: ``retina``,
+``pixels``, ``evidence``, ``gaze``, ``proprioception``, ``prey``; default
+:func:`~animat.envs.world.pursuit.senses.default_sensors`: the retina, the gaze and
 proprioception), ``oracle`` (False; True adds the privileged entry ``prey``, the prey's centre
 of mass from the observer's nose in its body frame, BL
 (:class:`~animat.envs.world.pursuit.senses.PreyPosition`), for the oracle baseline and

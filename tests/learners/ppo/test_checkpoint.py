@@ -158,13 +158,18 @@ def _numbers(sink: MemorySink, after: int) -> list:
 
 
 # the fish's native batch (normalised), the pursuit's native batch of worlds (pixels, a Dict
-# space, the state replayed from how the episodes began), and single envs replayed (the
-# living world, its oracle's vector)
+# space, the state replayed from how the episodes began; and its compact pixels stacked over
+# frames, through RetinaCNN), and single envs replayed (the living world, its oracle's vector)
 PIXELS = {**PARAMS, "policy": "MultiInputPolicy", "n_envs": 2, "n_steps": 8, "batch_size": 16,
           "eval_every": 32, "checkpoint_every": 16,
           "policy_kwargs": "dict(net_arch=[8], features_extractor_kwargs={'cnn_output_dim': 8})"}
+COMPACT = {"duration": 0.6, "frames": 3, "sensors": [
+    {"name": "pixels", "levels": [0, 3], "size": 16}, "gaze", "proprioception"]}
+RETINA_CNN = {**PIXELS, "policy_kwargs": "dict(features_extractor_class=RetinaCNN, net_arch=[8]"
+              ", features_extractor_kwargs=dict(cnn_output_dim=8, channels=(4, 4, 4)))"}
 RESUMED = {"native": ("Animat/FishSwim-v0", {"duration": 0.5}, PARAMS, 192, [64, 100, 130]),
            "pursuit": ("Animat/FishPursuit-v0", {"duration": 0.6}, PIXELS, 64, [16, 40]),
+           "compact pixels": ("Animat/FishPursuit-v0", COMPACT, RETINA_CNN, 64, [16, 40]),
            "replayed": ("Animat/MarineWorld-v0", {"duration": 0.6}, {
                **PIXELS, "policy": "MlpPolicy", "policy_kwargs": "dict(net_arch=[8])"}, 64,
                [16, 40])}
