@@ -8,7 +8,10 @@ depth buffer, the water and its haze: :func:`~animat.envs.render.raster.draw_pic
 camera gives bit for bit the picture :class:`~animat.envs.render.camera.Camera` gives, whatever
 else is in the batch. What it saves is the Python around each camera (about half of a retina's
 time when drawn one camera at a time) and one core's idleness: ``prange`` over chunks of
-cameras, each chunk drawn on one work space (:func:`~animat.envs.render.raster.canvas`).
+cameras, each chunk drawn on one work space (:func:`~animat.envs.render.raster.canvas`); and
+each world's triangles are bounded once, in chunks of consecutive ones, so that every camera
+leaves out the chunks it cannot see (:func:`~animat.envs.render.raster.seen_chunks`: the same
+pictures; the fovea sees about a hundredth of the scene).
 
 The fish's and the scenery's colours are flat-shaded by
 :func:`~animat.envs.render.camera.shade`, as :meth:`~animat.envs.render.camera.Scene.prepare`
@@ -22,14 +25,22 @@ import numpy as np
 from numba import njit, prange
 
 from .camera import FAR, NEAR, SAND, SHADOW_COLOUR, WATER_BOTTOM, WATER_TOP
-from .raster import canvas, draw_picture_into
+from .raster import CULL_CHUNK, canvas, chunk_spheres, draw_picture_into
 
 CHUNKS_PER_THREAD = 4  # chunks of cameras per thread: few canvases, and the threads balanced
 
 
+@njit(cache=True)
+def _bound(triangles, spheres) -> None:
+    """Each world's chunks of triangles (N, T, 3, 3) bounded once, for all its cameras:
+    ``spheres`` (N, C, 4) (:func:`~animat.envs.render.raster.chunk_spheres`)."""
+    for w in range(triangles.shape[0]):
+        chunk_spheres(triangles[w], spheres[w])
+
+
 @njit(cache=True, parallel=True)
-def _draw(triangles, colours, world, eyes, rotations, focals, seabed_z, tiles, visibility,
-          sand, top, bottom, far, near, images, chunks) -> None:
+def _draw(triangles, colours, spheres, world, eyes, rotations, focals, seabed_z, tiles,
+          visibility, sand, top, bottom, far, near, images, chunks) -> None:
     levels, height, width = images.shape[3], images.shape[1], images.shape[2]
     for k in prange(chunks):  # each chunk of cameras on one canvas
         image = np.empty((height, width, 3), np.uint8)  # contiguous while it is drawn
@@ -38,7 +49,7 @@ def _draw(triangles, colours, world, eyes, rotations, focals, seabed_z, tiles, v
             w = world[c]
             draw_picture_into(triangles[w], colours[w], eyes[c], rotations[c], focals[c],
                               seabed_z[w], tiles[w], visibility[w], sand, top, bottom, far,
-                              near, image, work)
+                              near, image, work, spheres[w])
             images[c // levels, :, :, c % levels] = image
 
 
@@ -58,7 +69,10 @@ def draw_cameras(triangles: np.ndarray, colours: np.ndarray, world: np.ndarray,
     if count % levels:
         raise ValueError(f"{count} cameras are not groups of {levels} levels")
     images = np.empty((count // levels, size[0], size[1], levels, 3), np.uint8)
-    _draw(np.ascontiguousarray(triangles, float), np.ascontiguousarray(colours, np.uint8),
+    triangles = np.ascontiguousarray(triangles, float)
+    spheres = np.empty((len(triangles), -(-triangles.shape[1] // CULL_CHUNK), 4))
+    _bound(triangles, spheres)
+    _draw(triangles, np.ascontiguousarray(colours, np.uint8), spheres,
           np.ascontiguousarray(world, np.int64), np.ascontiguousarray(eyes, float),
           np.ascontiguousarray(rotations, float), np.ascontiguousarray(focals, float),
           np.ascontiguousarray(seabed_z, float), np.ascontiguousarray(tiles, float),

@@ -12,7 +12,9 @@ pixel's :func:`pixel_ray` and its length, computed once for both): :func:`seabed
 (the seabed plane, ray-cast, with a sand texture of tiles), and :func:`water_into` last (the
 water's colour by the ray's elevation, and depth haze: everything fades into that colour as
 ``exp(-distance / visibility)``). :func:`draw_picture` is the three in order, a camera's whole
-picture (:func:`draw_picture_into` the same on work space kept from camera to camera).
+picture (:func:`draw_picture_into` the same on work space kept from camera to camera, and
+given the bounding spheres of the triangles' chunks, :func:`chunk_spheres`, it leaves out the
+chunks the camera cannot see, :func:`seen_chunks`: the same picture for less work).
 """
 
 from __future__ import annotations
@@ -20,9 +22,62 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+CULL_CHUNK = 32  # consecutive triangles culled together, behind one bounding sphere
+
+
+@njit(cache=True)
+def chunk_spheres(triangles, spheres) -> None:
+    """Fill ``spheres`` (ceil(T / CULL_CHUNK), 4) with a bounding sphere (centre m, radius m)
+    of each chunk of :data:`CULL_CHUNK` consecutive triangles of ``triangles`` (T, 3, 3) m:
+    the centre of the chunk's corners' bounding box, the radius the farthest corner from it
+    (enlarged by a micrometre, against rounding)."""
+    count = triangles.shape[0]
+    for c in range(spheres.shape[0]):
+        first, last = c * CULL_CHUNK, min(count, (c + 1) * CULL_CHUNK)
+        x0 = y0 = z0 = np.inf
+        x1 = y1 = z1 = -np.inf
+        for t in range(first, last):
+            for k in range(3):
+                x, y, z = triangles[t, k, 0], triangles[t, k, 1], triangles[t, k, 2]
+                x0, x1 = min(x0, x), max(x1, x)
+                y0, y1 = min(y0, y), max(y1, y)
+                z0, z1 = min(z0, z), max(z1, z)
+        cx, cy, cz = 0.5 * (x0 + x1), 0.5 * (y0 + y1), 0.5 * (z0 + z1)
+        far = 0.0
+        for t in range(first, last):
+            for k in range(3):
+                dx, dy, dz = triangles[t, k, 0] - cx, triangles[t, k, 1] - cy, \
+                    triangles[t, k, 2] - cz
+                far = max(far, dx * dx + dy * dy + dz * dz)
+        spheres[c, 0], spheres[c, 1], spheres[c, 2] = cx, cy, cz
+        spheres[c, 3] = np.sqrt(far) + 1e-6
+
+
+@njit(cache=True)
+def seen_chunks(spheres, eye, rotation, focal, shape, near, seen) -> None:
+    """``seen`` (C,) bool: whether chunk c's sphere (``spheres`` (C, 4), :func:`chunk_spheres`)
+    may show in the picture of a pinhole camera at ``eye`` with ``rotation`` (rows right, down,
+    forward) and ``focal`` pixels, of ``shape`` (height, width). A chunk is left out only where
+    its sphere lies wholly nearer than ``near`` or wholly beyond one side of the picture
+    (widened by a pixel each way), where :func:`rasterize` would draw none of its triangles: so
+    the picture is the same, bit for bit."""
+    half_h, half_w = 0.5 * shape[0] + 1.0, 0.5 * shape[1] + 1.0
+    norm_w, norm_h = np.sqrt(focal * focal + half_w * half_w), np.sqrt(
+        focal * focal + half_h * half_h)
+    for c in range(spheres.shape[0]):
+        d0, d1, d2 = spheres[c, 0] - eye[0], spheres[c, 1] - eye[1], spheres[c, 2] - eye[2]
+        x = rotation[0, 0] * d0 + rotation[0, 1] * d1 + rotation[0, 2] * d2
+        y = rotation[1, 0] * d0 + rotation[1, 1] * d1 + rotation[1, 2] * d2
+        z = rotation[2, 0] * d0 + rotation[2, 1] * d1 + rotation[2, 2] * d2
+        r = spheres[c, 3]
+        seen[c] = not (z + r < near or focal * x - half_w * z > r * norm_w
+                       or -focal * x - half_w * z > r * norm_w
+                       or focal * y - half_h * z > r * norm_h
+                       or -focal * y - half_h * z > r * norm_h)
+
 
 @njit(cache=True, error_model="numpy")
-def rasterize(xs, ys, depths, colours, image, zbuffer, near) -> None:
+def rasterize(xs, ys, depths, colours, image, zbuffer, near, seen) -> None:
     """Draw triangles into ``image`` (H, W, 3) uint8 where they are nearer than ``zbuffer``
     (H, W) float, updating it.
 
@@ -37,10 +92,16 @@ def rasterize(xs, ys, depths, colours, image, zbuffer, near) -> None:
         depths: (3T,) vertex depths along the camera's axis, m.
         colours: (T, 3) uint8 RGB.
         near: triangles with a vertex nearer than this (m) are skipped.
+        seen: (ceil(T / CULL_CHUNK),) bool, whether each chunk of :data:`CULL_CHUNK`
+            triangles may be seen (:func:`seen_chunks`; its triangles left out otherwise, and
+            their projections not read); empty: every triangle is drawn.
     """
     height, width = zbuffer.shape
     inside, row = np.empty(width, np.bool_), np.empty(width)  # a row's tests and depths
+    culled = seen.shape[0] > 0
     for t in range(colours.shape[0]):
+        if culled and not seen[t // CULL_CHUNK]:
+            continue
         z0, z1, z2 = depths[3 * t], depths[3 * t + 1], depths[3 * t + 2]
         if z0 < near or z1 < near or z2 < near:
             continue
@@ -80,36 +141,44 @@ def rasterize_world(triangles, colours, eye, rotation, focal, image, zbuffer, ne
     count = 3 * triangles.shape[0]
     corners, xs, ys, depths = np.empty((3, count)), np.empty(count), np.empty(count), np.empty(
         count)
-    project(triangles, eye, rotation, focal, zbuffer.shape, corners, xs, ys, depths)
-    rasterize(xs, ys, depths, colours, image, zbuffer, near)
+    everything = np.zeros(0, np.bool_)  # no chunk culled
+    project(triangles, eye, rotation, focal, zbuffer.shape, corners, xs, ys, depths, everything)
+    rasterize(xs, ys, depths, colours, image, zbuffer, near, everything)
 
 
 @njit(cache=True)
-def project(triangles, eye, rotation, focal, shape, corners, xs, ys, depths) -> None:
+def project(triangles, eye, rotation, focal, shape, corners, xs, ys, depths, seen) -> None:
     """Project world-frame triangles (T, 3, 3) m for a pinhole camera at ``eye`` (3,) with
     ``rotation`` (3, 3) (rows right, down, forward), ``focal`` pixels and image ``shape``
     (height, width): corner k of triangle t to pixel (``xs``, ``ys``)[3t + k] and depth
-    ``depths``[3t + k] m (each (3T,)). The corners are copied out coordinate by coordinate
-    first, into ``corners`` (3, 3T), so that the projection runs in SIMD (the same numbers as
-    projecting corner by corner)."""
+    ``depths``[3t + k] m (each (3T,)); only the chunks ``seen`` marks (:func:`rasterize`), all
+    where it is empty. The corners are copied out coordinate by coordinate first, into
+    ``corners`` (3, 3T), so that the projection runs in SIMD (the same numbers as projecting
+    corner by corner)."""
     height, width = shape
-    for t in range(triangles.shape[0]):
-        for k in range(3):
-            for a in range(3):
-                corners[a, 3 * t + k] = triangles[t, k, a]
+    count = triangles.shape[0]
     r00, r01, r02 = rotation[0, 0], rotation[0, 1], rotation[0, 2]
     r10, r11, r12 = rotation[1, 0], rotation[1, 1], rotation[1, 2]
     r20, r21, r22 = rotation[2, 0], rotation[2, 1], rotation[2, 2]
     e0, e1, e2 = eye[0], eye[1], eye[2]
-    for v in range(3 * triangles.shape[0]):
-        d0, d1, d2 = corners[0, v] - e0, corners[1, v] - e1, corners[2, v] - e2
-        cx = r00 * d0 + r01 * d1 + r02 * d2
-        cy = r10 * d0 + r11 * d1 + r12 * d2
-        cz = r20 * d0 + r21 * d1 + r22 * d2
-        safe = max(cz, 1e-6)
-        xs[v] = 0.5 * width + focal * cx / safe
-        ys[v] = 0.5 * height + focal * cy / safe
-        depths[v] = cz
+    chunks = (count + CULL_CHUNK - 1) // CULL_CHUNK
+    for c in range(chunks):
+        if seen.shape[0] > 0 and not seen[c]:
+            continue
+        first, last = c * CULL_CHUNK, min(count, (c + 1) * CULL_CHUNK)
+        for t in range(first, last):
+            for k in range(3):
+                for a in range(3):
+                    corners[a, 3 * t + k] = triangles[t, k, a]
+        for v in range(3 * first, 3 * last):
+            d0, d1, d2 = corners[0, v] - e0, corners[1, v] - e1, corners[2, v] - e2
+            cx = r00 * d0 + r01 * d1 + r02 * d2
+            cy = r10 * d0 + r11 * d1 + r12 * d2
+            cz = r20 * d0 + r21 * d1 + r22 * d2
+            safe = max(cz, 1e-6)
+            xs[v] = 0.5 * width + focal * cx / safe
+            ys[v] = 0.5 * height + focal * cy / safe
+            depths[v] = cz
 
 
 @njit(cache=True, inline="always")
@@ -217,28 +286,32 @@ def canvas(height, width, triangles):
     time, more on two threads)."""
     count = 3 * triangles
     return (np.empty((height, width)), np.empty((4, height, width)),
-            np.empty((2, height * width)), np.empty((3, count)), np.empty((3, count)))
+            np.empty((2, height * width)), np.empty((3, count)), np.empty((3, count)),
+            np.empty((triangles + CULL_CHUNK - 1) // CULL_CHUNK, np.bool_))
 
 
 @njit(cache=True)
 def draw_picture(triangles, colours, eye, rotation, focal, seabed_z, tile, visibility, sand,
                  top, bottom, far, near, image) -> None:
     """A camera's whole picture into ``image`` (H, W, 3) uint8 (drawn over, whatever it
-    held): :func:`draw_picture_into` on a :func:`canvas` of its own."""
+    held): :func:`draw_picture_into` on a :func:`canvas` of its own, nothing culled."""
     work = canvas(image.shape[0], image.shape[1], triangles.shape[0])
     draw_picture_into(triangles, colours, eye, rotation, focal, seabed_z, tile, visibility,
-                      sand, top, bottom, far, near, image, work)
+                      sand, top, bottom, far, near, image, work, np.zeros((0, 4)))
 
 
 @njit(cache=True)
 def draw_picture_into(triangles, colours, eye, rotation, focal, seabed_z, tile, visibility,
-                      sand, top, bottom, far, near, image, work) -> None:
+                      sand, top, bottom, far, near, image, work, spheres) -> None:
     """A camera's whole picture into ``image`` (H, W, 3) uint8 (drawn over, whatever it
     held), on the work space ``work`` (:func:`canvas`, for at least as many triangles): its
     pixel rays (:func:`pixel_rays`), the seabed (:func:`seabed_into`), the triangles (T, 3, 3)
     m with colours (T, 3) uint8 projected (:func:`project`) and through the depth buffer
-    (:func:`rasterize`), then the water and its haze (:func:`water_into`)."""
-    zbuffer, rays, pixels, corners, projected = work
+    (:func:`rasterize`), then the water and its haze (:func:`water_into`). ``spheres``: the
+    triangles' chunks' bounding spheres (:func:`chunk_spheres`), to leave out the chunks the
+    camera cannot see (:func:`seen_chunks`: the same picture); none, (0, 4): every triangle
+    drawn."""
+    zbuffer, rays, pixels, corners, projected, seen = work
     count = 3 * triangles.shape[0]
     if corners.shape[1] < count or zbuffer.shape != image.shape[:2]:
         raise ValueError("draw_picture_into: the canvas is for fewer triangles or other pixels")
@@ -247,8 +320,11 @@ def draw_picture_into(triangles, colours, eye, rotation, focal, seabed_z, tile, 
     pixel_rays(rotation, focal, rays)
     seabed_into(image, zbuffer, eye, rays, seabed_z, tile, sand, far, pixels[0])
     xs, ys, depths = projected[0, :count], projected[1, :count], projected[2, :count]
-    project(triangles, eye, rotation, focal, zbuffer.shape, corners, xs, ys, depths)
-    rasterize(xs, ys, depths, colours, image, zbuffer, near)
+    chunks = seen[:spheres.shape[0]]
+    if spheres.shape[0] > 0:
+        seen_chunks(spheres, eye, rotation, focal, zbuffer.shape, near, chunks)
+    project(triangles, eye, rotation, focal, zbuffer.shape, corners, xs, ys, depths, chunks)
+    rasterize(xs, ys, depths, colours, image, zbuffer, near, chunks)
     water_into(image, zbuffer, rays, top, bottom, visibility, pixels[0], pixels[1])
 
 

@@ -1,5 +1,6 @@
 """The rasterizer's work space: a picture drawn on a canvas kept from camera to camera is the
-picture drawn on a fresh one, bit for bit, whatever the cameras before it saw."""
+picture drawn on a fresh one, bit for bit, whatever the cameras before it saw; and leaving out
+the chunks of triangles a camera cannot see changes no pixel."""
 
 import numpy as np
 import pytest
@@ -15,7 +16,14 @@ from animat.envs.render.camera import (
     Scene,
     look_at,
 )
-from animat.envs.render.raster import canvas, draw_picture, draw_picture_into
+from animat.envs.render.raster import (
+    CULL_CHUNK,
+    canvas,
+    chunk_spheres,
+    draw_picture,
+    draw_picture_into,
+    seen_chunks,
+)
 
 
 def _frame(fish: int):
@@ -35,7 +43,7 @@ def _draw(frame, eye, work=None):
     if work is None:
         draw_picture(*args)
     else:
-        draw_picture_into(*args, work)
+        draw_picture_into(*args, work, np.zeros((0, 4)))
     return image
 
 
@@ -58,3 +66,31 @@ def test_a_canvas_too_small_is_refused():
         _draw(frame, np.array([-0.1, -0.9, 0.1]), canvas(64, 64, frame.triangles.shape[0] - 1))
     with pytest.raises(ValueError, match="other pixels"):
         _draw(frame, np.array([-0.1, -0.9, 0.1]), canvas(32, 64, frame.triangles.shape[0]))
+
+
+def test_culling_the_chunks_a_camera_cannot_see_changes_no_pixel():
+    frame = _frame(6)
+    spheres = np.empty((-(-len(frame.triangles) // CULL_CHUNK), 4))
+    chunk_spheres(frame.triangles, spheres)
+    corners = frame.triangles.reshape(-1, 3)
+    for k, box in enumerate(spheres):  # every corner inside its chunk's sphere
+        inside = corners[3 * CULL_CHUNK * k:3 * CULL_CHUNK * (k + 1)] - box[:3]
+        assert np.linalg.norm(inside, axis=1).max() <= box[3]
+    culled_any = False
+    for eye, focal in (([-0.1, -0.9, 0.1], 40.0), ([-0.1, -0.9, 0.1], 240.0),
+                       ([0.9, 0.3, 0.05], 120.0), ([0.05, 0.3, 0.0], 60.0)):
+        eye = np.array(eye)
+        rotation = np.ascontiguousarray(look_at(eye, np.array([-0.1, 0.2, 0.0])))
+        pictures = []
+        for bounds in (np.zeros((0, 4)), spheres):
+            image = np.zeros((64, 64, 3), np.uint8)
+            draw_picture_into(frame.triangles, frame.colours, eye, rotation, focal,
+                              float(frame.seabed_z), float(frame.tile),
+                              float(frame.visibility), SAND, WATER_TOP, WATER_BOTTOM, FAR,
+                              NEAR, image, canvas(64, 64, len(frame.triangles)), bounds)
+            pictures.append(image)
+        np.testing.assert_array_equal(pictures[0], pictures[1])
+        seen = np.empty(len(spheres), np.bool_)
+        seen_chunks(spheres, eye, rotation, focal, (64, 64), NEAR, seen)
+        culled_any |= not seen.all()
+    assert culled_any  # some camera left some chunk out
