@@ -8,7 +8,9 @@ the native vector env against the single env.
 * an env step (physics, then both retinas rendered: 8 cameras over the scene with its
   scenery), with a fixed action;
 * a full step with the vision: the :class:`~animat.envs.world.pursuit.policy.ActiveVisionPolicy`
-  reading the observation (detection in both eyes, saccades) and the env stepping;
+  reading the observation (detection in both eyes, saccades) and the env stepping; and the
+  same with the paper's loop (``configs/fish_pursuit/paper_loop.yaml``: flow stabilisation
+  and vergence by correlation on, the reflex and the scan off), on an env of its own;
 * both retinas over the paper's 10-fish scene (:mod:`animat.experiments.bench.retina`);
 * the native vector env of ``--worlds`` worlds (16), in env steps per second (worlds times
   its steps), with the same fixed action, and the ratio to the single env's step measured in
@@ -22,6 +24,7 @@ each as a median over rounds, with the ratios, and the paper's 1995 figure besid
 from __future__ import annotations
 
 import argparse
+from dataclasses import replace
 
 import gymnasium as gym
 import numpy as np
@@ -30,7 +33,7 @@ import animat  # noqa: F401
 from animat.envs.core.batch import BodyBatch
 from animat.envs.tasks import make_task
 from animat.envs.vision.retina import RetinaParams
-from animat.envs.world.pursuit.policy import ActiveVisionPolicy
+from animat.envs.world.pursuit.policy import ActiveVisionParams, ActiveVisionPolicy
 
 from .retina import eyes_once, paper_scene, rate
 
@@ -49,10 +52,12 @@ def main(argv: list[str] | None = None) -> None:
     args = parser.parse_args(argv)
     env, obs = _pursuit()
     policy, still = ActiveVisionPolicy(), np.zeros(7, np.float32)
+    paper_env, paper_obs = _pursuit()
+    paper = ActiveVisionPolicy(paper_loop_params())
     n = env.fish
     moves = env.worlds.navigator.actions(np.array([[0.6, 0.0, 0.0]] * n), 0.0).astype(np.float64)
     scene, retina = paper_scene(), RetinaParams()
-    state = {"obs": obs}
+    state = {"obs": obs, "paper": paper_obs}
     fish = BodyBatch(n, make_task("swim"), duration=10_000.0, fins=True,
                      start_spread="point")  # as the pursuit's
     fish.reset_rows(np.arange(n), [np.random.default_rng(seed) for seed in range(n)])
@@ -67,12 +72,17 @@ def main(argv: list[str] | None = None) -> None:
         action, _ = policy.predict(state["obs"])
         state["obs"] = env.step(action)[0]
 
+    def paper_step() -> None:
+        action, _ = paper.predict(state["paper"])
+        state["paper"] = paper_env.step(action)[0]
+
     physics_name = f"physics of {n} fish (one env step)"
     worlds, parts = _vector(args.worlds)
     vector_name = f"vector env, {args.worlds} worlds (env steps)"
     tasks = {physics_name: physics,
              "env step: physics + both retinas": env_step,
              "full step: + active vision policy": full_step,
+             "full step: + the paper's loop": paper_step,
              "both retinas, 10-fish scene": lambda: eyes_once(scene, retina),
              vector_name: parts.pop("vector step")}
     tasks.update(parts)
@@ -84,7 +94,7 @@ def main(argv: list[str] | None = None) -> None:
     medians = {name: float(np.median(values)) for name, values in rates.items()}
     medians[vector_name] *= worlds
     reference = medians[physics_name]
-    for name in list(tasks)[:4]:
+    for name in list(tasks)[:5]:
         value = medians[name]
         unit = "frame-sets/s" if "10-fish" in name else "steps/s"
         print(f"{name:38s} {value:8.1f} {unit:12s} ({value / reference:.2f} x the physics)")
@@ -102,6 +112,15 @@ def main(argv: list[str] | None = None) -> None:
 
 
 GEOMETRY, EYES = "eye poses and triangles", "eye poses, triangles and cameras"
+
+
+def paper_loop_params() -> ActiveVisionParams:
+    """The policy's params as ``configs/fish_pursuit/paper_loop.yaml`` sets them."""
+    from ..launch.config import load_config
+    from ..launch.shipped import find_config
+
+    config = load_config(find_config("fish_pursuit/paper_loop.yaml"))
+    return replace(ActiveVisionParams(), **config.learner.params["policy"])
 
 
 def _vector(worlds: int):
