@@ -6,6 +6,7 @@ import shutil
 
 import numpy as np
 import pytest
+import yaml
 
 from animat.envs.tasks.start import FISH_START, POINT_START
 from animat.experiments.evaluate import evaluate, largest_move, load, shipped_comparison
@@ -369,6 +370,15 @@ def test_the_pursuit_table_sets_each_policy_between_its_blind_and_oracle_baselin
         evaluate(folders[label], episodes=2)
     rows = {r["role"]: r for r in pursuit_rows(list(folders.values()))}
     assert len({r["variant"] for r in rows.values()}) == 1
+    # what an agent observes (its sensors, its frames) is not part of the variant either
+    observer = tmp_path / "observer"
+    shutil.copytree(folders["vision"], observer)
+    config = yaml.safe_load((observer / "config.yaml").read_text())
+    config["env"]["kwargs"].update(frames=3, sensors=[{"name": "pixels", "size": 32}, "gaze"])
+    (observer / "config.yaml").write_text(yaml.safe_dump(config))
+    variants = {r["variant"] for r in pursuit_rows([*folders.values(), observer])}
+    assert variants == {rows["policy"]["variant"]}
+    shutil.rmtree(observer)
     share = {role: r["metrics"]["eval/fovea_fraction"] for role, r in rows.items()}
     assert main([str(tmp_path)]) == 0
     out = capsys.readouterr().out
