@@ -1,7 +1,9 @@
 """The architecture as a test (docs/architecture.md): every ``animat`` import is read with
 ``ast`` and checked against the one-way order, no module imports a private name of another
 room, no module imports its own top-level package absolutely (relative imports inside each of
-``envs``, ``learners``, ``experiments``), and no folder holds more than 12 modules.
+``envs``, ``learners``, ``experiments``), and no folder holds more than 12 modules. Of the
+tests, no test module (``test_*.py``) imports another: what several share is in
+``tests/support/``.
 
 The order: ``experiments`` -> ``learners`` -> ``envs``; inside ``envs`` a room imports only
 rooms of a lower level (or its own): ``registration`` 7, ``world`` 6, ``core`` and ``tasks`` 5
@@ -93,6 +95,22 @@ def _violations() -> set[str]:
     return found
 
 
+def _test_modules_imported(me: str, source: str) -> list[str]:
+    """The test modules (last dotted part ``test_...``) that the source of test module ``me``
+    (dotted, e.g. ``tests.learners.test_params``) imports: ``import tests.x.test_y``, ``from
+    tests.x.test_y import ...``, ``from tests.x import test_y`` and relative imports."""
+    package = me.split(".")[:-1]
+    found = []
+    for node in ast.walk(ast.parse(source)):
+        if isinstance(node, ast.Import):
+            found += [alias.name for alias in node.names]
+        elif isinstance(node, ast.ImportFrom):
+            base = package[:len(package) - node.level + 1] if node.level else []
+            module = ".".join(base + ([node.module] if node.module else []))
+            found += [module, *(f"{module}.{alias.name}" for alias in node.names)]
+    return [name for name in found if name.split(".")[-1].startswith("test_")]
+
+
 def test_imports_run_one_way_and_folders_stay_small():
     found = _violations()
     assert found - KNOWN == set(), "new: " + "; ".join(sorted(found - KNOWN))
@@ -114,3 +132,23 @@ def test_the_checks_catch_what_they_say():
     assert _absolute(batch, relative[1]) == "animat.envs.core"
     assert _absolute(init, relative[1]) == "animat.envs.core"
     assert _absolute_inside(ROOT / "envs" / "core" / "batch.py") == []
+    me = "tests.learners.ppo.test_checkpoint"
+    assert _test_modules_imported(me, "from tests.x.test_y import a") == ["tests.x.test_y"]
+    assert _test_modules_imported(me, "import tests.x.test_y as y") == ["tests.x.test_y"]
+    assert _test_modules_imported(me, "from tests.x import test_y, z") == ["tests.x.test_y"]
+    assert _test_modules_imported(me, "from .test_y import a") == ["tests.learners.ppo.test_y"]
+    assert _test_modules_imported(me, "from .. import test_y") == ["tests.learners.test_y"]
+    assert _test_modules_imported(me, "from ..support import faults") == []
+    assert _test_modules_imported(me, "from tests.support.cli import animat") == []
+
+
+def test_no_test_module_imports_another_test_module():
+    """A test module is not a library: one that imports another depends on that module's
+    helpers staying as they are, runs its module-level code, and would run any ``test_`` name
+    it takes from it twice. Shared helpers live in ``tests/support/``."""
+    found = []
+    for path in sorted((ROOT / "tests").rglob("test_*.py")):
+        me = ".".join(path.relative_to(ROOT).with_suffix("").parts)
+        found += [f"{path.relative_to(ROOT).as_posix()} imports {module}"
+                  for module in _test_modules_imported(me, path.read_text())]
+    assert found == [], "move what is shared to tests/support/: " + "; ".join(found)

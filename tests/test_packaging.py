@@ -5,7 +5,6 @@ optional one only in an extra, and only where its absence is handled)."""
 
 import ast
 import importlib
-import os
 import shutil
 import subprocess
 import sys
@@ -14,26 +13,14 @@ import zipfile
 from importlib import metadata
 from pathlib import Path
 
+from tests.support.packaging import CODE, SKIP, clean_env, module_names
+
 ROOT = Path(__file__).resolve().parents[1]
-CODE = {"animat": "animat", "animat.envs": "envs", "animat.learners": "learners",
-        "animat.experiments": "experiments"}
 # the imports that an extra provides, and the modules that import them (each handles its
 # absence: the benchmark runs without Swimmer-v5, the sweep says to install the extra)
 OPTIONAL = {"mujoco": ("bench", {"experiments/bench/physics.py"}),
             "ray": ("ray", {"experiments/executors.py"})}
 DATA = {"animat/configs": "configs", "animat/repertoires": "repertoires"}
-SKIP = shutil.ignore_patterns(".git", ".venv", "runs", "build", "dist", "*.egg-info",
-                              "__pycache__", ".pytest_cache", ".ruff_cache", "videos")
-
-
-def clean_env() -> dict[str, str]:
-    """This process's environment without what would put the checkout or its venv on a new
-    interpreter's path (pip's own settings, e.g. where the CPU torch lies, are kept)."""
-    env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "VIRTUAL_ENV",
-                                                             "PYTHONHOME", "PIP_USER")}
-    here = str(Path(sys.executable).parent)
-    env["PATH"] = os.pathsep.join(p for p in env.get("PATH", "").split(os.pathsep) if p != here)
-    return env
 
 
 def build_wheel(folder: Path) -> Path:
@@ -90,18 +77,6 @@ def test_every_third_party_import_is_a_declared_dependency():
             assert files <= allowed, f"optional {module} imported by {sorted(files - allowed)}"
         else:
             assert names & required, f"{module} (imported by {sorted(files)}) is not declared"
-
-
-def module_names() -> dict[str, Path]:
-    """{dotted name under animat: its file} for every module of the code folders."""
-    found = {}
-    for name, folder in CODE.items():
-        for path in sorted((ROOT / folder).rglob("*.py")):
-            parts = path.relative_to(ROOT / folder).with_suffix("").parts
-            parts = parts[:-1] if parts[-1] == "__init__" else parts
-            if parts[-1:] != ("__main__",):
-                found[".".join((name, *parts))] = path
-    return found
 
 
 def test_every_module_of_the_tree_imports_under_animat_from_its_own_file():

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import yaml
 
-from tests.experiments.test_cli import TINY, animat
+from tests.support.cli import TINY, animat
 
 ROOT = Path(__file__).resolve().parents[1]
 README = (ROOT / "README.md").read_text()

@@ -20,7 +20,7 @@ from pathlib import Path
 
 import pytest
 
-from tests.test_packaging import SKIP, clean_env, module_names
+from tests.support.packaging import SKIP, clean_env, module_names
 
 ROOT = Path(__file__).resolve().parents[1]
 SMOKE = """

@@ -2,10 +2,9 @@
 ``register_task``, ``register_env``): each a plain call and (the first two) a decorator; a name
 taken, a bad object, each refused in one line; and a user's task, body and sensor registered
 as an env id that passes Gymnasium's env checker, with its native vector env. Every test runs
-inside :func:`restored_registries`, so that nothing registered here reaches another test."""
+inside :func:`tests.support.registries.restored_registries` (the fixture
+``registries_restored``), so that nothing registered here reaches another test."""
 
-from collections.abc import Iterator
-from contextlib import contextmanager
 from dataclasses import dataclass
 
 import gymnasium as gym
@@ -18,62 +17,12 @@ from animat.envs import register_body, register_env, register_task
 from animat.envs.core.sensors import Proprioception
 from animat.envs.registration import ENVS, body_of, task_of, timing
 from animat.envs.tasks import TASKS, make_task
-from animat.envs.tasks.base import Task, World
-from tests.envs.core.test_sensors import DepthGauge
-from tests.learners.test_second_body import eel_body
+from tests.support.bodies import eel_body
+from tests.support.registries import DiveTask, restored_registries
+from tests.support.sensors import DepthGauge
 
 USER_ID = "UserAnimals/EelDive-v0"
-
-
-@contextmanager
-def restored_registries() -> Iterator[None]:
-    """Every registry as it was on entry, again on exit: bodies, tasks, the env table and
-    Gymnasium's ids, the learners and what each drives (the tables are cleared and refilled,
-    not replaced: the package's modules hold them)."""
-    from animat.envs.bodies import BODIES
-    from animat.learners.registry import LEARNERS
-    from animat.learners.validation import DRIVES
-
-    tables: list[dict] = [BODIES, TASKS, ENVS, LEARNERS, DRIVES]
-    saved = [dict(table) for table in tables]
-    ids = set(gym.registry)
-    try:
-        yield
-    finally:
-        for table, before in zip(tables, saved):
-            table.clear()
-            table.update(before)
-        for env_id in set(gym.registry) - ids:
-            del gym.registry[env_id]
-
-
-@pytest.fixture(autouse=True)
-def _registries():
-    with restored_registries():
-        yield
-
-
-@dataclass
-class DiveTask(Task):
-    """Go down: E_v = z (BL, the centre of mass's height over its start, weighted by
-    ``weight``); observation: that height; metric ``depth_bl``, its mean over the episode."""
-
-    weight: float = 1.0
-    obs_size = 1
-    default_duration = 1.0
-    mean_metrics = ("depth_bl",)
-
-    def __post_init__(self) -> None:
-        super().__post_init__()
-        if not 0.0 <= self.weight <= 10.0:
-            raise ValueError(f"weight must be in [0, 10], got {self.weight!r}")
-
-    def observe(self, world: World) -> np.ndarray:
-        return world.com[:, 2:3] / world.length
-
-    def terms(self, world: World, last: np.ndarray):
-        height = world.com[:, 2] / world.length
-        return self.weight * height, {"depth_bl": -height}, world.memory
+pytestmark = pytest.mark.usefixtures("registries_restored")
 
 
 def test_the_registries_are_restored_after_each_test():

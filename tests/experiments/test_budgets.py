@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 
 from animat.experiments.launch.config import ConfigError, load_config
-from tests.experiments.test_cli import animat
+from tests.support.cli import animat
 
 ROOT = Path(__file__).resolve().parents[2]
 CONFIGS = sorted((ROOT / "configs").rglob("*.yaml"))

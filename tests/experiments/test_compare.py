@@ -9,7 +9,7 @@ import numpy as np
 from animat.experiments.compare import RunCurves, setting_of
 from animat.experiments.figures.curves import learner_colours
 from animat.experiments.figures.statistics import iqm, iqm_interval
-from tests.experiments.test_cli import TINY, animat, write_config
+from tests.support.cli import TINY, animat, write_config
 
 
 def test_runs_of_two_settings_are_refused_in_one_line_naming_both(tmp_path):

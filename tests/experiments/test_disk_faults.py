@@ -19,7 +19,7 @@ import pytest
 
 from animat.experiments.launch import lock
 from animat.experiments.launch.folders import read_status
-from tests.experiments.test_cli import ROOT, TINY, animat, write_config
+from tests.support.cli import ROOT, TINY, animat, write_config
 
 # animat's CLI whose progress sink acts once, at the run's first scalar: "fill" fills the
 # disk the run is on, "readonly" takes the write permission off everything under a folder

@@ -13,7 +13,7 @@ from animat.experiments.evaluate import evaluate, largest_move, load, shipped_co
 from animat.experiments.figures.repertoire_table import repertoire_markdown, repertoire_rows
 from animat.experiments.launch.lock import RunError
 from animat.learners.agents import OpenLoopAgent, PolicyAgent, SkillSet
-from tests.experiments.test_cli import ROOT, TINY, animat, write_config
+from tests.support.cli import ROOT, TINY, animat, write_config
 
 SWIM = {"id": "Animat/FishSwim-v0", "kwargs": {"duration": 0.5}}
 RUNS = {

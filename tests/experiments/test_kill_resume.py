@@ -18,7 +18,7 @@ from pathlib import Path
 
 import pytest
 
-from tests.experiments.test_cli import ROOT, TINY, write_config
+from tests.support.cli import ROOT, TINY, write_config
 
 PPO = {"n_envs": 4, "n_steps": 16, "batch_size": 32, "n_epochs": 1, "eval_every": 320,
        "checkpoint_every": 64, "policy_kwargs": "dict(net_arch=[16])",

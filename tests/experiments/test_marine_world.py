@@ -7,7 +7,7 @@ import csv
 import json
 from pathlib import Path
 
-from tests.experiments.test_cli import animat
+from tests.support.cli import animat
 
 ROOT = Path(__file__).resolve().parents[2]
 TAGS = ("eval/food_eaten", "eval/obstacle_collisions", "eval/fish_collisions",

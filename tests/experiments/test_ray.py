@@ -16,7 +16,7 @@ import pytest
 from animat.experiments.executors import run_ray
 from animat.experiments.launch.config import validate
 from animat.experiments.sweep import prepare
-from tests.experiments.test_cli import TINY, animat, write_config
+from tests.support.cli import TINY, animat, write_config
 
 ray = pytest.importorskip("ray")
 

@@ -6,7 +6,7 @@ import pytest
 import yaml
 
 from animat.experiments.launch.config import load_config
-from tests.experiments.test_cli import TINY, animat, write_config
+from tests.support.cli import TINY, animat, write_config
 
 SPACE = {"learner.params.cooling": {"low": 0.5, "high": 0.99},
          "learner.params.step_size": {"low": 0.05, "high": 0.8, "log": True},

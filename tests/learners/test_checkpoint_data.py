@@ -12,8 +12,8 @@ from animat.learners.registry import make_learner
 from animat.learners.storage import checkpoint_data
 from animat.learners.storage.files import CorruptFile
 from animat.learners.storage.pickles import UntrustedPickle, save_checkpoint
-from tests.experiments.test_cli import TINY, animat, write_config
-from tests.learners.ppo.test_checkpoint import Planted
+from tests.support.cli import TINY, animat, write_config
+from tests.support.faults import Planted
 
 ENV, KWARGS = "Animat/FishSwim-v0", {"duration": 0.5}
 REFINE = {"nodes": 4, "checkpoint_every": 1, "refine": {"share": 0.4}}

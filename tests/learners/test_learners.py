@@ -16,6 +16,7 @@ from animat.learners.optimizers import annealing
 from animat.learners.registry import LEARNERS, make_learner
 from animat.learners.rollout import BatchEvaluator
 from animat.learners.storage.files import CorruptFile
+from tests.support.faults import Crash, CrashingSink
 
 ENV = "Animat/FishSwim-v0"
 TINY_ENV = {"duration": 0.5}  # 10 env steps per episode, 40 per candidate (4 start states)
@@ -187,30 +188,13 @@ def test_the_reported_controller_plays_back_without_building_the_env(tmp_path, m
         assert "\n" not in str(error.value)
 
 
-class _Crash(Exception):
-    pass
-
-
-class _CrashingSink(MemorySink):
-    """Dies (like a killed process) once the run has logged past ``step``."""
-
-    def __init__(self, step: int) -> None:
-        super().__init__()
-        self.step = step
-
-    def scalar(self, tag: str, value: float, step: int) -> None:
-        if step > self.step:
-            raise _Crash
-        super().scalar(tag, value, step)
-
-
 @pytest.mark.parametrize("name", ["annealing", "cmaes"])
 @pytest.mark.parametrize("crash_after", [2000, 3200, 4000])  # learning, at the switch, refining
 def test_refinement_resumed_from_a_checkpoint_ends_identical(tmp_path, name, crash_after):
     params = {**REFINE, **REFINE_BY[name], "checkpoint_every": 3}
     whole, _ = _learn(name, 4800, **params)
-    with pytest.raises(_Crash):
-        _learn(name, 4800, tmp_path, logger_sink=_CrashingSink(crash_after), **params)
+    with pytest.raises(Crash):
+        _learn(name, 4800, tmp_path, logger_sink=CrashingSink(crash_after), **params)
     resumed, _ = _learn(name, 4800, tmp_path, **params)
     assert resumed.env_steps == whole.env_steps
     assert resumed.metrics == whole.metrics

@@ -9,7 +9,7 @@ import gymnasium as gym
 import pytest
 
 from animat.learners.skills.repertoire import Repertoire
-from tests.experiments.test_cli import ROOT, TINY, animat, write_config
+from tests.support.cli import ROOT, TINY, animat, write_config
 
 FISH = json.loads((ROOT / "repertoires" / "fish.json").read_text())
 REACH = {"env": {"id": "Animat/FishReach-v0", "kwargs": {"duration": 0.5}},

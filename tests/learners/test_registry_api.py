@@ -3,7 +3,7 @@ is no learner, each refused in one line; and a user's learner on a user's env id
 registered in this process, named by a config that the launcher's Python API
 (``animat.experiments.run_experiment``) checks against the registries as they are when it is
 called and runs. Every test runs inside the registries' restore
-(:func:`tests.envs.test_registration_api.restored_registries`)."""
+(:func:`tests.support.registries.restored_registries`, the fixture ``registries_restored``)."""
 
 from pathlib import Path
 
@@ -18,21 +18,16 @@ from animat.learners import LEARNERS, make_learner, register_learner
 from animat.learners.base import Learner
 from animat.learners.blackbox import AnnealingLearner
 from animat.learners.validation import DRIVES, check_drives
-from tests.envs.test_registration_api import DiveTask, restored_registries
-from tests.learners.test_second_body import eel_body
+from tests.support.bodies import eel_body
+from tests.support.registries import DiveTask
 
 USER_ID = "UserAnimals/EelDive-v0"
-
-
-@pytest.fixture(autouse=True)
-def _registries():
-    with restored_registries():
-        yield
+pytestmark = pytest.mark.usefixtures("registries_restored")
 
 
 def _user_env() -> None:
-    """The eel diving (the body and task of tests/envs/test_registration_api.py), half a
-    second an episode, as :data:`USER_ID`."""
+    """The eel diving (the body and task of tests/envs/test_registration_api.py, from
+    :mod:`tests.support`), half a second an episode, as :data:`USER_ID`."""
     register_body("eel", eel_body)
     register_task("dive", DiveTask)
     register_env(USER_ID, task="dive", body="eel", duration=0.5)

@@ -8,19 +8,7 @@ from gymnasium.utils.env_checker import check_env
 
 import animat  # noqa: F401
 from animat.envs.core.sensors import Proprioception, TaskEntries
-
-
-class DepthGauge:
-    """Depth of the centre of mass below the start, in body lengths."""
-
-    name = "depth"
-
-    def space(self, core):
-        return gym.spaces.Box(-1e4, 1e4, (1,), np.float32)
-
-    def read(self, core, kinematics):
-        depth = (core.state.origin[:, 2] - kinematics.com[:, 2]) / core.body.length
-        return depth[:, None].astype(np.float32)
+from tests.support.sensors import DepthGauge
 
 
 def test_a_toy_sensor_gives_a_dict_observation_both_checkers_accept():

@@ -37,7 +37,7 @@ from animat.envs.physics.integrator import step_batch
 from animat.envs.physics.reactive import water_energy
 from animat.envs.physics.system import System, Water, vacuum
 from animat.experiments.biology import c_start, fish_cruise, gait_grid
-from tests.envs.physics.test_tissue import _passive_strain_range
+from tests.support.tissue import passive_strain_range
 
 REACTIVE = {"model": "reactive"}
 IDEAL = Water(model="reactive", fluid_coefficient=0.0, air_coefficient=0.0,
@@ -125,7 +125,7 @@ def test_a_rigidly_rotated_state_follows_the_rotated_trajectory_in_reactive_wate
 
 def _strain_range(actions: np.ndarray) -> tuple[float, float]:
     """Min and max passive strain in reactive water over actions (T, B, 6), seeded starts."""
-    return _passive_strain_range(actions, REACTIVE)
+    return passive_strain_range(actions, REACTIVE)
 
 
 def test_the_recalibrated_controllers_keep_the_tissue_within_limits_in_reactive_water():

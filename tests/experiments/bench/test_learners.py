@@ -3,7 +3,7 @@
 import pytest
 
 from animat.experiments.bench import learners
-from tests.experiments.test_cli import animat
+from tests.support.cli import animat
 
 
 def test_each_learner_is_timed_as_it_learns_and_reported_against_the_batch():

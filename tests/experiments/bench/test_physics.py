@@ -1,7 +1,7 @@
 """The simulator benchmark (``animat bench``) prints its rates and ratios, and its breakdown
 (``animat bench --breakdown``) times every part of the step and the fused step."""
 
-from tests.experiments.test_cli import animat
+from tests.support.cli import animat
 
 
 def test_the_benchmark_prints_every_configuration_and_the_ratios():

@@ -15,7 +15,7 @@ from animat.experiments.launch.archive import pack, place, unpack
 from animat.experiments.launch.config import validate
 from animat.experiments.launch.lock import RunError
 from animat.experiments.sweep import prepare
-from tests.experiments.test_cli import TINY
+from tests.support.cli import TINY
 
 DONE = json.dumps({"status": "done"}).encode()
 

@@ -13,7 +13,8 @@ from animat.experiments.launch.config import ConfigError
 from animat.experiments.launch.folders import read_status
 from animat.experiments.launch.lock import run_lock
 from animat.experiments.sweep import load_seed
-from tests.experiments.test_cli import ROOT, TINY, animat, write_config
+from tests.support.cli import ROOT, TINY, animat, write_config
+from tests.support.folders import finished, set_status
 
 # both processes import everything first, then start the command at the same instant
 RACE = """
@@ -43,21 +44,6 @@ def _refused_once(done: list[subprocess.CompletedProcess]) -> subprocess.Complet
     return refused
 
 
-def _finished(tmp_path, *names: str) -> list:
-    """Run folders ``tmp_path/runs/<name>`` of the tiny config, each finished."""
-    config = write_config(tmp_path / "tiny.yaml", TINY)
-    folders = [tmp_path / "runs" / name for name in names]
-    for folder in folders:
-        animat("run", config, "--out", folder, "--quiet")
-    return folders
-
-
-def _set_status(folder, **fields) -> None:
-    """Rewrite the run's result.json with ``fields`` changed (a run as it would be left)."""
-    status = json.loads((folder / "result.json").read_text())
-    (folder / "result.json").write_text(json.dumps({**status, **fields}))
-
-
 def test_a_held_lock_refuses_a_run_and_a_resume_in_one_line_and_writes_nothing(tmp_path):
     config = write_config(tmp_path / "tiny.yaml", TINY)
     empty = tmp_path / "empty"
@@ -66,8 +52,8 @@ def test_a_held_lock_refuses_a_run_and_a_resume_in_one_line_and_writes_nothing(t
         refused = animat("run", config, "--out", empty, check=False)
     assert refused.returncode == 2 and "another process is making or running" in refused.stderr
     assert sorted(p.name for p in empty.iterdir()) == [".lock"]
-    (folder,) = _finished(tmp_path, "run")
-    _set_status(folder, status="failed")
+    (folder,) = finished(tmp_path, "run")
+    set_status(folder, status="failed")
     with run_lock(folder):
         again = animat("run", "--resume", folder, check=False)
     assert again.returncode == 2 and len(again.stderr.strip().splitlines()) == 1
@@ -91,8 +77,8 @@ def test_two_processes_given_one_out_folder_run_it_once(tmp_path):
 
 
 def test_two_resumes_of_one_folder_run_it_once(tmp_path):
-    (folder,) = _finished(tmp_path, "run")
-    _set_status(folder, status="failed")
+    (folder,) = finished(tmp_path, "run")
+    set_status(folder, status="failed")
     refused = _refused_once(_race(["run", "--resume", folder, "--quiet"],
                                   ["run", "--resume", folder, "--quiet"]))
     assert any(m in refused.stderr for m in ("another process", "still running", "is done"))
@@ -100,7 +86,7 @@ def test_two_resumes_of_one_folder_run_it_once(tmp_path):
 
 
 def test_a_corrupt_file_of_a_run_folder_is_named_in_one_line_and_compare_goes_on(tmp_path):
-    good, broken = _finished(tmp_path, "good", "broken")
+    good, broken = finished(tmp_path, "good", "broken")
     (broken / "artefacts.json").write_text('{"controller": ')  # truncated
     refused = animat("eval", broken, "--episodes", "1", check=False)
     assert refused.returncode == 2 and len(refused.stderr.strip().splitlines()) == 1
@@ -109,7 +95,7 @@ def test_a_corrupt_file_of_a_run_folder_is_named_in_one_line_and_compare_goes_on
     compared = animat("compare", tmp_path / "runs", "--metric", "eval/speed_bl_per_s")
     assert f"animat: warning: {broken}: left out" in compared.stderr
     assert "| annealing | 1 (1) |" in compared.stdout
-    _set_status(good, status="failed")
+    set_status(good, status="failed")
     (good / "checkpoints" / "checkpoint.json").write_text('{"format": "artificial-ani')
     resumed = animat("run", "--resume", good, check=False)
     assert resumed.returncode == 1 and len(resumed.stderr.strip().splitlines()) == 1
@@ -146,14 +132,14 @@ def test_a_running_status_whose_lock_is_free_is_a_dead_run_and_resumes(tmp_path)
     folder's lock, which the kernel frees when the run's process dies, is what says."""
     import os
 
-    (folder,) = _finished(tmp_path, "run")
-    _set_status(folder, status="running", pid=os.getpid())  # alive: this one
+    (folder,) = finished(tmp_path, "run")
+    set_status(folder, status="running", pid=os.getpid())  # alive: this one
     animat("run", "--resume", folder, "--quiet")
     assert json.loads((folder / "result.json").read_text())["status"] == "done"
 
 
 def test_compare_leaves_out_a_run_whose_config_is_malformed(tmp_path):
-    good, odd = _finished(tmp_path, "good", "odd")
+    good, odd = finished(tmp_path, "good", "odd")
     text = (odd / "config.yaml").read_text().replace("label: null", "label: [x]")
     (odd / "config.yaml").write_text(text)
     compared = animat("compare", tmp_path / "runs", "--metric", "eval/speed_bl_per_s")
@@ -163,8 +149,8 @@ def test_compare_leaves_out_a_run_whose_config_is_malformed(tmp_path):
 def test_a_running_status_from_another_host_is_read_by_its_lock(tmp_path):
     """No pid can be asked across hosts; the folder's lock (free once the run's process is
     gone, however it went) says whether the run still runs."""
-    (folder,) = _finished(tmp_path, "run")
-    _set_status(folder, status="running", host="elsewhere", pid=1)
+    (folder,) = finished(tmp_path, "run")
+    set_status(folder, status="running", host="elsewhere", pid=1)
     assert read_status(folder)["status"] == "killed"
     with run_lock(folder):  # held, as by a live run
         assert read_status(folder)["status"] == "running"
@@ -173,7 +159,7 @@ def test_a_running_status_from_another_host_is_read_by_its_lock(tmp_path):
 def test_a_sweeps_seed_is_read_as_every_config_is(tmp_path):
     """``load_seed`` refuses YAML aliases (a few nested ones expand to gigabytes) in a run
     folder's config.yaml, as every config read is."""
-    (folder,) = _finished(tmp_path, "run")
+    (folder,) = finished(tmp_path, "run")
     assert load_seed(folder) == 0
     text = (folder / "config.yaml").read_text()
     (folder / "config.yaml").write_text(text + "x: &a [1, 1]\ny: [*a, *a]\n")
@@ -203,7 +189,7 @@ def test_a_folder_whose_making_was_killed_is_made_again_and_debris_is_cleared(tm
     assert not list(folder.rglob("*.tmp"))
     refused = animat("run", config, "--out", folder, check=False)
     assert refused.returncode == 2 and "exists and is not empty" in refused.stderr
-    _set_status(folder, status="failed")
+    set_status(folder, status="failed")
     (folder / "checkpoints" / "checkpoint.jsonx9y8.tmp").write_text('{"format": "art')
     animat("run", "--resume", folder, "--quiet")
     assert not list(folder.rglob("*.tmp"))

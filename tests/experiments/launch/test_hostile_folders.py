@@ -12,14 +12,14 @@ import sys
 
 import pytest
 
-from tests.experiments.launch.test_folders import _finished, _set_status
-from tests.experiments.test_cli import ROOT, TINY, animat, write_config
+from tests.support.cli import ROOT, TINY, animat, write_config
+from tests.support.folders import finished, set_status
 
 
 @pytest.fixture(scope="module")
 def finished_run(tmp_path_factory):
     """One finished run of the tiny config, copied by each test that changes it."""
-    return _finished(tmp_path_factory.mktemp("hostile"), "run")[0]
+    return finished(tmp_path_factory.mktemp("hostile"), "run")[0]
 
 
 @pytest.fixture
@@ -34,7 +34,7 @@ def _copy(finished_run, tmp_path, unfinished: bool = False):
     folder = tmp_path / "shared"
     shutil.copytree(finished_run, folder, symlinks=True)
     if unfinished:
-        _set_status(folder, status="failed")
+        set_status(folder, status="failed")
     return folder
 
 
@@ -202,7 +202,7 @@ def test_eval_reads_a_hard_linked_copy_and_changes_nothing_outside(finished_run,
     before = _snapshot(finished_run, outside)
     assert "written:" in _cli("eval", folder, "--episodes", "1").stdout
     assert _snapshot(finished_run, outside) == before
-    _set_status(folder, status="failed")
+    set_status(folder, status="failed")
     _refused(_cli("run", "--resume", folder), "other hard link")
 
 

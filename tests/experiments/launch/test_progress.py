@@ -8,7 +8,7 @@ import yaml
 
 from animat.experiments.launch import progress
 from animat.experiments.launch.progress import ProgressLog, ProgressSink
-from tests.experiments.test_cli import TINY, animat
+from tests.support.cli import TINY, animat
 
 
 def test_off_a_terminal_a_run_logs_each_tenth_of_its_budget_and_its_end(tmp_path):

@@ -15,7 +15,7 @@ import yaml
 from animat.experiments import cli
 from animat.experiments.launch.config import load_config
 from animat.experiments.launch.shipped import CONFIGS, find_config, shipped_configs
-from tests.experiments.test_cli import TINY, animat, write_config
+from tests.support.cli import TINY, animat, write_config
 
 ROOT = Path(__file__).resolve().parents[3]
 # one skill of the fish's regimen, short: basic training in seconds

@@ -15,8 +15,8 @@ from animat.learners.ppo import checkpoint as ppo_checkpoint
 from animat.learners.registry import make_learner
 from animat.learners.storage.files import CorruptFile, read_json
 from animat.learners.storage.pickles import UntrustedPickle
-from tests.experiments.test_cli import animat, write_config
-from tests.learners.test_learners import _Crash, _CrashingSink
+from tests.support.cli import animat, write_config
+from tests.support.faults import Crash, CrashingSink, Planted
 
 PARAMS = {"n_envs": 4, "n_steps": 16, "batch_size": 32, "n_epochs": 1, "eval_every": 64,
           "checkpoint_every": 64, "policy_kwargs": "dict(net_arch=[16])",
@@ -24,16 +24,6 @@ PARAMS = {"n_envs": 4, "n_steps": 16, "batch_size": 32, "n_epochs": 1, "eval_eve
 CONFIG = {"env": {"id": "Animat/FishSwim-v0", "kwargs": {"duration": 0.5}},
           "learner": {"name": "ppo", "params": PARAMS}, "budget": {"env_steps": 192},
           "eval": {"metric": "eval/return"}}
-
-
-class Planted:
-    """A pickle that, unpickled, writes a file: what a hostile run folder would carry."""
-
-    def __init__(self, marker):
-        self.marker = str(marker)
-
-    def __reduce__(self):
-        return (open, (self.marker, "w"))
 
 
 def _learner():
@@ -190,8 +180,8 @@ def test_a_crashed_ppo_run_resumes_to_the_same_floats(tmp_path, kind):
     whole = run(None, whole_sink)
     for crash in crashes:
         folder = tmp_path / f"crash{crash}"
-        with pytest.raises(_Crash):
-            run(folder, _CrashingSink(crash))
+        with pytest.raises(Crash):
+            run(folder, CrashingSink(crash))
         saved = read_json(ppo_checkpoint.latest(folder) / "state.json")["num_timesteps"]
         assert saved <= crash
         sink = MemorySink()
