@@ -161,7 +161,7 @@ def dolphin_cruise(water: dict, params: SwimParams = DOLPHIN_SWIM, seconds: floa
     env = gym.make("Animat/DolphinForward-v0", water=water, duration=seconds,
                    start_spread="point", **(physics or {}))
     infos, nodes = play(env, lambda t: dolphin_swim_mc(1.0, t, params), seconds)
-    body = env.unwrapped.core.body
+    body = env.unwrapped.body
     figures = cruise_figures(infos, nodes, env.unwrapped.dt, body, params.max_hz, seconds / 2,
                              vertical=True)
     heading = body_axes(nodes[-1:], body)[0]

@@ -109,7 +109,7 @@ def water_figures(model: str, args: argparse.Namespace) -> None:
                                        disable_logger=True)
     length, dt = env.unwrapped.body_length, env.unwrapped.dt
     infos, nodes = play(env, lambda t: swim_mc(1.0, t, swim), args.seconds)
-    fig = cruise_figures(infos, nodes, dt, env.unwrapped.core.body, swim.max_hz, args.seconds / 2)
+    fig = cruise_figures(infos, nodes, dt, env.unwrapped.body, swim.max_hz, args.seconds / 2)
     along = infos[-1]["com"][0] - infos[len(infos) // 2 - 1]["com"][0]
     heading_speed = along / length / (args.seconds / 2)
     print(f"swim-MC (amplitude {swim.max_amplitude:g}), speed 1, over the last "

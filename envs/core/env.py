@@ -204,6 +204,11 @@ class BodyEnv(PublicSurface, gym.Env):
         """(N, 3) node positions, world frame, m (a copy)."""
         return self.core.state.x[0].copy()
 
+    @property
+    def node_velocities(self) -> np.ndarray:
+        """(N, 3) node velocities, world frame, m/s (a copy)."""
+        return self.core.state.v[0].copy()
+
 
 class BodyVectorEnv(PublicSurface, VectorEnv):
     """B fish in one batched simulation.
@@ -327,3 +332,8 @@ class BodyVectorEnv(PublicSurface, VectorEnv):
     def node_positions(self) -> np.ndarray:
         """(B, N, 3) node positions, world frame, m (a copy)."""
         return self.core.state.x.copy()
+
+    @property
+    def node_velocities(self) -> np.ndarray:
+        """(B, N, 3) node velocities, world frame, m/s (a copy)."""
+        return self.core.state.v.copy()

@@ -14,6 +14,7 @@ from gymnasium.vector import AutoresetMode
 from ..bodies import make_body
 from ..bodies.spec import BodySpec
 from ..checks import shown
+from ..physics.system import System
 from ..render.camera import BodyRenderer
 from ..render.seaworld import SeaWorldRenderer
 from ..tasks import make_task
@@ -64,6 +65,12 @@ class PublicSurface:
     @property
     def body(self) -> BodySpec:
         return self.core.body
+
+    @property
+    def system(self) -> System:
+        """The frozen physics of the bodies (their masses, elements and water, and the arguments
+        its kernels take, ``kernel_args``), e.g. for timing those kernels."""
+        return self.core.system
 
     @property
     def episode_steps(self) -> int:

@@ -130,8 +130,8 @@ def breakdown(lanes: int, reps: int = 20000) -> dict[str, float]:
     env.reset(seed=0)
     for k in range(20):
         env.step(np.full(6, np.sin(k), np.float32))
-    c, x0 = env.unwrapped.core.system.kernel_args, env.unwrapped.node_positions
-    v0 = env.unwrapped.core.state.v[0]
+    c, x0 = env.unwrapped.system.kernel_args, env.unwrapped.node_positions
+    v0 = env.unwrapped.node_velocities
     x = np.ascontiguousarray(np.repeat(x0[:, :, None], lanes, axis=2))
     v, f = np.ascontiguousarray(np.repeat(v0[:, :, None], lanes, axis=2)), np.zeros_like(x)
     rest = np.repeat(c.rest_lengths[:, None], lanes, axis=1).copy()
@@ -180,13 +180,13 @@ def breakdown(lanes: int, reps: int = 20000) -> dict[str, float]:
         loop(reps // lanes)
         out[name] = 1e9 * (time.perf_counter() - start) / (reps // lanes) / lanes
     steps = 40
-    resistive = gym.make("Animat/FishSwim-v0", water=RESISTIVE).unwrapped.core.system.kernel_args
+    resistive = gym.make("Animat/FishSwim-v0", water=RESISTIVE).unwrapped.system.kernel_args
     for name, args in (("fused step, reactive water", c), ("fused step, resistive", resistive)):
         out[name] = 1e9 * _timed(
             lambda args=args: step_chunk(xb, vb, u, u, np.zeros((lanes, 2)), steps, args,
                                          np.zeros(lanes), *NO_BALL, one),
             max(1, reps // steps)) / lanes / steps
-    implicit_args = gym.make("Animat/FishSwim-v0", **IMPLICIT).unwrapped.core.system.kernel_args
+    implicit_args = gym.make("Animat/FishSwim-v0", **IMPLICIT).unwrapped.system.kernel_args
     out["fused implicit step, reactive"] = 1e9 * _timed(
         lambda: step_chunk(xb, vb, u, u, np.zeros((lanes, 2)), 4, implicit_args,
                            np.zeros(lanes), *NO_BALL, one), max(1, reps // 40)) / lanes / 4

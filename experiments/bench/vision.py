@@ -146,7 +146,7 @@ def _vector(worlds: int):
     def geometry() -> None:
         core._poses = None
         core.eye_poses(kinematics)
-        core._triangles()
+        core.triangles()
 
     def raster() -> None:
         core.eye_images(params, kinematics)

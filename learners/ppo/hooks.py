@@ -82,7 +82,7 @@ def progress_callback(learner: PPOLearner, model, venv, folder: Path | None, sta
             # between rollouts (the last one trained on): a checkpoint at a whole number
             # of rollouts, so that a resumed run collects exactly what the whole one would
             if folder and self.num_timesteps >= self.next_save:
-                learner._save(folder, model, venv, state, start)
+                learner.save_checkpoint(folder, model, venv, state, start)
                 self.next_save = _next_multiple(self.num_timesteps, every_save)
             self.began = time.perf_counter()
 

@@ -246,14 +246,14 @@ class PPOLearner(Learner):
         state["metrics"] = self.evaluate(model, venv)  # the policy the run returns
         self.logger.scalars(state["metrics"], model.num_timesteps)
         if folder:
-            self._save(folder, model, venv, state, start)
+            self.save_checkpoint(folder, model, venv, state, start)
         return LearnResult(env_steps=int(model.num_timesteps),
                            wall_seconds=time.perf_counter() - start, metrics=state["metrics"],
                            artefacts={"hyperparameters": {k: self.hp[k] for k in sorted(
                                self.hp)}})
 
     @staticmethod
-    def _save(folder: Path, model, venv, state: dict, start: float) -> None:
+    def save_checkpoint(folder: Path, model, venv, state: dict, start: float) -> None:
         """A new checkpoint (:func:`animat.learners.ppo.checkpoint.save`: data, written whole
         before it replaces the last)."""
         state["wall"] = time.perf_counter() - start

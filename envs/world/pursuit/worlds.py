@@ -172,7 +172,7 @@ class PursuitWorlds:
         cameras (its ``drawn_levels``), drawn in one call (the cameras of all worlds over
         threads)."""
         positions, rotations = self.eye_poses(kinematics)
-        triangles, colours = self._triangles()
+        triangles, colours = self.triangles()
         drawn, n = params.drawn_levels, self.num_worlds
         levels = len(drawn)
         focals = np.array([params.focal(level) for level in drawn])
@@ -197,7 +197,7 @@ class PursuitWorlds:
         self._quads[world, fish:] = quads
         self._colours[world, fish:] = shade(quads, base, Scene().light)
 
-    def _triangles(self) -> tuple[np.ndarray, np.ndarray]:
+    def triangles(self) -> tuple[np.ndarray, np.ndarray]:
         """(N, T, 3, 3) m and (N, T, 3) uint8: every world's triangles and colours now, in
         the order of :meth:`Scene.prepare` (shadows, skins, scenery; each quad's first
         triangle, then each quad's second)."""

@@ -61,7 +61,7 @@ def test_a_resumed_ppo_run_collects_exactly_its_budget(tmp_path, monkeypatch):
 
     params = {"n_envs": 4, "n_steps": 16, "batch_size": 32, "n_epochs": 1, "eval_every": 1000,
               "checkpoint_every": 100}
-    save = ppo.PPOLearner._save
+    save = ppo.PPOLearner.save_checkpoint
 
     class Killed(Exception):
         pass
@@ -70,10 +70,10 @@ def test_a_resumed_ppo_run_collects_exactly_its_budget(tmp_path, monkeypatch):
         save(folder, model, venv, state, start)
         raise Killed
 
-    monkeypatch.setattr(ppo.PPOLearner, "_save", staticmethod(save_then_die))
+    monkeypatch.setattr(ppo.PPOLearner, "save_checkpoint", staticmethod(save_then_die))
     with pytest.raises(Killed):
         make_learner("ppo", "Animat/FishSwim-v0", {"duration": 0.5}, params).learn(320, tmp_path)
-    monkeypatch.setattr(ppo.PPOLearner, "_save", staticmethod(save))
+    monkeypatch.setattr(ppo.PPOLearner, "save_checkpoint", staticmethod(save))
     from animat.learners.ppo.checkpoint import latest
     from animat.learners.storage.files import read_json
 
