@@ -40,7 +40,12 @@ ANCHOR = f"native batch of {NUM_ENVS}, random actions (anchor)"
 def batch_rate(seconds: float, seed: int = 0) -> float:
     """Env steps per wall second of the native batch of :data:`NUM_ENVS` with random actions
     (episodes end and restart as they do for the learners)."""
-    envs = gym.make_vec(ENV_ID, num_envs=NUM_ENVS, **ENV_KWARGS)
+    return stepped_rate(gym.make_vec(ENV_ID, num_envs=NUM_ENVS, **ENV_KWARGS), seconds, seed)
+
+
+def stepped_rate(envs, seconds: float, seed: int) -> float:
+    """Env steps per wall second of the vector env ``envs`` stepped for ``seconds`` with
+    random actions (after one step, which compiles), then closed."""
     envs.reset(seed=seed)
     rng = np.random.default_rng(seed)
     actions = rng.uniform(-1, 1, (8,) + envs.action_space.shape).astype(np.float32)
@@ -50,7 +55,7 @@ def batch_rate(seconds: float, seed: int = 0) -> float:
         envs.step(actions[steps % 8])
         steps += 1
     envs.close()
-    return steps * NUM_ENVS / elapsed
+    return steps * envs.num_envs / elapsed
 
 
 def learner_rate(label: str, budget: int, seed: int = 0) -> float:
@@ -89,18 +94,8 @@ def pixel_batch_rate(seconds: float, seed: int = 0) -> float:
     """Env steps per wall second of the pursuit's native batch as the pixel PPO config makes
     it, random actions."""
     config = _pixel_config()
-    envs = gym.make_vec(config.env.id, num_envs=int(config.learner.params["n_envs"]),
-                        **dict(config.env.kwargs))
-    envs.reset(seed=seed)
-    rng = np.random.default_rng(seed)
-    actions = rng.uniform(-1, 1, (8,) + envs.action_space.shape).astype(np.float32)
-    envs.step(actions[0])
-    steps, start = 0, time.perf_counter()
-    while (elapsed := time.perf_counter() - start) < seconds:
-        envs.step(actions[steps % 8])
-        steps += 1
-    envs.close()
-    return steps * envs.num_envs / elapsed
+    return stepped_rate(gym.make_vec(config.env.id, num_envs=int(config.learner.params["n_envs"]),
+                                     **dict(config.env.kwargs)), seconds, seed)
 
 
 def pixel_ppo_rate(seed: int = 0) -> tuple[float, float]:
