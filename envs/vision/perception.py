@@ -61,18 +61,11 @@ def scaled(model_hist: np.ndarray, pixels: float) -> np.ndarray:
 
 def backproject(image: np.ndarray, model_hist: np.ndarray, radius: int) -> np.ndarray:
     """(H, W) float32 evidence for the model at each pixel: the ratio histogram
-    ``min(M / I, 1)`` of each pixel's colour, blurred by a disk of ``radius`` pixels."""
-    bins = colour_bins(image)
-    image_hist = np.bincount(np.ravel_multi_index(bins, BINS).ravel(),
-                             minlength=int(np.prod(BINS))).reshape(BINS).astype(np.float32)
-    ratio = np.minimum(model_hist / np.maximum(image_hist, 1e-6), 1.0).astype(np.float32)
-    # each pixel's bin looked up directly: cv2.calcBackProject reads a three-dimensional
-    # NumPy histogram as a two-dimensional image of many channels, and got every bin wrong
-    evidence = ratio[bins]
-    size = 2 * int(radius) + 1
-    disk = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (size, size)).astype(np.float32)
-    return cv2.filter2D(evidence.astype(np.float32), -1, disk / disk.sum(),
-                        borderType=cv2.BORDER_CONSTANT)
+    ``min(M / I, 1)`` of each pixel's colour, blurred by a disk of ``radius`` pixels
+    (:func:`backproject_layers` of the one image)."""
+    image = np.asarray(image, np.uint8)
+    return np.ascontiguousarray(
+        backproject_layers(image[None, :, :, None, :], model_hist, radius)[:, :, 0])
 
 
 @njit(cache=True)

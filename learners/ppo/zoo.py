@@ -58,11 +58,10 @@ def _evaluate(node: ast.AST):
     if (isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id == "dict"
             and not node.args):
         return {kw.arg: _evaluate(kw.value) for kw in node.keywords}
-    if isinstance(node, ast.Name):
-        from .extractors import EXTRACTORS
+    from .extractors import EXTRACTORS
 
-        if node.id in EXTRACTORS:
-            return EXTRACTORS[node.id]
+    if isinstance(node, ast.Name) and node.id in EXTRACTORS:
+        return EXTRACTORS[node.id]
     if isinstance(node, ast.Attribute):
         import torch.nn as nn
 
@@ -72,7 +71,7 @@ def _evaluate(node: ast.AST):
                 found, nn.Module):
             return found
     raise ValueError(f"{ast.unparse(node)!r} is not allowed here (literals, dict(...), "
-                     "nn.<Module> and the extractors RetinaCNN only)")
+                     f"nn.<Module> and the extractors {', '.join(sorted(EXTRACTORS))} only)")
 
 
 def policy_kwargs(value: dict | str) -> dict:

@@ -1,6 +1,7 @@
 """Retinal observations sized for learners: the same eyes' cameras, fewer and smaller, and the
 target's backprojection; in the pursuit, named in its sensors and stacked channel-first."""
 
+import cv2
 import gymnasium as gym
 import numpy as np
 import pytest
@@ -10,8 +11,10 @@ from animat.envs.bodies.fish import fish_body
 from animat.envs.core.sensors import make_sensor, register_sensor
 from animat.envs.render.camera import Scene, fish_skin, posed
 from animat.envs.vision.perception import (
+    BINS,
     backproject,
     backproject_layers,
+    colour_bins,
     colour_histogram,
     scaled,
 )
@@ -88,6 +91,18 @@ def test_evidence_is_the_backprojection_of_the_memory_high_on_the_prey():
     assert small.shape == (2, 4, 16, 16) and abs(small[0, 1].mean() - maps[0, 1].mean()) < 2
 
 
+def _backprojected(image, model, radius):
+    """Swain and Ballard's backprojection written plainly in NumPy and OpenCV: the reference
+    the compiled one must equal."""
+    bins = colour_bins(image)
+    counts = np.bincount(np.ravel_multi_index(bins, BINS).ravel(),
+                         minlength=int(np.prod(BINS))).reshape(BINS).astype(np.float32)
+    ratio = np.minimum(model / np.maximum(counts, 1e-6), 1.0).astype(np.float32)
+    size = 2 * radius + 1
+    disk = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (size, size)).astype(np.float32)
+    return cv2.filter2D(ratio[bins], -1, disk / disk.sum(), borderType=cv2.BORDER_CONSTANT)
+
+
 def test_many_backprojections_at_once_are_each_one_alone():
     rng = np.random.default_rng(0)
     images = rng.integers(0, 256, (6, 32, 32, 3), dtype=np.uint8)
@@ -96,7 +111,11 @@ def test_many_backprojections_at_once_are_each_one_alone():
     layers = backproject_layers(images.reshape(3, 2, 32, 32, 3).transpose(0, 2, 3, 1, 4),
                                 model, 3)
     for k, image in enumerate(images):
-        np.testing.assert_array_equal(layers[:, :, k], backproject(image, model, 3))
+        np.testing.assert_array_equal(layers[:, :, k], _backprojected(image, model, 3))
+        np.testing.assert_array_equal(backproject(image, model, 3), layers[:, :, k])
+    wide = (rng.random((16, 16, 8)) * 50).astype(np.float64)  # a float64 memory, as detect's
+    np.testing.assert_array_equal(backproject(images[0], wide, 2),
+                                  _backprojected(images[0], wide, 2))
 
 
 def test_the_pursuit_takes_sensors_by_name_and_stacks_pictures_channel_first():
