@@ -23,7 +23,6 @@ import io
 import json
 import os
 import sys
-from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -33,36 +32,11 @@ from animat.learners.storage.files import read_text
 from animat.learners.storage.tree import check_tree, listing, run_folder
 
 from .figures.abstraction_table import abstraction_markdown, abstraction_rows
-from .figures.curves import plot, profile
+from .figures.curves import RunCurves, plot, profile
 from .figures.statistics import iqm_interval, mean_std
 from .launch.config import load_config
-from .launch.folders import one_line, read_status
+from .launch.folders import find_runs, one_line, read_status
 from .launch.lock import RunError
-
-
-@dataclass
-class RunCurves:
-    folder: Path
-    learner: str
-    env_id: str
-    seed: int
-    status: dict
-    scalars: dict[str, tuple[np.ndarray, np.ndarray]]  # tag -> (steps, values)
-    setting: str = ""  # the env id, its water and integrator: what a comparison holds fixed
-    metric: str = "eval/return"  # the config's eval.metric
-
-
-def find_runs(paths: list[str | Path]) -> list[Path]:
-    """Run folders given directly or found below parent folders (any depth)."""
-    found = []
-    for path in map(Path, paths):
-        if os.path.lexists(path / "result.json"):
-            found.append(path)
-        else:
-            found.extend(sorted(p.parent for p in path.rglob("result.json")))
-    if not found:
-        raise FileNotFoundError(f"no run folders (with result.json) in {[str(p) for p in paths]}")
-    return found
 
 
 def read_scalars(folder: Path) -> dict[str, tuple[np.ndarray, np.ndarray]]:

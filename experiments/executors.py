@@ -12,7 +12,7 @@ folders only, each member checked before anything is written), and a run folder 
 tasks are spread over the nodes (Ray's ``SPREAD``); a task Ray loses (a node gone) leaves its
 folder as prepared and its row ``failed``.
 
-**A tune's workers** (:func:`tune_workers`): ``workers`` processes here, or as many Ray tasks,
+**A tune's workers** (:func:`run_workers`): ``workers`` processes here, or as many Ray tasks,
 each running :func:`animat.experiments.tune.work` on the one study, so the sampler and the
 pruner see every worker's trials. The study's storage must be one every worker reaches: the
 journal file in OUT (one machine, or a shared file system) or an RDB URL (``--storage``); a
@@ -88,12 +88,10 @@ def run_ray(folders: list[Path], address: str | None = None, num_cpus: int | Non
             ray.shutdown()
 
 
-def tune_workers(workers: int, executor: str, address: str | None, *args) -> None:
-    """``workers`` runs of :func:`animat.experiments.tune.worker` (``args``: its arguments
-    after ``threads``) at once: processes here sharing the CPUs out, or Ray tasks of one CPU
-    each; an error in a worker is raised here once all have ended."""
-    from .tune import worker
-
+def run_workers(worker, workers: int, executor: str, address: str | None, *args) -> None:
+    """``workers`` calls of ``worker(threads, *args)`` at once (a module-level function, e.g.
+    :func:`animat.experiments.tune.worker`): processes here sharing the CPUs out, or Ray tasks
+    of one CPU each; an error in a worker is raised here once all have ended."""
     if executor == "ray":
         ray, started = _ray(address, None)
         try:

@@ -38,6 +38,7 @@ from animat.learners.storage.files import (
 )
 from animat.learners.storage.tree import run_folder
 
+from .executors import run_workers
 from .launch.config import (
     ConfigError,
     ExperimentConfig,
@@ -205,7 +206,7 @@ def tune(path: str | Path, trials: int, out: str | Path | None = None,
          address: str | None = None) -> dict:
     """Run the study (``study_name``, default :func:`default_study_name`) to ``trials``
     finished trials, here (``workers`` 1) or by ``workers`` workers at once
-    (:func:`animat.experiments.executors.tune_workers`: processes, or Ray tasks on the
+    (:func:`animat.experiments.executors.run_workers`: processes, or Ray tasks on the
     cluster at ``address``); returns its summary (also printed by the CLI) and writes
     ``best.yaml``."""
     optuna = _optuna()
@@ -223,10 +224,8 @@ def tune(path: str | Path, trials: int, out: str | Path | None = None,
         if _killed(out / f"trial{stale.number:03d}"):  # a killed tune's, not a live worker's
             study.tell(stale.number, state=optuna.trial.TrialState.FAIL)
     if workers > 1 or executor == "ray":
-        from .executors import tune_workers
-
-        tune_workers(workers, executor, address, str(path), trials, str(out), overrides,
-                     storage_url, name)
+        run_workers(worker, workers, executor, address, str(path), trials, str(out), overrides,
+                    storage_url, name)
         study = open_study(optuna, config, out, storage_url, name)  # every worker's trials
     else:
         work(optuna, study, config, path, overrides, out, trials)

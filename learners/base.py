@@ -10,6 +10,7 @@ it runs is :mod:`animat.learners.validation`; its files, :mod:`animat.learners.s
 from __future__ import annotations
 
 import json
+import time
 from abc import ABC, abstractmethod
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -18,6 +19,7 @@ from typing import Any, ClassVar
 from animat.envs.registration import Timing, timing
 
 from .logger import Logger
+from .rollout import START_STATES, score_episode, spread
 from .validation import check_scoring_budget
 
 
@@ -86,8 +88,6 @@ class Learner(ABC):
     def scored_episodes(self) -> int:
         """How many seeded start states (seeds ``seed`` onward) the run's own scores are
         over."""
-        from .rollout import START_STATES
-
         return START_STATES
 
     def agent(self, artefacts: dict, folder: Path):
@@ -109,3 +109,16 @@ class Scorer(Learner):
     def check_budget(self, budget_env_steps: int) -> None:
         check_scoring_budget(budget_env_steps, self.scored_episodes(),
                              episode_steps(self.env_id, self.env_kwargs))
+
+    def score_policy(self, env, policy, episodes: int) -> LearnResult:
+        """What this scorer's run gives: ``policy`` played on ``episodes`` seeded episodes of
+        ``env`` (seeds from the learner's on), its hyperparameters and the ``eval/`` figures
+        logged at the env steps played, the episodes' own figures kept as artefacts."""
+        start = time.perf_counter()
+        steps = env.unwrapped.episode_steps * episodes
+        self.log_hparams()
+        runs = [score_episode(env, policy, self.seed + k) for k in range(episodes)]
+        metrics = spread(runs)
+        self.logger.scalars(metrics, steps)
+        return LearnResult(env_steps=steps, wall_seconds=time.perf_counter() - start,
+                           metrics=metrics, artefacts={"episodes": runs})

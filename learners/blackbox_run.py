@@ -14,7 +14,9 @@ from typing import Any
 
 import numpy as np
 
+from .controllers.abstraction import AbstractController
 from .logger import Logger
+from .optimizers import annealing, cmaes, coordinate
 from .storage import checkpoint_data
 from .storage.pickles import UntrustedPickle, load_checkpoint, save_checkpoint
 from .validation import check_finite, unknown_params
@@ -116,6 +118,12 @@ class Run:
         return max(bests, key=lambda b: b["return"]) if bests else None
 
 
+# the classes a black-box checkpoint may hold (checkpoint_data builds no other)
+CHECKPOINT_TYPES: dict[str, type] = {cls.__name__: cls for cls in (
+    Run, Phase, AbstractController, annealing.AnnealingParams, annealing.AnnealingState,
+    cmaes.CMAESParams, cmaes.CMAESState, coordinate.CoordinateParams, coordinate.CoordinateState)}
+
+
 def log_round(logger: Logger, run: Run, returns: np.ndarray, metrics: dict,
               train: dict[str, float]) -> None:
     """Like every learner, ``eval/*``: the current incumbent (the best candidate of this
@@ -153,7 +161,7 @@ def saved_run(checkpoint_dir: str | Path | None, trust_pickles: bool
     folder = Path(checkpoint_dir)
     legacy, path = folder / "checkpoint.pkl", folder / "checkpoint.json"
     if path.exists() or not legacy.exists():
-        return path, checkpoint_data.load(path)
+        return path, checkpoint_data.load(path, CHECKPOINT_TYPES)
     if not trust_pickles:
         raise UntrustedPickle(legacy)
     return legacy, load_checkpoint(legacy)

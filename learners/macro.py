@@ -17,10 +17,10 @@ import numpy as np
 
 from .blackbox import BlackBoxLearner
 from .controllers.concatenation import concatenate
+from .controllers.repertoire import Repertoire, check_skill_names, kept_in_run
 from .controllers.tent import play
 from .optimizers import annealing
 from .rollout import START_STATES, check_worst_share
-from .skills.repertoire import Repertoire, check_skill_names, kept_in_run
 
 
 @dataclass(frozen=True)
@@ -181,7 +181,7 @@ class MacroLearner(BlackBoxLearner):
 
     def learn(self, budget_env_steps: int, checkpoint_dir=None):
         """As every black-box learner, composing from the run folder's own copy of the
-        repertoire (:func:`animat.learners.skills.repertoire.kept_in_run`)."""
+        repertoire (:func:`animat.learners.controllers.repertoire.kept_in_run`)."""
         self.repertoire = kept_in_run(self.repertoire, checkpoint_dir)
         return super().learn(budget_env_steps, checkpoint_dir)
 

@@ -13,15 +13,11 @@ saw (:func:`unseen_seeds`, what ``animat eval`` plays by default).
 
 from __future__ import annotations
 
-import time
-
 import gymnasium as gym
 import numpy as np
 
 import animat  # noqa: F401  (registers Animat/*)
 from animat.envs.tasks.base import EpisodeSummary
-
-from .base import LearnResult
 
 START_STATES = 4  # start states every candidate and every final result is scored over
 # The first seed of the start states a run never saw: a run of seed s learns from seeds s, s + 1,
@@ -183,21 +179,6 @@ def score_episode(env: gym.Env, policy, seed: int) -> dict[str, float]:
         summary.update(info)
         if truncated:
             return {**summary.summary(), "return": total}
-
-
-def score_policy(learner, env: gym.Env, policy, episodes: int):
-    """A :class:`~animat.learners.base.LearnResult` of ``policy`` scored by ``learner`` (a
-    scorer: it learns nothing) on ``episodes`` seeded episodes of ``env`` (seeds from the
-    learner's on): its hyperparameters and the ``eval/`` figures logged at the env steps
-    played, the episodes' own figures kept as artefacts."""
-    start = time.perf_counter()
-    steps = env.unwrapped.episode_steps * episodes
-    learner.log_hparams()
-    runs = [score_episode(env, policy, learner.seed + k) for k in range(episodes)]
-    metrics = spread(runs)
-    learner.logger.scalars(metrics, steps)
-    return LearnResult(env_steps=steps, wall_seconds=time.perf_counter() - start,
-                       metrics=metrics, artefacts={"episodes": runs})
 
 
 def spread(runs: list[dict[str, float]]) -> dict[str, float]:

@@ -31,11 +31,11 @@ from animat.envs.bodies.dolphin import (
 from animat.envs.registration import body_of, timing
 
 from .blackbox import BlackBoxLearner
+from .controllers.repertoire import Repertoire, kept_in_run
 from .controllers.tent import play
 from .macro import MacroSequence, check_sequence
 from .optimizers import annealing, cmaes
 from .rollout import START_STATES, check_worst_share
-from .skills.repertoire import Repertoire, kept_in_run
 
 NUM_ACTUATORS = 6
 # The stroke's numbers, in the order of a candidate's genes, with their bounds.
@@ -237,7 +237,7 @@ class StrokeLearner(BlackBoxLearner):
 
     def learn(self, budget_env_steps: int, checkpoint_dir=None):
         """As every black-box learner, composing from the run folder's own copy of the
-        repertoire (:func:`animat.learners.skills.repertoire.kept_in_run`)."""
+        repertoire (:func:`animat.learners.controllers.repertoire.kept_in_run`)."""
         self.repertoire = kept_in_run(self.repertoire, checkpoint_dir)
         self.prefix = MacroSequence(self.repertoire, self.steps, self.overlap)
         return super().learn(budget_env_steps, checkpoint_dir)

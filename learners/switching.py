@@ -26,10 +26,10 @@ from animat.envs.tasks import ReachTask
 
 from .base import episode_timing
 from .blackbox import BlackBoxLearner
+from .controllers.repertoire import Repertoire, kept_in_run
 from .controllers.table import CellTableEncoding
 from .optimizers import annealing, coordinate
 from .rollout import START_STATES, BatchEvaluator, check_worst_share
-from .skills.repertoire import Repertoire, kept_in_run
 from .skills.steering import (
     RANGE_EDGES_BL,
     SkillSteering,
@@ -130,7 +130,7 @@ class SwitchingLearner(CellTableEncoding, BlackBoxLearner):
 
     def learn(self, budget_env_steps: int, checkpoint_dir=None):
         """As every black-box learner, steering with the run folder's own copy of the
-        repertoire (:func:`animat.learners.skills.repertoire.kept_in_run`)."""
+        repertoire (:func:`animat.learners.controllers.repertoire.kept_in_run`)."""
         self.repertoire = kept_in_run(self.repertoire, checkpoint_dir)
         return super().learn(budget_env_steps, checkpoint_dir)
 

@@ -3,13 +3,24 @@ and the performance profile of the runs' results; each learner in one colour thr
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING
 
 import numpy as np
 
-if TYPE_CHECKING:
-    from ..compare import RunCurves
+
+@dataclass
+class RunCurves:
+    """A run's record as a comparison reads it: who learned what, and its scalars."""
+
+    folder: Path
+    learner: str
+    env_id: str
+    seed: int
+    status: dict
+    scalars: dict[str, tuple[np.ndarray, np.ndarray]]  # tag -> (steps, values)
+    setting: str = ""  # the env id, its water and integrator: what a comparison holds fixed
+    metric: str = "eval/return"  # the config's eval.metric
 
 
 def plot(runs: list[RunCurves], metric: str, path: Path) -> list[str]:

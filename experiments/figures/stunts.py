@@ -27,8 +27,8 @@ import numpy as np
 import animat  # noqa: F401
 from animat.envs.bodies.dolphin import ACTUATOR_NAMES
 from animat.learners.controllers.concatenation import schedule
+from animat.learners.controllers.repertoire import Repertoire
 from animat.learners.macro import MacroSequence
-from animat.learners.skills.repertoire import Repertoire
 from animat.learners.storage.files import read_json
 
 from ..launch.config import load_run_config

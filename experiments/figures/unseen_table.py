@@ -28,8 +28,8 @@ import numpy as np
 from animat.learners.storage.files import read_json
 from animat.learners.storage.tree import run_folder
 
-from ..compare import find_runs
 from ..launch.config import load_config
+from ..launch.folders import find_runs
 from .statistics import mean_std
 
 

@@ -220,3 +220,16 @@ def _still_running(folder: Path, data: dict) -> bool:
     except PermissionError:
         pass
     return True
+
+
+def find_runs(paths: list[str | Path]) -> list[Path]:
+    """Run folders given directly or found below parent folders (any depth)."""
+    found = []
+    for path in map(Path, paths):
+        if os.path.lexists(path / "result.json"):
+            found.append(path)
+        else:
+            found.extend(sorted(p.parent for p in path.rglob("result.json")))
+    if not found:
+        raise FileNotFoundError(f"no run folders (with result.json) in {[str(p) for p in paths]}")
+    return found

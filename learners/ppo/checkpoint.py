@@ -196,7 +196,7 @@ def restore_progress(model, venv, folder: Path) -> bool:
     import torch
 
     path = Path(folder) / RESUME
-    saved = checkpoint_data.load(path, RESUME_FORMAT, types={})
+    saved = checkpoint_data.load(path, {}, RESUME_FORMAT)
     if saved is None:
         return False
     try:

@@ -7,12 +7,23 @@ from __future__ import annotations
 
 import time
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import Any, Protocol
 
 import numpy as np
 
-if TYPE_CHECKING:
-    from .learner import PPOLearner
+from ..logger import Logger
+
+
+class LearningRun(Protocol):
+    """What the callback reads of the learner it serves
+    (:class:`~animat.learners.ppo.learner.PPOLearner`)."""
+
+    hp: dict[str, Any]
+    logger: Logger
+
+    def evaluate(self, model, venv) -> dict[str, float]: ...
+
+    def save_checkpoint(self, folder: Path, model, venv, state: dict, start: float) -> None: ...
 
 
 def _next_multiple(step: int, every: int) -> int:
@@ -44,7 +55,7 @@ def sb3_logger(logger):
     return SB3Logger(folder=None, output_formats=[Forward()])
 
 
-def progress_callback(learner: PPOLearner, model, venv, folder: Path | None, state: dict,
+def progress_callback(learner: LearningRun, model, venv, folder: Path | None, state: dict,
                       start: float, final: int):
     """SB3's callback for a run: an evaluation every ``eval_every`` env steps (but at the run's
     ``final`` step, where :meth:`~animat.learners.ppo.learner.PPOLearner.learn` evaluates the

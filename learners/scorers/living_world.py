@@ -15,7 +15,7 @@ import numpy as np
 
 from ..agents import PolicyAgent
 from ..base import LearnResult, Scorer
-from ..rollout import START_STATES, score_policy
+from ..rollout import START_STATES
 from ..validation import typed_params
 
 
@@ -75,7 +75,7 @@ class BehavioursLearner(Scorer):
         self.check_budget(budget_env_steps)
         env = self._env()
         try:
-            return score_policy(self, env, IdlePolicy(env.action_space.shape),
+            return self.score_policy(env, IdlePolicy(env.action_space.shape),
                                 self.own.episodes)
         finally:
             env.close()

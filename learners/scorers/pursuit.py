@@ -18,7 +18,6 @@ from animat.envs.world.pursuit.policy import ActiveVisionParams, ActiveVisionPol
 
 from ..agents import PolicyAgent
 from ..base import LearnResult, Scorer
-from ..rollout import score_policy
 from ..validation import typed_params
 
 
@@ -69,4 +68,4 @@ class ActiveVisionLearner(Scorer):
               ) -> LearnResult:
         self.check_budget(budget_env_steps)
         env = gym.make(self.env_id, **self.env_kwargs)
-        return score_policy(self, env, self.agent({}, None), self.own.episodes)
+        return self.score_policy(env, self.agent({}, None), self.own.episodes)

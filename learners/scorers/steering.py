@@ -14,8 +14,7 @@ import animat  # noqa: F401
 from animat.envs.registration import timing
 
 from ..base import LearnResult, Scorer
-from ..rollout import score_policy
-from ..skills.repertoire import Repertoire, kept_in_run
+from ..controllers.repertoire import Repertoire, kept_in_run
 from ..skills.steering import SkillSteering, SteeringAgent, SteeringParams, check_reach
 from ..validation import typed_params
 
@@ -67,6 +66,6 @@ class SteeringLearner(Scorer):
         self.repertoire = kept_in_run(self.repertoire, checkpoint_dir)
         env = gym.make(self.env_id, **self.env_kwargs)
         try:
-            return score_policy(self, env, self.agent({}, checkpoint_dir), self.own.episodes)
+            return self.score_policy(env, self.agent({}, checkpoint_dir), self.own.episodes)
         finally:
             env.close()

@@ -6,7 +6,7 @@ speeds, turns of several angles left and right; the dolphin's turn-down, turn-up
 turn-right, move-forward) is learned one skill at a time by annealing (or, where a skill names
 ``learner: cmaes``, by CMA-ES over the same encoding), each learned controller abstracted by
 FFT (and, where its params ask, the abstraction refined), and the abstractions kept in a
-repertoire file (:mod:`animat.learners.skills.repertoire`).
+repertoire file (:mod:`animat.learners.controllers.repertoire`).
 """
 
 from __future__ import annotations
@@ -24,10 +24,10 @@ from ..agents import OpenLoopAgent, SkillSet
 from ..base import Learner, LearnResult, episode_timing
 from ..blackbox import AnnealingLearner, CMAESLearner
 from ..controllers.abstraction import AbstractController
+from ..controllers.repertoire import Repertoire, Skill
 from ..logger import Logger
 from ..validation import check_drives, typed_params
 from .regimens import REGIMENS
-from .repertoire import Repertoire, Skill
 
 # the learners a regimen's skill may name (``learner``; default the paper's annealing)
 SKILL_LEARNERS = {"annealing": AnnealingLearner, "cmaes": CMAESLearner}

@@ -34,7 +34,7 @@ import numpy as np
 from animat.envs.registration import task_of
 from animat.envs.tasks import ReachTask
 
-from .repertoire import REST, Repertoire, play_skills, switch_skills
+from ..controllers.repertoire import REST, Repertoire, play_skills, switch_skills
 
 
 @dataclass(frozen=True)

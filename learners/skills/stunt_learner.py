@@ -23,10 +23,10 @@ from animat.envs.tasks.stunts import StuntTask
 from ..agents import BatchPolicyAgent
 from ..base import episode_timing
 from ..blackbox import BlackBoxLearner
+from ..controllers.repertoire import Repertoire, check_skill_names, kept_in_run
 from ..controllers.table import CellTableEncoding
 from ..optimizers import annealing, coordinate
 from ..rollout import START_STATES, BatchEvaluator, check_worst_share
-from .repertoire import Repertoire, check_skill_names, kept_in_run
 from .stunt_table import StuntTable, table_shape
 
 
@@ -116,7 +116,7 @@ class StuntTableLearner(CellTableEncoding, BlackBoxLearner):
 
     def learn(self, budget_env_steps: int, checkpoint_dir=None):
         """As every black-box learner, playing the run folder's own copy of the repertoire
-        (:func:`animat.learners.skills.repertoire.kept_in_run`)."""
+        (:func:`animat.learners.controllers.repertoire.kept_in_run`)."""
         self.repertoire = kept_in_run(self.repertoire, checkpoint_dir)
         return super().learn(budget_env_steps, checkpoint_dir)
 

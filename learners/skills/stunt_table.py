@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .repertoire import REST, Repertoire, play_skills, switch_skills
+from ..controllers.repertoire import REST, Repertoire, play_skills, switch_skills
 
 SENSES = ("height_bl", "pitch_deg", "speed_bl")
 # Where each sense is split into bins: deep under, near the surface, breaking it, in the air;

@@ -1,13 +1,15 @@
-"""Black-box checkpoints as data: a learner's progress (:class:`~animat.learners.blackbox_run.Run`)
-written as JSON and read back without pickle.
+"""Checkpoints as data: a learner's progress (e.g. a black-box learner's
+:class:`~animat.learners.blackbox_run.Run`) written as JSON and read back without pickle.
 
-The progress is a tree of a few known dataclasses (the run, its phases, the optimisers' params
-and states), NumPy arrays, an FFT abstraction and plain values. :func:`to_data` writes each
-dataclass as ``{"__type__": name, ...fields}`` (only the types in :data:`TYPES`), each array as
-``{"__array__": dtype, "shape", "data"}`` and a tuple as ``{"__tuple__": [...]}``; floats go
-through ``repr`` and come back bit for bit (``inf`` and ``nan`` included). :func:`from_data`
-builds only those types: a file that names anything else is refused, so a checkpoint planted in
-a shared run folder cannot run code.
+The progress is a tree of a few known classes (for a black-box run: the run, its phases, the
+optimisers' params and states, an FFT abstraction), NumPy arrays and plain values.
+:func:`to_data` writes an object whose class reads itself back (``from_dict``) as
+``{"__type__": name, "data": its to_dict()}``, another dataclass as ``{"__type__": name,
+...fields}``, each array as ``{"__array__": dtype, "shape", "data"}`` and a tuple as
+``{"__tuple__": [...]}``; floats go through ``repr`` and come back bit for bit (``inf`` and
+``nan`` included). :func:`from_data` builds only the classes its caller names (the writer's
+own table, e.g. :data:`animat.learners.blackbox_run.CHECKPOINT_TYPES`): a file that names
+anything else is refused, so a checkpoint planted in a shared run folder cannot run code.
 """
 
 from __future__ import annotations
@@ -28,23 +30,10 @@ FORMAT = "artificial-animals black-box checkpoint 1"
 BEFORE_FIELDS = {"AnnealingParams": {"schedule": "stages"}}
 
 
-def _types() -> dict[str, type]:
-    from .. import blackbox_run
-    from ..optimizers import annealing, cmaes, coordinate
-
-    return {cls.__name__: cls for cls in (blackbox_run.Run, blackbox_run.Phase,
-                                          annealing.AnnealingParams, annealing.AnnealingState,
-                                          cmaes.CMAESParams, cmaes.CMAESState,
-                                          coordinate.CoordinateParams,
-                                          coordinate.CoordinateState)}
-
-
 def to_data(value: Any) -> Any:
     """``value`` as JSON-able data (see the module's docstring)."""
-    from ..controllers.abstraction import AbstractController
-
-    if isinstance(value, AbstractController):
-        return {"__type__": "AbstractController", "data": value.to_dict()}
+    if hasattr(type(value), "from_dict") and hasattr(value, "to_dict"):
+        return {"__type__": type(value).__name__, "data": value.to_dict()}
     if dataclasses.is_dataclass(value) and not isinstance(value, type):
         fields = {f.name: to_data(getattr(value, f.name)) for f in dataclasses.fields(value)
                   if f.metadata.get("checkpoint", True)}
@@ -67,11 +56,9 @@ def to_data(value: Any) -> Any:
     raise TypeError(f"a checkpoint cannot hold a {type(value).__name__}")
 
 
-def from_data(data: Any, types: dict[str, type] | None = None) -> Any:
-    """The value :func:`to_data` wrote; ValueError for a type it does not know."""
-    from ..controllers.abstraction import AbstractController
-
-    types = _types() if types is None else types
+def from_data(data: Any, types: dict[str, type]) -> Any:
+    """The value :func:`to_data` wrote, building no class but ``types`` (name: class);
+    ValueError for a type it does not know."""
     if isinstance(data, list):
         return [from_data(v, types) for v in data]
     if not isinstance(data, dict):
@@ -85,10 +72,10 @@ def from_data(data: Any, types: dict[str, type] | None = None) -> Any:
         return tuple(from_data(v, types) for v in data["__tuple__"])
     if "__type__" in data:
         name = data["__type__"]
-        if name == "AbstractController":
-            return AbstractController.from_dict(data["data"])
         if name not in types:
             raise ValueError(f"a checkpoint names the type {name!r}, which it may not hold")
+        if hasattr(types[name], "from_dict"):
+            return types[name].from_dict(data["data"])
         fields = {**BEFORE_FIELDS.get(name, {}),
                   **{k: from_data(v, types) for k, v in data.items() if k != "__type__"}}
         return types[name](**fields)
@@ -102,10 +89,10 @@ def save(path: str | Path, run, kind: str = FORMAT) -> None:
     atomic_write(path, lambda file: file.write(text))
 
 
-def load(path: str | Path, kind: str = FORMAT, types: dict[str, type] | None = None):
+def load(path: str | Path, types: dict[str, type], kind: str = FORMAT):
     """The value saved at ``path`` as a ``kind`` of checkpoint, building no class but
-    ``types`` (default: a black-box learner's) and the FFT abstraction, or None when there is
-    none; CorruptFile naming the file when it is not one of these checkpoints."""
+    ``types`` (e.g. :data:`animat.learners.blackbox_run.CHECKPOINT_TYPES`), or None when there
+    is none; CorruptFile naming the file when it is not one of these checkpoints."""
     path = Path(path)
     if not os.path.lexists(path):
         return None

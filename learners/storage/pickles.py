@@ -58,7 +58,8 @@ MOVED = {"animat.learners.annealing": "animat.learners.optimizers.annealing",
          **{f"animat.learners.blackbox.{name}": "animat.learners.controllers.periodic"
             for name in ("ControllerParams", "PeriodicPlayer")},
          "animat.learners.blackbox.ResultFrom": "animat.learners.controllers.report",
-         "animat.learners.repertoire": "animat.learners.skills.repertoire",
+         "animat.learners.repertoire": "animat.learners.controllers.repertoire",
+         "animat.learners.skills.repertoire": "animat.learners.controllers.repertoire",
          **{f"animat.learners.repertoire.{name}": "animat.learners.skills.basic_training"
             for name in ("BasicTrainingParams", "BasicTrainingLearner")}}
 

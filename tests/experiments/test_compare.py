@@ -6,8 +6,8 @@ import json
 
 import numpy as np
 
-from animat.experiments.compare import RunCurves, setting_of
-from animat.experiments.figures.curves import learner_colours
+from animat.experiments.compare import setting_of
+from animat.experiments.figures.curves import RunCurves, learner_colours
 from animat.experiments.figures.statistics import iqm, iqm_interval
 from tests.support.cli import TINY, animat, write_config
 

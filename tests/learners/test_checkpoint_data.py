@@ -8,6 +8,7 @@ import pickle
 import numpy as np
 import pytest
 
+from animat.learners.blackbox_run import CHECKPOINT_TYPES
 from animat.learners.registry import make_learner
 from animat.learners.storage import checkpoint_data
 from animat.learners.storage.files import CorruptFile
@@ -25,7 +26,7 @@ def test_a_run_round_trips_as_data_bit_for_bit(tmp_path, name, params):
     make_learner(name, ENV, KWARGS, {**REFINE, **params}, seed=2).learn(4800, tmp_path)
     path = tmp_path / "checkpoint.json"
     text = path.read_text()
-    run = checkpoint_data.load(path)
+    run = checkpoint_data.load(path, CHECKPOINT_TYPES)
     assert len(run.phases) == 2 and run.phases[1].support is not None  # learned, refined
     checkpoint_data.save(tmp_path / "again.json", run)
     assert (tmp_path / "again.json").read_text() == text
@@ -37,7 +38,7 @@ def test_annealing_params_from_before_schedules_keep_the_stages_they_ran_with(tm
 
     data = checkpoint_data.to_data(AnnealingParams(chains=8))
     del data["schedule"], data["rounds"]  # as a checkpoint written before them
-    assert checkpoint_data.from_data(data).schedule == "stages"
+    assert checkpoint_data.from_data(data, CHECKPOINT_TYPES).schedule == "stages"
     old = AnnealingParams(chains=8)
     state = dict(vars(old))
     del state["schedule"], state["rounds"]
@@ -59,7 +60,7 @@ def test_a_run_from_before_schedules_refines_with_the_stages_it_learned_with(tmp
     path.write_text(json.dumps(data))
     unpinned = {k: v for k, v in params.items() if k != "schedule"}
     make_learner("annealing", ENV, KWARGS, unpinned, seed=2).learn(4800, tmp_path)
-    run = checkpoint_data.load(path)
+    run = checkpoint_data.load(path, CHECKPOINT_TYPES)
     assert len(run.phases) == 2
     assert [phase.params.schedule for phase in run.phases] == ["stages", "stages"]
 
@@ -70,8 +71,8 @@ def test_a_checkpoint_naming_another_type_or_an_object_array_is_refused(tmp_path
                 {"__array__": "|O", "shape": [1], "data": ["x"]}):
         path.write_text(json.dumps({"format": checkpoint_data.FORMAT, "run": run}))
         with pytest.raises(CorruptFile, match="cannot be read back"):
-            checkpoint_data.load(path)
-    assert checkpoint_data.from_data(checkpoint_data.to_data(np.array([np.inf, np.nan])))[0] \
+            checkpoint_data.load(path, CHECKPOINT_TYPES)
+    assert checkpoint_data.from_data(checkpoint_data.to_data(np.array([np.inf, np.nan])), {})[0] \
         == np.inf
 
 
@@ -95,8 +96,9 @@ def test_an_older_pickled_checkpoint_is_read_only_when_trusted(tmp_path):
                                                       "checkpoint_every": 1})
     genuine = tmp_path / "genuine"
     learner.learn(1600, genuine)
+    # what an older version wrote: a pickle of the run
     save_checkpoint(checkpoints / "checkpoint.pkl", checkpoint_data.load(
-        genuine / "checkpoint.json"))  # what an older version wrote: a pickle of the run
+        genuine / "checkpoint.json", CHECKPOINT_TYPES))
     animat("run", "--resume", folder, "--trust-pickles", "--quiet")
     assert json.loads((folder / "result.json").read_text())["status"] == "done"
     assert not (checkpoints / "checkpoint.json").exists()  # a trusted older run goes on pickling
@@ -108,7 +110,7 @@ def test_a_cma_es_replay_that_asks_other_candidates_is_refused_and_old_states_st
 
     make_learner("cmaes", ENV, KWARGS, {"nodes": 4, "popsize": 8, "checkpoint_every": 1},
                  seed=2).learn(1600, tmp_path)
-    state = checkpoint_data.load(tmp_path / "checkpoint.json").phases[0].state
+    state = checkpoint_data.load(tmp_path / "checkpoint.json", CHECKPOINT_TYPES).phases[0].state
     assert len(state.asked) == len(state.told) > 1
     cmaes.strategy(state)  # replays as the run asked
     state.es, state.options = None, {**state.options, "seed": state.options["seed"] + 1}

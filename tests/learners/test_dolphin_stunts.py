@@ -7,9 +7,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from animat.learners.controllers.repertoire import Repertoire
 from animat.learners.macro import MacroLearner
 from animat.learners.rollout import BatchEvaluator
-from animat.learners.skills.repertoire import Repertoire
 
 ROOT = Path(__file__).resolve().parents[2]
 REPERTOIRE = ROOT / "repertoires" / "dolphin.json"

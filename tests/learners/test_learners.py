@@ -397,11 +397,12 @@ def test_a_checkpoint_naming_the_classes_where_they_were_still_loads(tmp_path):
 
 def test_a_pickle_naming_the_repertoire_module_still_loads(tmp_path):
     """Pickles of an older version name the repertoire's and basic training's classes in
-    ``repertoire``: :data:`MOVED` finds them in the skills room, with or without ``animat.``."""
+    ``repertoire`` (and later the repertoire's in ``skills.repertoire``): :data:`MOVED` finds
+    them where they are now, with or without ``animat.``."""
     import pickle
 
+    from animat.learners.controllers.repertoire import Skill
     from animat.learners.skills.basic_training import BasicTrainingParams
-    from animat.learners.skills.repertoire import Skill
     from animat.learners.storage.pickles import load_checkpoint
 
     payload = {"skill": Skill("swim", None, {"duration": 4.0}),
@@ -409,12 +410,15 @@ def test_a_pickle_naming_the_repertoire_module_still_loads(tmp_path):
     now = pickle.dumps(payload, protocol=0)  # text opcodes: "c<module>\n<name>\n"
     for prefix in (b"animat.learners.", b"learners."):
         old = now
-        for new in (b"skills.repertoire", b"skills.basic_training"):
+        for new in (b"controllers.repertoire", b"skills.basic_training"):
             assert b"animat.learners." + new + b"\n" in old
             old = old.replace(b"animat.learners." + new + b"\n", prefix + b"repertoire\n")
-        assert b"skills" not in old
+        assert b"skills" not in old and b"controllers" not in old
         (tmp_path / "checkpoint.pkl").write_bytes(old)
         assert load_checkpoint(tmp_path / "checkpoint.pkl") == payload
+    in_skills = now.replace(b"controllers.repertoire", b"skills.repertoire")  # before it moved
+    (tmp_path / "checkpoint.pkl").write_bytes(in_skills)
+    assert load_checkpoint(tmp_path / "checkpoint.pkl") == payload
 
 
 def test_the_hand_mc_plays_back_without_building_the_env(tmp_path, monkeypatch):
@@ -434,7 +438,7 @@ def test_the_hand_mc_plays_back_without_building_the_env(tmp_path, monkeypatch):
 def test_a_regimen_skill_may_be_learned_by_cmaes_and_says_so(tmp_path):
     """A skill naming ``learner: cmaes`` is learned by CMA-ES with its own params (the run's
     shared annealing params are not its), and its repertoire entry records the learner."""
-    from animat.learners.skills.repertoire import Repertoire
+    from animat.learners.controllers.repertoire import Repertoire
 
     regimen = [{"name": "turn", "env_id": "Animat/FishTurn-v0", "env_kwargs": TINY_ENV,
                 "learner": "cmaes", "params": {"nodes": 4, "period": None, "popsize": 8}},

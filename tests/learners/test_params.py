@@ -8,7 +8,7 @@ from pathlib import Path
 import gymnasium as gym
 import pytest
 
-from animat.learners.skills.repertoire import Repertoire
+from animat.learners.controllers.repertoire import Repertoire
 from tests.support.cli import ROOT, TINY, animat, write_config
 
 FISH = json.loads((ROOT / "repertoires" / "fish.json").read_text())

@@ -4,9 +4,9 @@ import numpy as np
 import pytest
 
 from animat.learners.controllers.abstraction import abstract
+from animat.learners.controllers.repertoire import Repertoire, Skill
 from animat.learners.controllers.tent import TentController
 from animat.learners.macro import MacroLearner, MacroSequence
-from animat.learners.skills.repertoire import Repertoire, Skill
 
 CHANNELS = 6  # actuations of the test skills (any number)
 

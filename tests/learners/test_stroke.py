@@ -7,10 +7,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from animat.learners.controllers.repertoire import Repertoire
 from animat.learners.macro import MacroSequence
 from animat.learners.registry import make_learner
 from animat.learners.rollout import BatchEvaluator
-from animat.learners.skills.repertoire import Repertoire
 from animat.learners.stroke import ExitStroke, StrokeParameters
 
 ROOT = Path(__file__).resolve().parents[2]

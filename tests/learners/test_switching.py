@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 
 import animat  # noqa: F401
+from animat.learners.controllers.repertoire import Repertoire
 from animat.learners.registry import make_learner
 from animat.learners.rollout import score_episode
-from animat.learners.skills.repertoire import Repertoire
 from animat.learners.skills.steering import (
     TABLE_SHAPE,
     SkillSteering,

@@ -34,8 +34,8 @@ def test_hand_motor_controllers_keep_passive_elements_within_tissue_limits():
 
 
 def test_repertoire_skills_keep_passive_elements_within_tissue_limits():
+    from animat.learners.controllers.repertoire import Repertoire
     from animat.learners.controllers.tent import play
-    from animat.learners.skills.repertoire import Repertoire
 
     skills = Repertoire.load(REPERTOIRE).skills.values()
     actions = np.full((160, len(skills), 6), -1.0)  # relaxed after each skill ends

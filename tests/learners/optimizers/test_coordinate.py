@@ -5,6 +5,7 @@ hold, never keeps a diverged score, and resumes from its checkpoint data bit for
 import numpy as np
 import pytest
 
+from animat.learners.blackbox_run import CHECKPOINT_TYPES
 from animat.learners.optimizers import coordinate
 from animat.learners.storage.checkpoint_data import from_data, to_data
 
@@ -70,7 +71,7 @@ def test_a_search_resumed_from_its_checkpoint_data_ends_identical():
     params = coordinate.CoordinateParams(levels=LEVELS, candidates=2)
     start = coordinate.init(params, np.zeros(len(TARGET)), seed=3)
     whole = search(params, start)
-    halfway = from_data(to_data(search(params, start, stop_after=7)))
+    halfway = from_data(to_data(search(params, start, stop_after=7)), CHECKPOINT_TYPES)
     resumed = search(params, halfway)
     np.testing.assert_array_equal(resumed.x, whole.x)
     assert (resumed.round, resumed.sweep, resumed.energy) == (whole.round, whole.sweep,

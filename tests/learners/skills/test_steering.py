@@ -7,7 +7,7 @@ import gymnasium as gym
 import numpy as np
 import pytest
 
-from animat.learners.skills.repertoire import Repertoire
+from animat.learners.controllers.repertoire import Repertoire
 from animat.learners.skills.steering import (
     REST,
     TABLE_SHAPE,

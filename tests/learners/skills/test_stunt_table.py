@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 
 from animat.envs.tasks.dolphin import pitch_of
+from animat.learners.controllers.repertoire import Repertoire
 from animat.learners.registry import make_learner
 from animat.learners.rollout import score_episode
-from animat.learners.skills.repertoire import Repertoire
 from animat.learners.skills.stunt_table import StuntTable, senses, table_shape
 
 REPERTOIRE = str(Path(__file__).resolve().parents[3] / "repertoires" / "dolphin_reactive.json")

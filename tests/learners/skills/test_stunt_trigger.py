@@ -8,10 +8,10 @@ import gymnasium as gym
 import numpy as np
 import pytest
 
+from animat.learners.controllers.repertoire import Repertoire
 from animat.learners.macro import MacroSequence
 from animat.learners.registry import make_learner
 from animat.learners.rollout import score_episode
-from animat.learners.skills.repertoire import Repertoire
 from animat.learners.skills.stunt_trigger import TriggeredPolicy, TriggeredSequence
 
 REPERTOIRE = str(Path(__file__).resolve().parents[3] / "repertoires" / "dolphin_reactive.json")

@@ -12,8 +12,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..controllers.abstraction import AbstractController
 from ..storage.files import atomic_write, read_text
+from .abstraction import AbstractController
 
 FORMAT = "artificial-animals repertoire 1"  # a repertoire file's "format"
 
