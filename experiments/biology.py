@@ -150,7 +150,7 @@ def fish_cruise(water: dict, params: SwimParams, seconds: float = 10.0,
     (default: the env's)."""
     env = BodyEnv("swim", duration=seconds, water=water, start_spread="point", **(physics or {}))
     infos, nodes = play(env, lambda t: swim_mc(1.0, t, params), seconds)
-    return cruise_figures(infos, nodes, env.dt, env.core.body, params.max_hz, seconds / 2)
+    return cruise_figures(infos, nodes, env.dt, env.body, params.max_hz, seconds / 2)
 
 
 def dolphin_cruise(water: dict, params: SwimParams = DOLPHIN_SWIM, seconds: float = 6.0,

@@ -151,8 +151,11 @@ def _private_names(source: str) -> set[str]:
     for node in ast.walk(ast.parse(source)):
         if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef | ast.ClassDef):
             names.add(node.name)
-        elif isinstance(node, ast.Name | ast.Attribute) and isinstance(node.ctx, ast.Store):
-            names.add(node.id if isinstance(node, ast.Name) else node.attr)
+        elif isinstance(node, ast.Name) and isinstance(node.ctx, ast.Store):
+            names.add(node.id)
+        elif (isinstance(node, ast.Attribute) and isinstance(node.ctx, ast.Store)
+              and isinstance(node.value, ast.Name) and node.value.id in ("self", "cls")):
+            names.add(node.attr)
         elif isinstance(node, ast.AnnAssign) and isinstance(node.target, ast.Name):
             names.add(node.target.id)
     return {n for n in names if n.startswith("_") and not n.startswith("__")}
@@ -259,7 +262,8 @@ def test_the_checks_catch_what_they_say():
     assert _circles({"a": {"b"}, "b": set()}) == []
     assert _file_of("animat.envs.core.batch.BodyBatch") == "animat.envs.core.batch"
     assert _private_names("def _f(): pass\nclass A:\n    _k: int = 1\n    def g(self):\n"
-                          "        self._x = 1\n        self.__y = 2\n") == {"_f", "_k", "_x"}
+                          "        self._x = 1\n        self.__y = 2\n        other._z = 3\n"
+                          ) == {"_f", "_k", "_x"}
     reach = "def f(env):\n    return env.unwrapped.core._triangles(), self._own\n"
     assert _private_reaches("m", reach, {"_triangles", "_own"}, set()) == [
         "private: m reaches ._triangles"]

@@ -75,7 +75,7 @@ def fish_figures(model: str, physics: dict) -> dict[str, float]:
     env = BodyEnv("swim", duration=7.0, water=water, start_spread="point", fins=True, **physics)
     infos, _ = play(env, lambda t: swim_mc(1.0, t, swim), 6.0, fins=fins)
     out[f"{model} fin depth change"] = float(infos[-1]["com"][2] - infos[0]["com"][2]
-                                            ) / env.core.body.length
+                                            ) / env.body.length
     return out
 
 

@@ -144,8 +144,7 @@ def _vector(worlds: int):
         core.navigator.actions(commands, np.repeat(core.time, core.fish))
 
     def geometry() -> None:
-        core._poses = None
-        core.eye_poses(kinematics)
+        core.eye_poses(kinematics, fresh=True)
         core.triangles()
 
     def raster() -> None:

@@ -154,12 +154,13 @@ class PursuitWorlds:
         """(N, 2, 2) rad: (theta, phi) of each observer's left and right eye, from the head."""
         return self.gaze.reshape(-1, 2, 2) * [THETA_RANGE, PHI_RANGE]
 
-    def eye_poses(self, kinematics: Kinematics) -> tuple[np.ndarray, np.ndarray]:
+    def eye_poses(self, kinematics: Kinematics, fresh: bool = False
+                  ) -> tuple[np.ndarray, np.ndarray]:
         """(N, 2, 3) m eye positions and (N, 2, 3, 3) camera rotations of every observer's
         eyes (:func:`~animat.envs.vision.retina.eye_poses_batch`), computed once per
-        ``kinematics`` and gaze."""
+        ``kinematics`` and gaze (``fresh``: again even so, e.g. to time it)."""
         kept = self._poses
-        if kept is not None and kept[0] is kinematics and np.array_equal(kept[1], self.gaze):
+        if not fresh and kept is not None and kept[0] is kinematics and np.array_equal(kept[1], self.gaze):
             return kept[2]
         poses = eye_poses_batch(kinematics.frames[self.observers],
                                 self.core.state.x[self.observers, 0], self.body_length,
