@@ -160,7 +160,8 @@ class PursuitWorlds:
         eyes (:func:`~animat.envs.vision.retina.eye_poses_batch`), computed once per
         ``kinematics`` and gaze (``fresh``: again even so, e.g. to time it)."""
         kept = self._poses
-        if not fresh and kept is not None and kept[0] is kinematics and np.array_equal(kept[1], self.gaze):
+        if (not fresh and kept is not None and kept[0] is kinematics
+                and np.array_equal(kept[1], self.gaze)):
             return kept[2]
         poses = eye_poses_batch(kinematics.frames[self.observers],
                                 self.core.state.x[self.observers, 0], self.body_length,
