@@ -20,7 +20,6 @@ from __future__ import annotations
 import time
 from dataclasses import fields
 from pathlib import Path
-from types import ModuleType
 
 import gymnasium as gym
 import numpy as np
@@ -38,22 +37,22 @@ from .controllers.report import (
     reported_player,
     result_from,
 )
-from .optimizers import annealing, cmaes
+from .optimizers import Optimizer, annealing, cmaes
 from .rollout import BatchEvaluator
+from .storage import migration
 from .validation import BudgetError, check_memory, typed_params, unknown_params
 
 
 class BlackBoxLearner(Learner):
-    """Optimises a parameter vector with an ask/tell ``optimizer`` module (``init``, ``ask``,
-    ``tell``, ``finished``, ``population``, ``with_budget``, ``same_schedule``,
-    ``before_schedules``, ``metrics``, ``fit_encoding``, ``refine_options``; see
+    """Optimises a parameter vector with an ask/tell ``optimizer`` module (an
+    :class:`~animat.learners.optimizers.Optimizer`, e.g.
     :mod:`animat.learners.optimizers.annealing`) configured by ``params_class``. What the vector
     means is the subclass's: ``own_params`` (its parameters), :meth:`_configure`, :meth:`_x0`,
     :meth:`controller` (vector -> something with ``actions(dt, steps)``), :meth:`_artefacts`,
     :meth:`_player`. This base reads the tent-controller encoding
     (:mod:`animat.learners.controllers.periodic`); nothing here is specific to one optimiser."""
 
-    optimizer: ModuleType
+    optimizer: Optimizer
     params_class: type
     own_params: type = ControllerParams
 
@@ -192,7 +191,7 @@ class BlackBoxLearner(Learner):
         path, saved = self._saved(checkpoint_dir)
         if saved is not None:
             if isinstance(saved, dict) and "phases" not in saved:  # before phases existed
-                saved["params"] = self.optimizer.before_schedules(self.opt_params)
+                saved["params"] = migration.as_before_schedules(self.opt_params)
             run = Run.from_checkpoint(saved)
         else:
             self.log_hparams()

@@ -9,22 +9,21 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field, fields, replace
 from pathlib import Path
-from types import ModuleType
 from typing import Any
 
 import numpy as np
 
 from .controllers.abstraction import AbstractController
 from .logger import Logger
-from .optimizers import annealing, cmaes, coordinate
-from .storage import checkpoint_data
+from .optimizers import Optimizer, annealing, cmaes, coordinate
+from .storage import checkpoint_data, migration
 from .storage.pickles import UntrustedPickle, load_checkpoint, save_checkpoint
 from .validation import check_finite, unknown_params
 
 REFINE_KEYS = {"share", "threshold", "max_parameters"}
 
 
-def refine_settings(refine: dict | None, learner: str, optimizer: ModuleType,
+def refine_settings(refine: dict | None, learner: str, optimizer: Optimizer,
                     opt_params: Any) -> dict | None:
     """The refinement phase's settings of learner ``learner`` (its optimiser module and
     params ``opt_params``) from ``refine``: {``share`` (the fraction of the run's budget it
@@ -43,7 +42,8 @@ def refine_settings(refine: dict | None, learner: str, optimizer: ModuleType,
     unknown_params(refine, REFINE_KEYS | option_names, f"{learner}.refine")
     for name, value in refine.items():
         check_finite(f"refine.{name}", value, f"learner {learner!r}")
-    share, threshold = refine.get("share"), refine.get("threshold", 0.5)
+    share: Any = refine.get("share")  # checked here, whatever the config held
+    threshold: Any = refine.get("threshold", 0.5)
     if not (type(share) in (float, int) and 0.0 < share < 1.0
             and type(threshold) in (float, int) and 0.0 <= threshold < 1.0):
         raise ValueError(f"learner {learner!r}: refine needs share in (0, 1) and "
@@ -103,14 +103,13 @@ class Run:
 
     @classmethod
     def from_checkpoint(cls, saved) -> Run:
-        """A saved run; checkpoints from before these dataclasses were dicts."""
+        """A saved run; checkpoints from before these dataclasses were dicts
+        (:func:`~animat.learners.storage.migration.run_fields`)."""
         if isinstance(saved, Run):
             return saved
-        phases = saved.get("phases") or [{"params": saved["params"], "state": saved["state"],
-                                           "best": saved.get("best")}]
-        return cls([Phase(p["params"], p["state"], p.get("best"), p.get("support"),
-                          p.get("start")) for p in phases],
-                   saved["env_steps"], saved["wall"], saved["rounds"])
+        fields = migration.run_fields(saved)
+        return cls([Phase(**phase) for phase in fields["phases"]], fields["env_steps"],
+                   fields["wall"], fields["rounds"])
 
     def overall_best(self) -> dict | None:
         """The best candidate of either phase (None before the first round)."""

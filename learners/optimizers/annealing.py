@@ -30,6 +30,7 @@ from math import inf
 
 import numpy as np
 
+from ..storage.migration import fields_written_before
 from .energies import worst_if_diverged
 
 SCHEDULES = ("budget", "stages")
@@ -100,8 +101,9 @@ class AnnealingParams:
 
     def __setstate__(self, state: dict) -> None:
         """Unpickled from an older version's checkpoint, params written before schedules
-        existed keep the schedule their run had: stages."""
-        for name, value in {"schedule": "stages", **state}.items():
+        existed keep the schedule their run had
+        (:data:`animat.learners.storage.migration.BEFORE_FIELDS`: stages)."""
+        for name, value in fields_written_before(type(self).__name__, state).items():
             object.__setattr__(self, name, value)
 
 
@@ -142,11 +144,6 @@ def same_schedule(params: AnnealingParams, learned: AnnealingParams) -> Annealin
     """``params`` (a refinement's) with the schedule of the phase it follows (``learned``:
     a run resumed from a checkpoint written before schedules keeps stages in both)."""
     return replace(params, schedule=learned.schedule)
-
-
-def before_schedules(params: AnnealingParams) -> AnnealingParams:
-    """The schedule a run checkpointed before schedules existed had: stages."""
-    return replace(params, schedule="stages")
 
 
 def budget_temperature(params: AnnealingParams, round_: int) -> float:

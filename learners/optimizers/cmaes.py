@@ -70,10 +70,6 @@ def same_schedule(params: CMAESParams, learned: CMAESParams) -> CMAESParams:
     return params
 
 
-def before_schedules(params: CMAESParams) -> CMAESParams:
-    return params
-
-
 def population(params: CMAESParams) -> int:
     return params.popsize
 

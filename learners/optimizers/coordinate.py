@@ -85,10 +85,6 @@ def same_schedule(params: CoordinateParams, learned: CoordinateParams) -> Coordi
     return params
 
 
-def before_schedules(params: CoordinateParams) -> CoordinateParams:
-    return params
-
-
 def state_bytes(params: CoordinateParams, dims: int) -> int:
     """Memory a round takes over ``dims`` genes, about: the proposals, float64."""
     return 8 * (population(params) + 2) * int(dims)

@@ -23,11 +23,9 @@ from typing import Any
 import numpy as np
 
 from .files import CorruptFile, atomic_write, read_bytes
+from .migration import fields_written_before
 
 FORMAT = "artificial-animals black-box checkpoint 1"
-# Fields a checkpoint written before they existed takes: what its run did then (the annealing
-# cooled by stages before it learned to cool over the budget).
-BEFORE_FIELDS = {"AnnealingParams": {"schedule": "stages"}}
 
 
 def to_data(value: Any) -> Any:
@@ -76,8 +74,8 @@ def from_data(data: Any, types: dict[str, type]) -> Any:
             raise ValueError(f"a checkpoint names the type {name!r}, which it may not hold")
         if hasattr(types[name], "from_dict"):
             return types[name].from_dict(data["data"])
-        fields = {**BEFORE_FIELDS.get(name, {}),
-                  **{k: from_data(v, types) for k, v in data.items() if k != "__type__"}}
+        fields = fields_written_before(name, {k: from_data(v, types) for k, v in data.items()
+                                              if k != "__type__"})
         return types[name](**fields)
     return {k: from_data(v, types) for k, v in data.items()}
 

@@ -1,5 +1,6 @@
 """An older version's checkpoint format, a pickle: written only for a run it began and
-resumed with ``--trust-pickles``, read back finding each class where it is now (:data:`MOVED`),
+resumed with ``--trust-pickles``, read back finding each class where it is now
+(:data:`animat.learners.storage.migration.MOVED`),
 and refused (:class:`UntrustedPickle`) unless the caller trusts the folder. New runs write
 data (:mod:`animat.learners.storage.checkpoint_data`)."""
 
@@ -11,6 +12,7 @@ from pathlib import Path
 from typing import Any
 
 from .files import CorruptFile, atomic_write, open_read
+from .migration import module_now
 
 
 class UntrustedPickle(RuntimeError):
@@ -45,31 +47,10 @@ def load_checkpoint(path: str | Path) -> Any | None:
                                     f"{error})") from None
 
 
-# modules an older version's pickled checkpoints name, and where they are now; a
-# "<module>.<Class>" key: that class alone moved out of the module (the rest stayed)
-MOVED = {"animat.learners.annealing": "animat.learners.optimizers.annealing",
-         "animat.learners.cmaes": "animat.learners.optimizers.cmaes",
-         "animat.learners.abstraction": "animat.learners.controllers.abstraction",
-         "animat.learners.controller": "animat.learners.controllers.tent",
-         "animat.learners.scorers.active_vision": "animat.learners.scorers.pursuit",
-         "animat.learners.scorers.behaviours": "animat.learners.scorers.living_world",
-         **{f"animat.learners.blackbox.{name}": "animat.learners.blackbox_run"
-            for name in ("Phase", "Run")},
-         **{f"animat.learners.blackbox.{name}": "animat.learners.controllers.periodic"
-            for name in ("ControllerParams", "PeriodicPlayer")},
-         "animat.learners.blackbox.ResultFrom": "animat.learners.controllers.report",
-         "animat.learners.repertoire": "animat.learners.controllers.repertoire",
-         "animat.learners.skills.repertoire": "animat.learners.controllers.repertoire",
-         **{f"animat.learners.repertoire.{name}": "animat.learners.skills.basic_training"
-            for name in ("BasicTrainingParams", "BasicTrainingLearner")}}
-
-
 class _Unpickler(pickle.Unpickler):
     """Reads checkpoints written before the code moved under ``animat.`` (their ``learners.*``
-    and ``envs.*`` classes are this package's) and before the learners' rooms (:data:`MOVED`)."""
+    and ``envs.*`` classes are this package's) and before the learners' rooms
+    (:func:`animat.learners.storage.migration.module_now`)."""
 
     def find_class(self, module: str, name: str):
-        if module.split(".")[0] in ("envs", "learners", "experiments"):
-            module = f"animat.{module}"
-        module = MOVED.get(f"{module}.{name}", MOVED.get(module, module))
-        return super().find_class(module, name)
+        return super().find_class(module_now(module, name), name)
