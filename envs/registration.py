@@ -24,6 +24,7 @@ from gymnasium.envs.registration import load_env_creator
 
 if TYPE_CHECKING:
     from .bodies.spec import BodySpec
+    from .core.env_args import BodyArgs
     from .physics.system import Water
     from .tasks.base import Task
     from .tasks.start import StartSpread
@@ -194,34 +195,20 @@ def built_timing(env_id: str, env_kwargs: dict | None = None) -> Timing:
 
 def _reckoned(entry: dict, given: dict) -> Timing | None:
     """The clock of the env of ``entry`` (an :data:`ENVS` value) with the user's ``given``
-    kwargs, from its constructor's defaults and the kwargs; None where the entry point is one
-    it does not know; the env's check's ValueError for a bad argument."""
-    arguments = inspect.signature(load_env_creator(entry["entry_point"])).parameters
-    named = {name: p.default for name, p in arguments.items() if p.kind is not p.VAR_KEYWORD}
+    kwargs over its registered ones: a core env's from its arguments
+    (:meth:`~animat.envs.core.env_args.BodyArgs.clock`), a world's from its duration (its
+    constructor's default where not given); None where the entry point is one it does not
+    know; the env's check's ValueError for a bad argument."""
+    from .core.env_args import BodyArgs
+
     kwargs = {**entry.get("kwargs", {}), **given}
     if entry["entry_point"] == CORE["entry_point"]:
-        return _core_clock(named, kwargs)
+        return _clock(*BodyArgs.of_single_env(kwargs).clock())
     if entry["entry_point"] in WORLDS and given.keys() <= {"duration"}:
-        return _world_clock(kwargs.get("duration", named["duration"]))
+        default = inspect.signature(load_env_creator(entry["entry_point"])).parameters[
+            "duration"].default
+        return _world_clock(kwargs.get("duration", default))
     return None
-
-
-def _core_clock(named: dict[str, Any], kwargs: dict) -> Timing | None:
-    """The clock of a core env (:class:`animat.envs.core.env.BodyEnv`) of ``kwargs``: its named
-    arguments (``named``: their defaults) and the task's (the rest), checked as it checks them
-    (the task, the reward weights, then the batch's numbers)."""
-    from .core.arguments import check_arguments
-    from .core.reward import RewardWeights
-    from .tasks import make_task
-
-    args = {**named, **{k: v for k, v in kwargs.items() if k in named}}
-    task = make_task(args["task"], **{k: v for k, v in kwargs.items() if k not in named})
-    RewardWeights.from_value(args["reward_weights"])
-    task.check_start_spread(task.start_spread.over(args["start_spread"]))
-    duration = task.default_duration if args["duration"] is None else args["duration"]
-    check_arguments(1, args["physics_dt"], args["frame_skip"], duration,
-                    args["reset_noise_scale"], args["fins"], 0.0)
-    return _clock(args["physics_dt"], args["frame_skip"], duration)
 
 
 def _world_clock(duration: Any) -> Timing | None:
@@ -256,7 +243,7 @@ def body_of(env_id: str, env_kwargs: dict | None = None) -> BodySpec:
     arguments = _core_arguments(env_id, env_kwargs)
     if arguments is None:
         return _built_attribute(env_id, env_kwargs, "body")
-    return make_body(arguments[0]["body"])
+    return make_body(arguments.body)
 
 
 def task_of(env_id: str, env_kwargs: dict | None = None) -> Task:
@@ -264,13 +251,10 @@ def task_of(env_id: str, env_kwargs: dict | None = None) -> Task:
     :func:`animat.envs.tasks.make_task` of its ``task`` with the kwargs the env does not name
     (the task's own), as :func:`body_of` reads them; any other id's env is built and its task
     read."""
-    from .tasks import make_task
-
     arguments = _core_arguments(env_id, env_kwargs)
     if arguments is None:
         return _built_attribute(env_id, env_kwargs, "task")
-    named, task_kwargs = arguments
-    return make_task(named["task"], **task_kwargs)
+    return arguments.make_task()
 
 
 def water_of(env_id: str, env_kwargs: dict | None = None) -> Water:
@@ -278,7 +262,6 @@ def water_of(env_id: str, env_kwargs: dict | None = None) -> Water:
     fields over its ``base_water`` (the dolphin's pool), as the env merges them; for the
     pursuit and the living world their ``water``'s fields; building no env (any other id's env
     is built and its core's water read)."""
-    from .core.shell import merged_water
     from .physics.system import Water
 
     arguments = _core_arguments(env_id, env_kwargs)
@@ -287,22 +270,17 @@ def water_of(env_id: str, env_kwargs: dict | None = None) -> Water:
             return Water.from_dict((env_kwargs or {}).get("water"))
         core = _built_attribute(env_id, env_kwargs, "core")
         return core.system.water
-    named = arguments[0]
-    return Water.from_dict(merged_water(named["water"], named["base_water"]))
+    return Water.from_dict(arguments.merged_water())
 
 
 def start_spread_of(env_id: str, env_kwargs: dict | None = None) -> StartSpread | None:
     """The start spread of ``gym.make(env_id, **env_kwargs)`` for an id of the core: its
     ``start_spread`` over its task's own (:mod:`animat.envs.tasks.start`), building no env;
     None for any other id (the pursuit and the world place their own fish)."""
-    from .tasks import make_task
-
     arguments = _core_arguments(env_id, env_kwargs)
     if arguments is None:
         return None
-    named, task_kwargs = arguments
-    task = make_task(named["task"], **task_kwargs)
-    return task.start_spread.over(named["start_spread"])
+    return arguments.make_task().start_spread.over(arguments.start_spread)
 
 
 def recorded_kwargs(env_id: str, env_kwargs: dict | None = None,
@@ -323,18 +301,15 @@ def recorded_kwargs(env_id: str, env_kwargs: dict | None = None,
     return kwargs
 
 
-def _core_arguments(env_id: str, env_kwargs: dict | None) -> tuple[dict, dict] | None:
-    """(the core env's named arguments: their defaults, the registered kwargs and
-    ``env_kwargs`` over them; the rest of the kwargs, the task's) of ``env_id``, or None for
-    an id that is not the core's."""
+def _core_arguments(env_id: str, env_kwargs: dict | None) -> BodyArgs | None:
+    """The core env's arguments of ``env_id`` (the registered kwargs and ``env_kwargs`` over
+    them), or None for an id that is not the core's."""
+    from .core.env_args import BodyArgs
+
     entry = ENVS.get(env_id)
     if entry is None or entry["entry_point"] != CORE["entry_point"]:
         return None
-    arguments = inspect.signature(load_env_creator(entry["entry_point"])).parameters
-    named = {name: p.default for name, p in arguments.items() if p.kind is not p.VAR_KEYWORD}
-    kwargs = {**entry.get("kwargs", {}), **(env_kwargs or {})}
-    return ({**named, **{k: v for k, v in kwargs.items() if k in named}},
-            {k: v for k, v in kwargs.items() if k not in named})
+    return BodyArgs.of_single_env({**entry.get("kwargs", {}), **(env_kwargs or {})})
 
 
 def _built_attribute(env_id: str, env_kwargs: dict | None, name: str) -> Any:

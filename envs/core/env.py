@@ -103,22 +103,18 @@ from gymnasium.utils import seeding
 from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
-from ..bodies.spec import BodySpec
 from ..checks import check_integer
-from ..physics.system import DEFAULT_DT
 from ..render.camera import BodyRenderer
 from ..render.seaworld import SeaWorldRenderer
 from ..tasks.base import SingleEpisodeSummary
 from .arguments import MAX_NUM_ENVS, validate_actions
-from .batch import DEFAULT_FRAME_SKIP
-from .reward import RewardWeights
+from .env_args import BodyArgs, make_core
 from .sensors import Observer
 from .shell import (
     PublicSurface,
     action_space_of,
     check_render_mode,
     generator_from_state,
-    make_core,
     make_renderer,
     parse_autoreset_mode,
     render_row,
@@ -134,18 +130,11 @@ class BodyEnv(PublicSurface, gym.Env):
     metadata = {"render_modes": ["rgb_array"], "render_fps": RENDER_FPS}
 
     def __init__(self, task: str = "swim", render_mode: str | None = None,
-                 body: str | BodySpec | None = None,
-                 duration: float | None = None, physics_dt: float = DEFAULT_DT,
-                 frame_skip: int = DEFAULT_FRAME_SKIP, water: dict | None = None,
-                 fins: bool = False, sensors: list | None = None,
-                 reset_noise_scale: float = 0.005,
-                 reward_weights: RewardWeights | dict | None = None,
-                 base_water: dict | None = None, start_spread: dict | str | None = None,
-                 integrator: str = "explicit", **task_kwargs: Any) -> None:
+                 sensors: list | None = None, **kwargs: Any) -> None:
+        """``kwargs``: the batch's arguments and the task's (:class:`BodyArgs`; the table of
+        the module's docstring)."""
         check_render_mode(render_mode)
-        self.core = make_core(1, task, task_kwargs, body, duration, physics_dt, frame_skip,
-                              reset_noise_scale, reward_weights, water, fins, base_water,
-                              start_spread, integrator)
+        self.core = make_core(1, BodyArgs.of({"task": task, **kwargs}))
         self.observer = Observer(self.core, sensors)
         self.action_space = action_space_of(self.core)
         self.observation_space = self.observer.single_space
@@ -224,23 +213,17 @@ class BodyVectorEnv(PublicSurface, VectorEnv):
                 "autoreset_mode": AutoresetMode.NEXT_STEP}
 
     def __init__(self, num_envs: int = 1, task: str = "swim", render_mode: str | None = None,
-                 body: str | BodySpec | None = None,
-                 duration: float | None = None, physics_dt: float = DEFAULT_DT,
-                 frame_skip: int = DEFAULT_FRAME_SKIP, water: dict | None = None,
-                 fins: bool = False, sensors: list | None = None,
-                 reset_noise_scale: float = 0.005,
-                 reward_weights: RewardWeights | dict | None = None,
+                 sensors: list | None = None,
                  autoreset_mode: str | AutoresetMode = AutoresetMode.NEXT_STEP,
-                 base_water: dict | None = None, start_spread: dict | str | None = None,
-                 integrator: str = "explicit", **task_kwargs: Any) -> None:
+                 **kwargs: Any) -> None:
+        """``kwargs``: the batch's arguments and the task's (:class:`BodyArgs`; the table of
+        the module's docstring)."""
         mode = parse_autoreset_mode(autoreset_mode)
         self.autoreset_mode = mode
         self.metadata = {**self.metadata, "autoreset_mode": mode}
         check_render_mode(render_mode)
         self.num_envs = check_integer("num_envs", num_envs, 1, MAX_NUM_ENVS)
-        self.core = make_core(self.num_envs, task, task_kwargs, body, duration, physics_dt,
-                              frame_skip, reset_noise_scale, reward_weights, water, fins,
-                              base_water, start_spread, integrator)
+        self.core = make_core(self.num_envs, BodyArgs.of({"task": task, **kwargs}))
         self.observer = Observer(self.core, sensors)
         self.single_action_space = action_space_of(self.core)
         self.single_observation_space = self.observer.single_space

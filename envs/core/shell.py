@@ -1,8 +1,8 @@
 """What the two Gymnasium shells over a fish batch share (:class:`~animat.envs.core.env.BodyEnv`
-and :class:`~animat.envs.core.env.BodyVectorEnv`): the batch they build from their arguments
-(:func:`make_core`), their public surface (:class:`PublicSurface`), their action space, the
-third-person renderer, and the checks of their render mode, autoreset mode, seeds and saved
-random generators.
+and :class:`~animat.envs.core.env.BodyVectorEnv`) beside the batch they build from their
+arguments (:mod:`animat.envs.core.env_args`): their public surface (:class:`PublicSurface`),
+their action space, the third-person renderer, and the checks of their render mode, autoreset
+mode, seeds and saved random generators.
 """
 
 from __future__ import annotations
@@ -11,46 +11,12 @@ import gymnasium as gym
 import numpy as np
 from gymnasium.vector import AutoresetMode
 
-from ..bodies import make_body
 from ..bodies.spec import BodySpec
-from ..checks import shown
 from ..physics.system import System
 from ..render.camera import BodyRenderer
 from ..render.seaworld import SeaWorldRenderer
-from ..tasks import make_task
 from ..tasks.base import Task
 from .batch import BodyBatch
-from .reward import RewardWeights
-
-
-def merged_water(water: dict | None, base_water: dict | None) -> dict | None:
-    """The Water fields an env of these arguments swims in: ``water``'s over ``base_water``'s
-    (a registered world's, the dolphin's pool), or None (the default water); a ValueError of
-    one line for either that is not a dict."""
-    for name, value in (("water", water), ("base_water", base_water)):
-        if value is not None and not isinstance(value, dict):
-            raise ValueError(f"{name} must be a dict of Water fields, got {shown(value)}")
-    return {**(base_water or {}), **(water or {})} or None
-
-
-def make_core(num_envs: int, task: str, task_kwargs: dict, body: str | BodySpec | None,
-              duration: float | None, physics_dt: float, frame_skip: int,
-              reset_noise_scale: float, reward_weights: RewardWeights | dict | None,
-              water: dict | None, fins: bool, base_water: dict | None = None,
-              start_spread: dict | str | None = None, integrator: str = "explicit"
-              ) -> BodyBatch:
-    """The batch of an env's arguments: ``water`` changes fields of ``base_water``; the task
-    by name with ``task_kwargs``; ``duration`` None is the task's; ``start_spread`` over the
-    task's own."""
-    water = merged_water(water, base_water)
-    task_object = make_task(task, **task_kwargs)
-    weights = RewardWeights.from_value(reward_weights)
-    return BodyBatch(num_envs, task_object, body=make_body(body), water=water,
-                     physics_dt=physics_dt, frame_skip=frame_skip,
-                     reset_noise_scale=reset_noise_scale,
-                     duration=task_object.default_duration if duration is None else duration,
-                     weights=weights, fins=fins, start_spread=start_spread,
-                     integrator=integrator)
 
 
 class PublicSurface:
