@@ -111,7 +111,7 @@ def cmd_run(args) -> int:
         config = load_config(path, overrides)
         folder = create_run(config, args.out, ["animat", *args.argv])
         print(f"run folder: {folder}")
-        result = execute(folder, _progress(args, config), args.threads)
+        result = execute(folder, _progress(args, config), args.threads, checked=True)
     print(json.dumps({k: result[k] for k in ("status", "env_steps", "wall_seconds", "metrics")}))
     return 0
 

@@ -54,7 +54,8 @@ def flat_hparams(config: ExperimentConfig) -> dict[str, object]:
 
 
 def execute(folder: Path, progress=None, threads: int | None = None,
-            trust_pickles: bool = False, own_files_only: bool = False) -> dict:
+            trust_pickles: bool = False, own_files_only: bool = False,
+            checked: bool = False) -> dict:
     """Run (or continue) the experiment of a run folder with ``threads`` Numba threads (the
     CPUs it was given; default all this process may use), holding the folder's lock; returns
     the final result.json. RunError if another process holds the lock or the run is done;
@@ -64,7 +65,10 @@ def execute(folder: Path, progress=None, threads: int | None = None,
     (:func:`~animat.experiments.launch.config.learner_params`: a RunError before anything is
     written where it would have to). ``progress``: a logger sink with ``finish(env_steps)``,
     called when the learner is done with the env steps it ran
-    (:mod:`animat.experiments.launch.progress`; tune's pruning sink)."""
+    (:mod:`animat.experiments.launch.progress`; tune's pruning sink). ``checked``: the folder
+    was just made from a config this process built once
+    (:func:`~animat.experiments.launch.config.check_buildable`), so its env and learner are not
+    built again to check it."""
     folder = run_folder(folder)
     with run_lock(folder):
         check_tree(folder, writing=True)  # a link, FIFO or hard link planted in a shared folder
@@ -73,7 +77,8 @@ def execute(folder: Path, progress=None, threads: int | None = None,
         if own_files_only:
             _check_own_files(folder)
         try:
-            return _execute_locked(folder, progress, threads, trust_pickles, own_files_only)
+            return _execute_locked(folder, progress, threads, trust_pickles, own_files_only,
+                                   checked)
         except BaseException as error:
             if getattr(error, "run_folder", None) is None:  # not recorded yet (e.g. an OS
                 _failed(folder, error, threads)  # error writing a status or the artefacts)
@@ -144,11 +149,11 @@ def _record(folder: Path, status: dict) -> bool:
 
 
 def _execute_locked(folder: Path, progress, threads: int | None, trust_pickles: bool,
-                    own_files_only: bool) -> dict:
+                    own_files_only: bool, checked: bool) -> dict:
     (folder / ERROR_LOG).unlink(missing_ok=True)  # an earlier attempt's
     clear_debris(folder)  # a killed attempt's
     try:  # a config its folder can no longer build (a file it needs gone) fails the run too
-        config = load_run_config(folder, build=True, own_files_only=own_files_only)
+        config = load_run_config(folder, build=not checked, own_files_only=own_files_only)
     except Exception as error:
         _failed(folder, error, threads)
         raise
@@ -234,4 +239,4 @@ def run_experiment(config: dict | str | Path, overrides: list[str] | None = None
     if progress and loaded.logging.progress:
         compile_notice()
         sink = ProgressSink.for_output(loaded.budget.env_steps, loaded.eval.metric)
-    return folder, execute(folder, sink, threads)
+    return folder, execute(folder, sink, threads, checked=True)
