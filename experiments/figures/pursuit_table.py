@@ -56,11 +56,24 @@ def pursuit_rows(folders: list[Path]) -> list[dict]:
         unseen = read_json(folder / "eval.json")
         shares = np.array([e["fovea_fraction"] for e in unseen["episodes"]], float)
         rows.append({"variant": json.dumps(kwargs, sort_keys=True), "role": role,
-                     "label": config.learner.display_name, "metrics": unseen["metrics"],
+                     "label": _label(config), "metrics": unseen["metrics"],
                      "episodes": len(unseen["seeds"]), "folder": folder,
                      "glances": int(config.env.kwargs.get("glances", 1)),
                      "interval": mean_std(shares)})
     return rows
+
+
+def _label(config) -> str:
+    """The learner's name, and what it observes where the run chose: the env's ``sensors``
+    (e.g. ``ppo (pixels, gaze, proprioception)``), or ``state`` for the env's ``oracle``
+    observation (the prey's true position)."""
+    sensors = config.env.kwargs.get("sensors")
+    if not sensors:
+        learned = not config.learner.params.get("oracle")  # not the oracle baseline itself
+        state = " (state)" if config.env.kwargs.get("oracle") and learned else ""
+        return config.learner.display_name + state
+    names = [s["name"] if isinstance(s, dict) else str(s) for s in sensors]
+    return f"{config.learner.display_name} ({', '.join(names)})"
 
 
 def normalised(value: float, blind: float | None, oracle: float | None) -> str:

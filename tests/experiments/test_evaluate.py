@@ -376,8 +376,10 @@ def test_the_pursuit_table_sets_each_policy_between_its_blind_and_oracle_baselin
     config = yaml.safe_load((observer / "config.yaml").read_text())
     config["env"]["kwargs"].update(frames=3, sensors=[{"name": "pixels", "size": 32}, "gaze"])
     (observer / "config.yaml").write_text(yaml.safe_dump(config))
-    variants = {r["variant"] for r in pursuit_rows([*folders.values(), observer])}
-    assert variants == {rows["policy"]["variant"]}
+    both = pursuit_rows([*folders.values(), observer])
+    assert {r["variant"] for r in both} == {rows["policy"]["variant"]}
+    # ... but its row says what it observes
+    assert {r["label"] for r in both} == {"active_vision", "active_vision (pixels, gaze)"}
     shutil.rmtree(observer)
     share = {role: r["metrics"]["eval/fovea_fraction"] for role, r in rows.items()}
     assert main([str(tmp_path)]) == 0
