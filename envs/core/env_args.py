@@ -63,6 +63,10 @@ class BodyArgs:
     def merged_water(self) -> dict | None:
         return merged_water(self.water, self.base_water)
 
+    def duration_of(self, task: Task) -> float:
+        """The episode's length, s: ``duration``, or the task's own where None."""
+        return task.default_duration if self.duration is None else self.duration
+
     def clock(self) -> tuple[float, int, float]:
         """(``physics_dt`` s, ``frame_skip``, the duration s) of the env, checked as the env
         checks them (the task, the reward weights, the start spread, then the batch's
@@ -70,7 +74,7 @@ class BodyArgs:
         task = self.make_task()
         RewardWeights.from_value(self.reward_weights)
         task.check_start_spread(task.start_spread.over(self.start_spread))
-        duration = task.default_duration if self.duration is None else self.duration
+        duration = self.duration_of(task)
         check_arguments(1, self.physics_dt, self.frame_skip, duration, self.reset_noise_scale,
                         self.fins, 0.0)
         return self.physics_dt, self.frame_skip, duration
@@ -96,6 +100,6 @@ def make_core(num_envs: int, args: BodyArgs) -> BodyBatch:
     return BodyBatch(num_envs, task, body=make_body(args.body), water=water,
                      physics_dt=args.physics_dt, frame_skip=args.frame_skip,
                      reset_noise_scale=args.reset_noise_scale,
-                     duration=task.default_duration if args.duration is None else args.duration,
+                     duration=args.duration_of(task),
                      weights=weights, fins=args.fins, start_spread=args.start_spread,
                      integrator=args.integrator)

@@ -416,7 +416,7 @@ def test_a_pickle_naming_the_repertoire_module_still_loads(tmp_path):
         assert b"skills" not in old and b"controllers" not in old
         (tmp_path / "checkpoint.pkl").write_bytes(old)
         assert load_checkpoint(tmp_path / "checkpoint.pkl") == payload
-    in_skills = now.replace(b"controllers.repertoire", b"skills.repertoire")  # before it moved
+    in_skills = now.replace(b"controllers.repertoire", b"skills.repertoire")  # its older room
     (tmp_path / "checkpoint.pkl").write_bytes(in_skills)
     assert load_checkpoint(tmp_path / "checkpoint.pkl") == payload
 
