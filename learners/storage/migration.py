@@ -42,7 +42,7 @@ def fields_written_before(name: str, fields: dict[str, Any]) -> dict[str, Any]:
 def as_before_schedules(params: Any) -> Any:
     """Optimiser ``params`` (a dataclass) as a run checkpointed before schedules existed had
     them (the annealing's: stages)."""
-    return dataclasses.replace(params, **BEFORE_FIELDS.get(type(params).__name__, {}))
+    return dataclasses.replace(params, **fields_written_before(type(params).__name__, {}))
 
 
 def run_fields(saved: dict[str, Any]) -> dict[str, Any]:
