@@ -10,7 +10,8 @@ is a single env.
 
 :func:`timing` gives an id's clock (``dt`` and ``episode_steps``) from these kwargs and the
 user's, without building the env; :func:`body_of`, :func:`task_of`, :func:`water_of` and
-:func:`start_spread_of` its body, task, water and start spread, and :func:`recorded_kwargs` its
+:func:`start_spread_of` its body, task, water and start spread, :func:`action_size_of` its
+action's length, and :func:`recorded_kwargs` its
 kwargs with the water and the start spread written out.
 """
 
@@ -244,6 +245,24 @@ def body_of(env_id: str, env_kwargs: dict | None = None) -> BodySpec:
     if arguments is None:
         return _built_attribute(env_id, env_kwargs, "body")
     return make_body(arguments.body)
+
+
+def action_size_of(env_id: str, env_kwargs: dict | None = None) -> int:
+    """The length of an action of ``gym.make(env_id, **env_kwargs)``: for an id of the core
+    its body's actuators and, with ``fins``, its fins (:meth:`BodySpec.action_size`), its
+    arguments checked as :func:`timing` checks them, building no env; any other id's env is
+    built and its action space read."""
+    arguments = _core_arguments(env_id, env_kwargs)
+    if arguments is None:
+        env = gym.make(env_id, **(env_kwargs or {}))
+        try:
+            return int(env.action_space.shape[0])
+        finally:
+            env.close()
+    from .bodies import make_body
+
+    arguments.clock()
+    return make_body(arguments.body).action_size(bool(arguments.fins))
 
 
 def task_of(env_id: str, env_kwargs: dict | None = None) -> Task:

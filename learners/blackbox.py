@@ -21,11 +21,12 @@ import time
 from dataclasses import fields
 from pathlib import Path
 
-import gymnasium as gym
 import numpy as np
 
+from animat.envs.registration import action_size_of
+
 from .agents import OpenLoopAgent
-from .base import Learner, LearnResult, episode_timing
+from .base import Learner, LearnResult, episode_steps, episode_timing
 from .blackbox_run import Phase, Run, log_round, refine_settings, save_run, saved_run
 from .controllers.periodic import ControllerParams, PeriodicPlayer, controller_from_vector
 from .controllers.report import (
@@ -85,13 +86,11 @@ class BlackBoxLearner(Learner):
         return self.optimizer.fit_encoding(opt_params, self.nodes)
 
     def _env_sizes(self) -> tuple[int, int]:
-        """(env steps in an episode, the env's actuators), from the env built once."""
+        """(env steps in an episode, the env's actuators), read from the id and its kwargs
+        without building the env (:func:`~animat.envs.registration.action_size_of`)."""
         if getattr(self, "_sizes", None) is None:
-            env = gym.make(self.env_id, **self.env_kwargs)
-            try:
-                self._sizes = (int(env.unwrapped.episode_steps), int(env.action_space.shape[0]))
-            finally:
-                env.close()
+            self._sizes = (episode_steps(self.env_id, self.env_kwargs),
+                           action_size_of(self.env_id, self.env_kwargs))
         return self._sizes
 
     def _episode_cost(self) -> int:

@@ -160,6 +160,15 @@ class BodySpec:
         return len(self.actuator_names)
 
     @property
+    def num_fins(self) -> int:
+        return int(self.fin_nodes.shape[0])
+
+    def action_size(self, fins: bool) -> int:
+        """An env step's action length: one activation per actuator, and with ``fins`` one
+        angle per pectoral fin after them."""
+        return self.num_actuators + (self.num_fins if fins else 0)
+
+    @property
     def total_mass(self) -> float:
         return float(self.masses.sum())
 

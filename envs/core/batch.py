@@ -98,7 +98,7 @@ class BodyBatch:
         self.obs_size = self.proprioception_size + task.obs_size
         self.fin_actions = bool(fins)
         self.fin_max_angle = float(fin_max_angle)
-        self.action_size = a + (self.state.fins.shape[1] if self.fin_actions else 0)
+        self.action_size = self.body.action_size(self.fin_actions)
 
     @property
     def num_envs(self) -> int:

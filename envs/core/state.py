@@ -51,7 +51,7 @@ class BodyState:
 
     @classmethod
     def zeros(cls, num_envs: int, body: BodySpec, task: Task) -> BodyState:
-        n, a, p = body.num_nodes, body.num_actuators, body.fin_nodes.shape[0]
+        n, a, p = body.num_nodes, body.num_actuators, body.num_fins
         return cls(np.zeros((num_envs, n, 3)), np.zeros((num_envs, n, 3)),
                    np.zeros((num_envs, a)), np.zeros((num_envs, a)), np.zeros((num_envs, p)),
                    np.zeros(num_envs, dtype=np.int64), np.zeros((num_envs, 3)),

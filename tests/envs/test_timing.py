@@ -2,7 +2,8 @@
 and ``episode_steps`` of every registered id from its registered kwargs and the user's, and
 builds nothing; what it reckons equals what the env built with the same kwargs reports, and a
 bad argument is the same error (type and one-line message) the env gives. Likewise its body and
-task (:func:`~animat.envs.registration.body_of`, :func:`~animat.envs.registration.task_of`)."""
+task (:func:`~animat.envs.registration.body_of`, :func:`~animat.envs.registration.task_of`) and
+the length of its action (:func:`~animat.envs.registration.action_size_of`)."""
 
 import dataclasses
 
@@ -16,6 +17,7 @@ from animat.envs.registration import (
     MARINE,
     PURSUIT,
     Timing,
+    action_size_of,
     body_of,
     built_timing,
     task_of,
@@ -147,6 +149,21 @@ def test_body_of_and_task_of_are_the_built_envs(env_id, kwargs, monkeypatch):
         assert same_body(body_of(env_id, kwargs), body)
         assert task_of(env_id, kwargs) == task and type(task_of(env_id, kwargs)) is type(task)
     assert body_of(env_id, kwargs).actuator_names == body.actuator_names
+
+
+@pytest.mark.parametrize(("env_id", "kwargs"), [(i, k) for i in IDS for k in ({}, {"fins": True})
+                                                if k == {} or i in CORE_IDS])
+def test_action_size_of_is_the_built_envs(env_id, kwargs, monkeypatch):
+    env = gym.make(env_id, **kwargs)
+    size = env.action_space.shape[0]
+    env.close()
+    with monkeypatch.context() as patch:
+        if env_id in CORE_IDS:
+            patch.setattr(gym, "make", lambda *a, **k: pytest.fail(f"built {a} {k}"))
+        assert action_size_of(env_id, kwargs) == size
+    if env_id in CORE_IDS:
+        with pytest.raises(ValueError, match="frame_skip"):
+            action_size_of(env_id, {**kwargs, "frame_skip": 0})
 
 
 def test_body_of_and_task_of_refuse_what_the_env_refuses():
