@@ -1,6 +1,6 @@
 """The ``animat`` command (also ``python -m animat.experiments``).
 
-    animat [--debug] COMMAND ...
+    animat [--debug] [--import MODULE ...] COMMAND ...
     animat run CONFIG [--set key.path=value ...] [--out DIR] [--threads N] [--force]
     animat run --resume DIR [--threads N]
     animat sweep CONFIG --seeds 0-4 [--set ...] [--executor local|ray] [--jobs N]
@@ -42,6 +42,7 @@ from animat.learners.storage.files import CorruptFile, UnsafeFile
 from .launch.config import ConfigError, load_config, load_run_config
 from .launch.folders import create_run, one_line
 from .launch.lock import RunError
+from .launch.plugins import ImportRefused, import_modules
 from .launch.shipped import describe_config, find_config, shipped_configs
 from .parser import make_parser
 
@@ -323,6 +324,7 @@ def _dispatch(args) -> int:
                 "eval": cmd_eval, "tune": cmd_tune, "world-bench": cmd_world_bench,
                 "world-video": cmd_world_video}
     try:
+        import_modules(args.imports)
         return handlers[args.command](args)
     except KeyboardInterrupt:
         if args.debug:
@@ -337,7 +339,7 @@ def _dispatch(args) -> int:
             raise
         folder = getattr(error, "run_folder", None)
         if folder is None and isinstance(error, ConfigError | RunError | FileNotFoundError
-                                         | UnsafeFile | CorruptFile):
+                                         | UnsafeFile | CorruptFile | ImportRefused):
             print(f"animat: error: {error}", file=sys.stderr)  # what the user gave
             return 2
         log = getattr(error, "error_log", None)  # None where the disk would not take it

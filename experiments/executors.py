@@ -17,6 +17,10 @@ each running :func:`animat.experiments.tune.work` on the one study, so the sampl
 pruner see every worker's trials. The study's storage must be one every worker reaches: the
 journal file in OUT (one machine, or a shared file system) or an RDB URL (``--storage``); a
 trial's folder is written under OUT where its worker runs.
+
+Each task and worker process imports the modules this one imported by ``animat --import``
+first (:func:`~animat.experiments.launch.plugins.with_imports`), so it knows the same
+registrations.
 """
 
 from __future__ import annotations
@@ -32,6 +36,7 @@ from .launch.execute import execute
 from .launch.folders import read_status
 from .launch.lock import RunError
 from .launch.machine import available_cpus
+from .launch.plugins import imported, with_imports
 
 
 def _run_packed(name: str, data: bytes) -> tuple[bytes, str]:
@@ -70,9 +75,10 @@ def run_ray(folders: list[Path], address: str | None = None, num_cpus: int | Non
     nodes, each folder returned to this driver (see the module's docstring); per folder its
     status, with ``node``, the Ray node that ran it."""
     ray, started = _ray(address, num_cpus)
-    task = ray.remote(num_cpus=1, scheduling_strategy="SPREAD", max_retries=0)(_run_packed)
+    task = ray.remote(num_cpus=1, scheduling_strategy="SPREAD", max_retries=0)(with_imports)
     try:
-        refs = [task.remote(folder.name, pack(folder)) for folder in folders]
+        refs = [task.remote(imported(), _run_packed, folder.name, pack(folder))
+                for folder in folders]
         results = []
         for folder, ref in zip(folders, refs):
             try:
@@ -95,8 +101,8 @@ def run_workers(worker, workers: int, executor: str, address: str | None, *args)
     if executor == "ray":
         ray, started = _ray(address, None)
         try:
-            task = ray.remote(num_cpus=1, max_retries=0)(worker)
-            ray.get([task.remote(1, *args) for _ in range(workers)])
+            task = ray.remote(num_cpus=1, max_retries=0)(with_imports)
+            ray.get([task.remote(imported(), worker, 1, *args) for _ in range(workers)])
         finally:
             if started:
                 ray.shutdown()
@@ -104,6 +110,7 @@ def run_workers(worker, workers: int, executor: str, address: str | None, *args)
     threads = max(1, available_cpus() // workers)
     context = multiprocessing.get_context("spawn")  # no forked Numba or Optuna state
     with ProcessPoolExecutor(max_workers=workers, mp_context=context) as pool:
-        futures = [pool.submit(worker, threads, *args) for _ in range(workers)]
+        futures = [pool.submit(with_imports, imported(), worker, threads, *args)
+                   for _ in range(workers)]
         for future in futures:
             future.result()

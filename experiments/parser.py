@@ -20,6 +20,7 @@ EXAMPLES = """examples:
   animat eval runs/try --episodes 4 --video videos/        # re-score and film a finished run
   animat tune configs/fish_swim/tune_annealing.yaml --trials 12 --out runs/tune/annealing
   animat list                                              # envs, learners, shipped configs
+  animat --import my_animals run eel.yaml                  # your module's registrations too
 """
 
 
@@ -47,6 +48,11 @@ def make_parser() -> argparse.ArgumentParser:
         formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--version", action="version",
                         version=f"animat (artificial-animals) {_version()}")
+    parser.add_argument("--import", dest="imports", action="append", default=[],
+                        metavar="MODULE",
+                        help="import your module first, so the bodies, tasks, sensors, env ids "
+                             "and learners it registers are known; repeatable, e.g. animat "
+                             "--import my_animals run eel.yaml")
     parser.add_argument("--debug", action="store_true",
                         help="on a failure, the full traceback instead of one line")
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")

@@ -14,6 +14,7 @@ from .launch.config import ExperimentConfig, load_config
 from .launch.execute import execute
 from .launch.folders import create_run, default_run_dir, read_status
 from .launch.machine import available_cpus
+from .launch.plugins import import_flags
 
 
 def parse_seeds(text: str) -> list[int]:
@@ -55,7 +56,8 @@ def run_local(folders: list[Path], jobs: int = 1, progress=None) -> list[dict]:
     threads = max(1, available_cpus() // jobs)
 
     def one(folder: Path) -> dict:
-        subprocess.run([sys.executable, "-m", "animat.experiments", "run", "--resume", str(folder),
+        subprocess.run([sys.executable, "-m", "animat.experiments", *import_flags(), "run",
+                        "--resume", str(folder),
                         "--quiet", "--threads", str(threads)], check=False,
                        stdout=subprocess.DEVNULL)
         return read_status(folder)

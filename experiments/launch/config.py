@@ -45,7 +45,8 @@ class EnvConfig(_Strict):
 
         if value not in gym.registry:
             known = sorted(k for k in gym.registry if k.startswith("Animat/"))
-            raise ValueError(f"unknown env id {value!r}; registered: {', '.join(known)}")
+            raise ValueError(f"unknown env id {value!r}; registered: {', '.join(known)} "
+                             f"(one your module registers: animat --import MODULE ...)")
         return value
 
 
@@ -69,7 +70,8 @@ class LearnerConfig(_Strict):
         from animat.learners.registry import LEARNERS
 
         if value not in LEARNERS:
-            raise ValueError(f"unknown learner {value!r}; choose one of {sorted(LEARNERS)}")
+            raise ValueError(f"unknown learner {value!r}; choose one of {sorted(LEARNERS)} "
+                             f"(one your module registers: animat --import MODULE ...)")
         return value
 
 

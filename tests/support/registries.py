@@ -58,3 +58,11 @@ class DiveTask(Task):
     def terms(self, world: World, last: np.ndarray):
         height = world.com[:, 2] / world.length
         return self.weight * height, {"depth_bl": -height}, world.memory
+
+
+def user_id_known() -> bool:
+    """Whether this process's Gymnasium registry holds the env id of
+    :mod:`tests.support.user_animals` (what a spawned worker knows)."""
+    import animat  # noqa: F401
+
+    return "UserAnimals/EelDive-v0" in gym.registry
