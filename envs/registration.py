@@ -17,7 +17,6 @@ kwargs with the water and the start spread written out.
 
 from __future__ import annotations
 
-import inspect
 from typing import TYPE_CHECKING, Any, NamedTuple
 
 import gymnasium as gym
@@ -198,7 +197,7 @@ def _reckoned(entry: dict, given: dict) -> Timing | None:
     """The clock of the env of ``entry`` (an :data:`ENVS` value) with the user's ``given``
     kwargs over its registered ones: a core env's from its arguments
     (:meth:`~animat.envs.core.env_args.BodyArgs.clock`), a world's from its duration (its
-    constructor's default where not given); None where the entry point is one it does not
+    class's ``default_duration`` where not given); None where the entry point is one it does not
     know; the env's check's ValueError for a bad argument."""
     from .core.env_args import BodyArgs
 
@@ -206,8 +205,7 @@ def _reckoned(entry: dict, given: dict) -> Timing | None:
     if entry["entry_point"] == CORE["entry_point"]:
         return _clock(*BodyArgs.of_single_env(kwargs).clock())
     if entry["entry_point"] in WORLDS and given.keys() <= {"duration"}:
-        default = inspect.signature(load_env_creator(entry["entry_point"])).parameters[
-            "duration"].default
+        default = load_env_creator(entry["entry_point"]).default_duration
         return _world_clock(kwargs.get("duration", default))
     return None
 

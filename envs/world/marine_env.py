@@ -77,6 +77,7 @@ CONTROLS = ("behaviour", "navigation", "muscles")
 SUMMED = ("food_eaten", "catches", "matings", "obstacle_collisions", "fish_collisions")
 MAX_SPECIES_COUNT, MAX_FOOD, MAX_OBSTACLES = 1000, 10_000, 1000  # the sizes the env accepts
 TANK_SIZES = (2.0, 200.0)  # m, the tank's side the env accepts
+DEFAULT_DURATION = 60.0  # s, an episode where none is given
 
 
 def world_params(duration: float, species: dict | None, food: int, obstacles: int,
@@ -127,9 +128,10 @@ class MarineSummary:
 class MarineWorldEnv(gym.Env):
     """The living marine world (see the module docstring)."""
 
+    default_duration = DEFAULT_DURATION  # s
     metadata = {"render_modes": ["rgb_array"], "render_fps": 20}
 
-    def __init__(self, render_mode: str | None = None, duration: float = 60.0,
+    def __init__(self, render_mode: str | None = None, duration: float = DEFAULT_DURATION,
                  species: dict | None = None, food: int = 15, obstacles: int = 5,
                  agent: int | None = None, control: str = "behaviour",
                  vision: int | None = None, water: dict | None = None,

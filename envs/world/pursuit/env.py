@@ -118,6 +118,7 @@ import numpy as np
 
 from .senses import ObserverView
 from .shell import (
+    DEFAULT_DURATION,
     FrameStack,
     check_render_mode,
     observe,
@@ -133,9 +134,10 @@ from .worlds import PursuitWorlds
 class FishPursuitEnv(gym.Env):
     """Pursuit of a prey fish by vision (see the module docstring)."""
 
+    default_duration = DEFAULT_DURATION  # s
     metadata = {"render_modes": ["rgb_array", "retina"], "render_fps": 20}
 
-    def __init__(self, render_mode: str | None = None, duration: float = 20.0,
+    def __init__(self, render_mode: str | None = None, duration: float = DEFAULT_DURATION,
                  start_distance_bl: tuple[float, float] | None = None,
                  bearing_deg: tuple[float, float] = (-60.0, 60.0),
                  flee_distance_bl: float = 2.5, prey_speed: float = 0.5,

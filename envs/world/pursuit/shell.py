@@ -19,6 +19,7 @@ from .senses import ObserverView, PreyPosition, PursuitObserver, default_sensors
 from .start import DISTRACTOR, PREY
 from .worlds import PursuitParams, PursuitWorlds
 
+DEFAULT_DURATION = 20.0  # s, a pursuit's episode where none is given
 FOVEA_HALF_ANGLE = np.radians(7.5)
 MAX_DISTANCE_BL = 100.0  # the farthest start and flight distance, BL
 MAX_OTHERS = 8  # distractors and passers at most, each

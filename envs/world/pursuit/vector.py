@@ -25,6 +25,7 @@ from ...checks import check_integer
 from ...core.shell import generator_from_state, parse_autoreset_mode, sub_env_seeds
 from .senses import ObserverView
 from .shell import (
+    DEFAULT_DURATION,
     FrameStack,
     check_render_mode,
     observe,
@@ -43,11 +44,13 @@ class FishPursuitVectorEnv(VectorEnv):
     ``autoreset_mode``: ``next_step`` (default) or ``same_step`` (the last observation in
     ``info["final_obs"]``), as :class:`animat.envs.core.env.BodyVectorEnv`'s."""
 
+    default_duration = DEFAULT_DURATION  # s
     metadata = {"render_modes": ["rgb_array", "retina"], "render_fps": 20,
                 "autoreset_mode": AutoresetMode.NEXT_STEP}
 
     def __init__(self, num_envs: int = 1, render_mode: str | None = None,
-                 duration: float = 20.0, start_distance_bl: tuple[float, float] | None = None,
+                 duration: float = DEFAULT_DURATION,
+                 start_distance_bl: tuple[float, float] | None = None,
                  bearing_deg: tuple[float, float] = (-60.0, 60.0),
                  flee_distance_bl: float = 2.5, prey_speed: float = 0.5,
                  distractors: int = 1, passers: int = 3, occluders: bool = True,
