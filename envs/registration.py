@@ -153,11 +153,11 @@ class Timing(NamedTuple):
     episode_steps: int
 
 
-# gym.make's own keywords, and the arguments whose checks need what the env builds (the body
-# and its stability bound on physics_dt, the water, the sensors, the task's fit to the body):
-# timing() builds the env when the user gives one of these.
+# gym.make's own keywords, and the arguments whose checks need what the env builds (the body,
+# the step and the integrator, the sensors, the task's fit to the body): timing() builds the
+# env when the user gives one of these. The water it checks as the env does (BodyArgs.clock).
 BUILT_FOR = frozenset({"render_mode", "max_episode_steps", "disable_env_checker", "task", "body",
-                       "physics_dt", "water", "base_water", "sensors", "integrator"})
+                       "physics_dt", "sensors", "integrator"})
 # single envs of one body batch at the core's default step, whose clock is their duration alone
 WORLDS = frozenset({PURSUIT["entry_point"], MARINE})
 

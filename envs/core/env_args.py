@@ -12,7 +12,7 @@ from typing import Any
 from ..bodies import make_body
 from ..bodies.spec import BodySpec
 from ..checks import shown
-from ..physics.system import DEFAULT_DT
+from ..physics.system import DEFAULT_DT, System, Water
 from ..tasks import make_task
 from ..tasks.base import Task
 from .arguments import check_arguments
@@ -69,14 +69,18 @@ class BodyArgs:
 
     def clock(self) -> tuple[float, int, float]:
         """(``physics_dt`` s, ``frame_skip``, the duration s) of the env, checked as the env
-        checks them (the task, the reward weights, the start spread, then the batch's
-        numbers), without building it."""
+        checks them and in its order (the water's type, the task, the reward weights, the
+        batch's numbers, the start spread, then the physics: the water's fields, the step's
+        bound for the body, the integrator), without building it."""
+        water = self.merged_water()
         task = self.make_task()
         RewardWeights.from_value(self.reward_weights)
-        task.check_start_spread(task.start_spread.over(self.start_spread))
         duration = self.duration_of(task)
         check_arguments(1, self.physics_dt, self.frame_skip, duration, self.reset_noise_scale,
                         self.fins, 0.0)
+        task.check_start_spread(task.start_spread.over(self.start_spread))
+        System(make_body(self.body), Water.from_dict(water), dt=self.physics_dt,
+               integrator=self.integrator)
         return self.physics_dt, self.frame_skip, duration
 
 

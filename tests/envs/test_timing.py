@@ -30,6 +30,8 @@ CORE_IDS = [i for i in IDS if ENVS[i]["entry_point"] not in (PURSUIT["entry_poin
 # kwargs every id takes; then kwargs only the core's ids (fish and dolphin) take
 ANY_KWARGS = [{}, {"duration": 0.5}, {"duration": 3}, {"duration": 7.37}, {"duration": 0.01}]
 CORE_KWARGS = [{"frame_skip": 20}, {"frame_skip": 7, "duration": 2.0}, {"frame_skip": 40.0},
+               {"water": {"model": "resistive"}}, {"water": {"density": 1100.0}, "duration": 2.0},
+               {"base_water": {"surface_z": 1.0}},
                {"duration": None}, {"fins": True, "reset_noise_scale": 0.0,
                                     "reward_weights": {"mu1": 0.0}}]
 TASK_KWARGS = [("Animat/FishSwim-v0", {"target_speed": 0.5}),
@@ -46,7 +48,10 @@ BAD_KWARGS = [{"duration": -1.0}, {"duration": NAN}, {"duration": "long"}, {"dur
               {"duration": True}, {"frame_skip": 0}, {"frame_skip": 2.5},
               {"reset_noise_scale": 10.0}, {"fins": "no"}, {"reward_weights": {"mu1": -1.0}},
               {"nonsense": 1}, {"duration": -1.0, "reward_weights": {"mu1": NAN}},
-              {"target_speed": -5.0}, {"num_envs": 2}]
+              {"target_speed": -5.0}, {"num_envs": 2}, {"water": "salty"},
+              {"water": {"saltiness": 1.0}}, {"water": {"density": -5.0}},
+              {"base_water": [1.0]}, {"water": {"nonsense": 1}, "duration": -1.0},
+              {"water": {"density": -5.0}, "start_spread": {"nonsense": 1}}]
 
 
 @pytest.fixture
