@@ -20,6 +20,7 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+from collections import Counter
 from pathlib import Path
 
 import numpy as np
@@ -56,7 +57,7 @@ def pursuit_rows(folders: list[Path]) -> list[dict]:
         unseen = read_json(folder / "eval.json")
         shares = np.array([e["fovea_fraction"] for e in unseen["episodes"]], float)
         rows.append({"variant": json.dumps(kwargs, sort_keys=True), "role": role,
-                     "label": _label(config), "metrics": unseen["metrics"],
+                     "label": _label(config), "seed": config.seed, "metrics": unseen["metrics"],
                      "episodes": len(unseen["seeds"]), "folder": folder,
                      "glances": int(config.env.kwargs.get("glances", 1)),
                      "interval": mean_std(shares)})
@@ -84,17 +85,22 @@ def normalised(value: float, blind: float | None, oracle: float | None) -> str:
 
 
 def variant_markdown(rows: list[dict]) -> str:
-    """One variant's rows as a Markdown table, the policies first, then the baselines."""
+    """One variant's rows as a Markdown table, the policies first, then the baselines; a
+    label that several runs share (seeds of one config) names each run's seed."""
     ends = {r["role"]: r["metrics"]["eval/fovea_fraction"] for r in rows if r["role"] != "policy"}
     lines = ["| policy | glances | fovea fraction [95% interval] | normalised | "
              + " | ".join(name for _, name, _ in COLUMNS) + " | episodes |",
              "|---|---|---|---|" + "---|" * len(COLUMNS) + "---|"]
-    for row in sorted(rows, key=lambda r: (r["role"] != "policy", r["role"], r["label"])):
+    seeded = Counter((r["role"], r["label"]) for r in rows)  # several seeds: each named
+    for row in sorted(rows, key=lambda r: (r["role"] != "policy", r["role"], r["label"],
+                                           r["seed"])):
         m = row["metrics"]
+        label = row["label"] + (f", seed {row['seed']}" if seeded[row["role"], row["label"]] > 1
+                                else "")
         cells = [f"{m['eval/' + key]:.{places}f} ± {m['eval/' + key + '_std']:.{places}f}"
                  for key, _, places in COLUMNS]
         share, (_, _, low, high) = m["eval/fovea_fraction"], row["interval"]
-        lines.append(f"| {row['label']} | {row['glances']} | {share:.2f} ± "
+        lines.append(f"| {label} | {row['glances']} | {share:.2f} ± "
                      f"{m['eval/fovea_fraction_std']:.2f} [{low:.2f}, {high:.2f}] | "
                      f"{normalised(share, ends.get('blind'), ends.get('oracle'))} | "
                      f"{' | '.join(cells)} | {row['episodes']} |")

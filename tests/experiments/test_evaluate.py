@@ -388,3 +388,12 @@ def test_the_pursuit_table_sets_each_policy_between_its_blind_and_oracle_baselin
     assert f"| active_vision | 1 | {share['policy']:.2f} ± " in out
     assert expected == "n/a" or f"| {expected} |" in out
     assert normalised(0.5, 0.1, 0.9) == "0.50" and normalised(0.5, None, 0.9) == "n/a"
+    # a config run on several seeds: each row names its seed
+    second = tmp_path / "vision_seed3"
+    shutil.copytree(folders["vision"], second)
+    config = yaml.safe_load((second / "config.yaml").read_text())
+    (second / "config.yaml").write_text(yaml.safe_dump({**config, "seed": 3}))
+    assert main([str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    assert "| active_vision, seed 0 | 1 |" in out and "| active_vision, seed 3 | 1 |" in out
+    assert out.count(", seed ") == 2  # the baselines, one run each, are named alone
