@@ -205,7 +205,8 @@ def _reckoned(entry: dict, given: dict) -> Timing | None:
     if entry["entry_point"] == CORE["entry_point"]:
         return _clock(*BodyArgs.of_single_env(kwargs).clock())
     if entry["entry_point"] in WORLDS and given.keys() <= {"duration"}:
-        default = load_env_creator(entry["entry_point"]).default_duration
+        world: Any = load_env_creator(entry["entry_point"])  # a world env's class
+        default = world.default_duration
         return _world_clock(kwargs.get("duration", default))
     return None
 
@@ -254,7 +255,7 @@ def action_size_of(env_id: str, env_kwargs: dict | None = None) -> int:
     if arguments is None:
         env = gym.make(env_id, **(env_kwargs or {}))
         try:
-            return int(env.action_space.shape[0])
+            return gym.spaces.flatdim(env.action_space)
         finally:
             env.close()
     from .bodies import make_body
