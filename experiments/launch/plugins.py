@@ -1,14 +1,15 @@
-"""The user's own modules, named on the command line: ``animat --import my_animals run
-eel.yaml`` imports ``my_animals`` before the command runs, so that the bodies, tasks,
-sensors, env ids and learners it registers (``animat.envs.register_*``,
-``animat.learners.register_learner``) are there when the config is read, as RL-Baselines3-Zoo's
-``--gym-packages`` imports the packages that register a user's Gymnasium ids.
+"""The user's own modules, named on the command line: ``animat --import my_animals run eel.yaml``
+imports ``my_animals`` before the command runs, so that the bodies, tasks, sensors, env ids and
+learners it registers (``animat.envs.register_*``, ``animat.learners.register_learner``) are
+there when the config is read, as RL-Baselines3-Zoo's ``--gym-packages`` imports the packages
+that register a user's Gymnasium ids.
 
 Only a module the user names is imported: a config or a run folder never names code to run, so
 resuming or re-scoring someone else's folder runs none of theirs. The module is found as
-``import`` finds it (installed, or on ``PYTHONPATH``); the command's working directory is not
-searched. The processes a command starts (``animat sweep --jobs N``'s runs, a tune's
-workers, Ray's tasks) import the same modules first (:func:`import_flags`,
+``import`` finds it: installed, or on ``PYTHONPATH`` (``animat`` itself does not put the
+working directory on the path; ``python -m animat.experiments``, which a sweep's processes run,
+does, as ``python -m`` always does). The processes a command starts (``animat sweep --jobs
+N``'s runs, a tune's workers, Ray's tasks) import the same modules first (:func:`import_flags`,
 :func:`with_imports`).
 """
 
