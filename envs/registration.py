@@ -253,11 +253,7 @@ def action_size_of(env_id: str, env_kwargs: dict | None = None) -> int:
     built and its action space read."""
     arguments = _core_arguments(env_id, env_kwargs)
     if arguments is None:
-        env = gym.make(env_id, **(env_kwargs or {}))
-        try:
-            return gym.spaces.flatdim(env.action_space)
-        finally:
-            env.close()
+        return gym.spaces.flatdim(_built_attribute(env_id, env_kwargs, "action_space"))
     from .bodies import make_body
 
     arguments.clock()
