@@ -256,15 +256,18 @@ def water_into(image, zbuffer, rays, top, bottom, visibility, keeps, ups) -> Non
     distance d (m, along the ray) is hazed toward that colour, keeping ``exp(-d /
     visibility)`` of its own (from :data:`HAZE_TABLE`, linearly interpolated: within 1e-4 of
     the exponential; nothing is kept beyond 16 visibilities). ``keeps``, ``ups`` (H * W,)
-    are work space: each pixel's share kept and elevation, in a first SIMD pass, then the
-    blend, another (the same numbers as one pass)."""
+    are work space: each pixel's elevation and distance in table steps in a first SIMD pass,
+    its share kept read from the table in a second (a gather, which would keep the first
+    from SIMD), then the blend in a third (the same numbers as one pass)."""
     pixels = zbuffer.size
     depths, ray = zbuffer.reshape(pixels), rays.reshape(4, pixels)
     last = HAZE_TABLE.shape[0] - 2
     for p in range(pixels):
         length = ray[3, p]
         ups[p] = 0.5 * (1.0 + ray[2, p] / length)
-        u = min(depths[p] * length / visibility, 16.0) * HAZE_STEPS
+        keeps[p] = min(depths[p] * length / visibility, 16.0) * HAZE_STEPS
+    for p in range(pixels):
+        u = keeps[p]
         k = min(int(u), last)
         keep = HAZE_TABLE[k] + (u - k) * (HAZE_TABLE[k + 1] - HAZE_TABLE[k])
         keeps[p] = 0.0 if u >= 16.0 * HAZE_STEPS else keep
