@@ -12,10 +12,11 @@ native batch they step, measured in the same process and in interleaved rounds.
 each as the median over the rounds, and the ratio of each learner to the anchor: what of the
 simulator's speed reaches a user's learning curve. Then, from the eyes, on
 ``Animat/FishPursuit-v0`` as ``configs/fish_pursuit/ppo_pixels_compact.yaml`` sets it (16
-worlds, both eyes' periphery and fovea, grey, 32x32, three frames):
+worlds, both eyes' periphery and fovea, grey, 32x32, two frames):
 
 * the anchor: the native batch of 16 worlds with random actions, drawing those pictures;
-* PPO from those pixels with its shipped params (RetinaCNN, rl-baselines3-zoo's Atari PPO),
+* PPO from those pixels with its shipped params (RetinaCNN, rl-baselines3-zoo's PPO for
+  CarRacing, torch on one thread while the worlds step and on both cores while it updates),
   learning :data:`PIXEL_ROLLOUTS` rollouts: env steps per wall second of its rollouts and
   updates together (the first rollout, which compiles, left out; no evaluation), and beside
   it what its updates take of that time (``time/update_seconds`` against

@@ -61,10 +61,13 @@ def progress_callback(learner: LearningRun, model, venv, folder: Path | None, st
     ``final`` step, where :meth:`~animat.learners.ppo.learner.PPOLearner.learn` evaluates the
     last policy: one value per step), a checkpoint every ``checkpoint_every`` between
     rollouts, and where the wall time goes: ``time/rollout_seconds`` (a rollout collected, its
-    evaluations included) and ``time/update_seconds`` (the update on it, before the next)."""
+    evaluations included) and ``time/update_seconds`` (the update on it, before the next).
+    Torch runs on ``update_threads`` while the policy is updated and on ``torch_threads``
+    while the envs step (:func:`update_threads`)."""
     from stable_baselines3.common.callbacks import BaseCallback
 
     every_eval, every_save = learner.hp["eval_every"], learner.hp["checkpoint_every"]
+    rollout_threads, updating_threads = learner.hp["torch_threads"], update_threads(learner.hp)
 
     class Progress(BaseCallback):
         def __init__(self) -> None:
@@ -82,11 +85,13 @@ def progress_callback(learner: LearningRun, model, venv, folder: Path | None, st
             return True
 
         def _on_rollout_end(self) -> None:
+            set_threads(updating_threads)
             self.ended = time.perf_counter()
             learner.logger.scalar("time/rollout_seconds", self.ended - self.began,
                                   self.num_timesteps)
 
         def _on_rollout_start(self) -> None:
+            set_threads(rollout_threads)
             if self.ended is not None:  # the update since the last rollout ended
                 learner.logger.scalar("time/update_seconds", time.perf_counter() - self.ended,
                                       self.num_timesteps)
@@ -98,3 +103,18 @@ def progress_callback(learner: LearningRun, model, venv, folder: Path | None, st
             self.began = time.perf_counter()
 
     return Progress()
+
+
+def update_threads(hp: dict[str, Any]) -> int:
+    """Torch's threads while the policy is updated: ``update_threads``, or ``torch_threads``
+    where it is unset. Between updates the envs step, on threads of their own (Numba's), and
+    torch's idle threads, still waiting for work, would take the cores from them."""
+    return int(hp.get("update_threads", hp["torch_threads"]))
+
+
+def set_threads(count: int) -> None:
+    """Torch's intra-op threads, set only where they change (a change rebuilds its pool)."""
+    import torch
+
+    if torch.get_num_threads() != count:
+        torch.set_num_threads(count)

@@ -28,10 +28,10 @@ from ..storage.files import read_json
 from ..storage.pickles import UntrustedPickle
 from ..validation import BudgetError, check_memory
 from . import checkpoint as ppo_checkpoint
-from .hooks import progress_callback, sb3_logger
+from .hooks import progress_callback, sb3_logger, set_threads
 from .zoo import PPOParams, normalize_kwargs, policy_kwargs, schedule
 
-OWN_KEYS = {"eval_every", "torch_threads", "checkpoint_every"}
+OWN_KEYS = {"eval_every", "torch_threads", "update_threads", "checkpoint_every"}
 
 ZOO_KEYS = set(PPOParams.model_fields) - OWN_KEYS  # what SB3's PPO is given
 
@@ -55,7 +55,8 @@ class PPOLearner(Learner):
 
     def __init__(self, *args, **kwargs) -> None:
         super().__init__(*args, **kwargs)
-        self.hp = ppo_params(self.params, f"learner {self.name!r}").model_dump()
+        # unset keys left out (update_threads), so a config without them records what it did
+        self.hp = ppo_params(self.params, f"learner {self.name!r}").model_dump(exclude_none=True)
 
     def agent(self, artefacts: dict, folder: Path) -> PolicyAgent:
         """The saved network, deterministic, with the run's observation normalisation: the
@@ -243,6 +244,7 @@ class PPOLearner(Learner):
             progress = progress_callback(self, model, venv, folder, state, start,
                                          final=model.num_timesteps + remaining)
             model.learn(remaining, callback=progress, reset_num_timesteps=not resumed)
+            set_threads(int(self.hp["torch_threads"]))  # the last update left update_threads
         state["metrics"] = self.evaluate(model, venv)  # the policy the run returns
         self.logger.scalars(state["metrics"], model.num_timesteps)
         if folder:

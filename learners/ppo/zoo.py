@@ -90,8 +90,9 @@ def policy_kwargs(value: dict | str) -> dict:
 
 class PPOParams(BaseModel):
     """rl-baselines3-zoo's names and value forms with this project's defaults, plus
-    ``eval_every`` (env steps between evaluations), ``torch_threads`` and
-    ``checkpoint_every`` (env steps)."""
+    ``eval_every`` (env steps between evaluations), ``torch_threads`` (torch's threads),
+    ``update_threads`` (torch's threads while the policy is updated, where a second core
+    would otherwise idle; unset: ``torch_threads``) and ``checkpoint_every`` (env steps)."""
 
     model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
 
@@ -111,6 +112,7 @@ class PPOParams(BaseModel):
     normalize: bool | dict | str = True
     eval_every: int = Field(50_000, ge=1)
     torch_threads: int = Field(1, ge=1)
+    update_threads: int | None = Field(None, ge=1)
     checkpoint_every: int = Field(200_000, ge=1)
 
     @field_validator("learning_rate", "clip_range")

@@ -160,6 +160,8 @@ RETINA_CNN = {**PIXELS, "policy_kwargs": "dict(features_extractor_class=RetinaCN
 RESUMED = {"native": ("Animat/FishSwim-v0", {"duration": 0.5}, PARAMS, 192, [64, 100, 130]),
            "pursuit": ("Animat/FishPursuit-v0", {"duration": 0.6}, PIXELS, 64, [16, 40]),
            "compact pixels": ("Animat/FishPursuit-v0", COMPACT, RETINA_CNN, 64, [16, 40]),
+           "updated on two threads": ("Animat/FishPursuit-v0", COMPACT,
+                                      {**RETINA_CNN, "update_threads": 2}, 64, [16, 40]),
            "replayed": ("Animat/MarineWorld-v0", {"duration": 0.6}, {
                **PIXELS, "policy": "MlpPolicy", "policy_kwargs": "dict(net_arch=[8])"}, 64,
                [16, 40])}

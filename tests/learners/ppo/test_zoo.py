@@ -81,3 +81,46 @@ def test_a_resumed_ppo_run_collects_exactly_its_budget(tmp_path, monkeypatch):
     resumed = make_learner("ppo", "Animat/FishSwim-v0", {"duration": 0.5}, params).learn(
         320, tmp_path)
     assert resumed.env_steps == 320
+
+
+def test_torch_updates_on_update_threads_and_steps_the_envs_on_torch_threads(monkeypatch):
+    """Torch's threads switch between the phases: ``update_threads`` while SB3 trains (the
+    policy's ``evaluate_actions``), ``torch_threads`` while it acts in a rollout (its
+    ``forward``) and once the run is done; unset, ``update_threads`` is ``torch_threads`` and
+    the run's hyperparameters do not name it."""
+    import torch
+    from stable_baselines3.common.policies import ActorCriticPolicy
+
+    seen: list[tuple[str, int]] = []
+
+    def spy(name, method):
+        def spied(self, *args, **kwargs):
+            phase = (name, torch.get_num_threads())
+            if not seen or seen[-1] != phase:
+                seen.append(phase)
+            return method(self, *args, **kwargs)
+        return spied
+
+    monkeypatch.setattr(ActorCriticPolicy, "forward", spy("act", ActorCriticPolicy.forward))
+    monkeypatch.setattr(ActorCriticPolicy, "evaluate_actions",
+                        spy("train", ActorCriticPolicy.evaluate_actions))
+    before = torch.get_num_threads()
+    try:
+        params = {**ZOO, "torch_threads": 1, "update_threads": 2, "eval_every": 10**6}
+        result = make_learner("ppo", "Animat/FishSwim-v0", {"duration": 0.5}, params).learn(96)
+        assert seen == [("act", 1), ("train", 2)] * 3
+        assert torch.get_num_threads() == 1
+        assert result.artefacts["hyperparameters"]["update_threads"] == 2
+        seen.clear()
+        unset = make_learner("ppo", "Animat/FishSwim-v0", {"duration": 0.5}, ZOO).learn(64)
+        assert set(seen) == {("act", 1), ("train", 1)}
+        assert "update_threads" not in unset.artefacts["hyperparameters"]
+    finally:
+        torch.set_num_threads(before)
+
+
+@pytest.mark.parametrize("threads", [0, -1, 1.5, "two"])
+def test_update_threads_must_be_a_whole_number_of_threads(threads):
+    with pytest.raises(ValueError, match="update_threads"):
+        make_learner("ppo", "Animat/FishSwim-v0", {"duration": 0.5},
+                     {**ZOO, "update_threads": threads})
