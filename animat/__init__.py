@@ -9,15 +9,7 @@ Gymnasium tasks), :mod:`animat.learners` (the paper's learners and the baselines
 
 from __future__ import annotations
 
-import os
 from importlib.util import find_spec
-
-# Numba's threads and torch's run on two OpenMP runtimes (the system's libgomp and torch's
-# own). By default an idle OpenMP thread spins for a while before it sleeps, so in a process
-# that steps the envs and updates a network (PPO), each runtime's idle threads took the cores
-# from the other's working ones. Read by each runtime as it loads (torch's on import, Numba's
-# at its first parallel kernel); a value the user set is kept.
-os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
 
 try:
     from animat import envs  # noqa: F401  (registers Animat/FishSwim-v0, ...)

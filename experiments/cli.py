@@ -37,6 +37,7 @@ import threading
 from contextlib import contextmanager
 from pathlib import Path
 
+from animat.learners.ppo.threads import load_torch_first
 from animat.learners.storage.files import CorruptFile, UnsafeFile
 
 from .launch.config import ConfigError, load_config, load_run_config
@@ -314,6 +315,9 @@ def main(argv: list[str] | None = None) -> int:
     return code
 
 
+LEARNING = {"run", "sweep", "eval", "tune"}  # the commands that may run a torch learner
+
+
 def _dispatch(args) -> int:
     """Run the command; a failure is one line on stderr and its exit status (2: what the user
     gave, a config or a file that will not be read, unless a run recorded it as its failure;
@@ -324,6 +328,8 @@ def _dispatch(args) -> int:
                 "eval": cmd_eval, "tune": cmd_tune, "world-bench": cmd_world_bench,
                 "world-video": cmd_world_video}
     try:
+        if args.command in LEARNING or getattr(args, "learners", False):
+            load_torch_first()  # before any env step starts Numba's threads
         import_modules(args.imports)
         return handlers[args.command](args)
     except KeyboardInterrupt:

@@ -12,6 +12,7 @@ from typing import Any, Protocol
 import numpy as np
 
 from ..logger import Logger
+from .threads import set_threads, update_threads
 
 
 class LearningRun(Protocol):
@@ -63,7 +64,7 @@ def progress_callback(learner: LearningRun, model, venv, folder: Path | None, st
     rollouts, and where the wall time goes: ``time/rollout_seconds`` (a rollout collected, its
     evaluations included) and ``time/update_seconds`` (the update on it, before the next).
     Torch runs on ``update_threads`` while the policy is updated and on ``torch_threads``
-    while the envs step (:func:`update_threads`)."""
+    while the envs step (:mod:`~animat.learners.ppo.threads`)."""
     from stable_baselines3.common.callbacks import BaseCallback
 
     every_eval, every_save = learner.hp["eval_every"], learner.hp["checkpoint_every"]
@@ -104,17 +105,3 @@ def progress_callback(learner: LearningRun, model, venv, folder: Path | None, st
 
     return Progress()
 
-
-def update_threads(hp: dict[str, Any]) -> int:
-    """Torch's threads while the policy is updated: ``update_threads``, or ``torch_threads``
-    where it is unset. Between updates the envs step, on threads of their own (Numba's), and
-    torch's idle threads, still waiting for work, would take the cores from them."""
-    return int(hp.get("update_threads", hp["torch_threads"]))
-
-
-def set_threads(count: int) -> None:
-    """Torch's intra-op threads, set only where they change (a change rebuilds its pool)."""
-    import torch
-
-    if torch.get_num_threads() != count:
-        torch.set_num_threads(count)

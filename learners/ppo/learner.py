@@ -28,7 +28,8 @@ from ..storage.files import read_json
 from ..storage.pickles import UntrustedPickle
 from ..validation import BudgetError, check_memory
 from . import checkpoint as ppo_checkpoint
-from .hooks import progress_callback, sb3_logger, set_threads
+from .hooks import progress_callback, sb3_logger
+from .threads import set_threads, torch_loaded_late, update_threads
 from .zoo import PPOParams, normalize_kwargs, policy_kwargs, schedule
 
 OWN_KEYS = {"eval_every", "torch_threads", "update_threads", "checkpoint_every"}
@@ -57,6 +58,10 @@ class PPOLearner(Learner):
         super().__init__(*args, **kwargs)
         # unset keys left out (update_threads), so a config without them records what it did
         self.hp = ppo_params(self.params, f"learner {self.name!r}").model_dump(exclude_none=True)
+        if update_threads(self.hp) > 1 and torch_loaded_late():
+            print("animat: warning: Numba's threads started before torch was imported, so "
+                  "PPO's updates on more than one thread will contend with them: import torch "
+                  "before the first env step", file=sys.stderr)
 
     def agent(self, artefacts: dict, folder: Path) -> PolicyAgent:
         """The saved network, deterministic, with the run's observation normalisation: the
