@@ -3,11 +3,13 @@ of a PPO run gives torch.
 
 Numba's parallel kernels (the envs) and torch (the network) each run on an OpenMP runtime of
 their own: the system's libgomp and the one torch ships. Where Numba starts its threads
-first, torch's later calls are split between both runtimes, and an update on two threads
-runs at half speed or worse while their idle threads spin against each other; where torch is
-loaded first, each keeps to its own. :func:`load_torch_first` is what the ``animat`` command
-does before a command that may learn; a script that steps the envs and trains a network in
-one process should ``import torch`` before its first env step.
+first, a PPO update on two threads runs slower than on one: the runtimes' idle threads, which
+spin a while before they sleep, take the cores from each other's working ones (letting them
+sleep at once, ``OMP_WAIT_POLICY=PASSIVE``, cures it but slows the envs' own kernels). Where
+torch is loaded first, two threads update faster than one.
+:func:`load_torch_first` is what the ``animat`` command does before a command that may learn;
+a script that steps the envs and trains a network in one process should ``import torch``
+before its first env step.
 """
 
 from __future__ import annotations
