@@ -20,6 +20,8 @@ import re
 from collections.abc import Callable, Iterable
 from typing import Any
 
+from animat.learners.ppo.threads import load_torch_first
+
 MODULE_NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*(\.[A-Za-z_][A-Za-z0-9_]*)*")
 _imported: list[str] = []  # this process's --import modules, in order
 
@@ -62,6 +64,8 @@ def import_flags() -> list[str]:
 def with_imports(names: tuple[str, ...], function: Callable, *args: Any) -> Any:
     """``function(*args)`` after importing ``names`` (:func:`imported` where the call was
     made): what a spawned process or a Ray task runs, so that it knows the same
-    registrations (``function`` module-level, so it pickles by reference)."""
+    registrations (``function`` module-level, so it pickles by reference), with torch loaded
+    before any env step (:func:`~animat.learners.ppo.threads.load_torch_first`)."""
+    load_torch_first()
     import_modules(names)
     return function(*args)

@@ -7,7 +7,8 @@ first, a PPO update on two threads runs slower than on one: the runtimes' idle t
 spin a while before they sleep, take the cores from each other's working ones (letting them
 sleep at once, ``OMP_WAIT_POLICY=PASSIVE``, cures it but slows the envs' own kernels). Where
 torch is loaded first, two threads update faster than one.
-:func:`load_torch_first` is what the ``animat`` command does before a command that may learn;
+:func:`load_torch_first` is what the ``animat`` command does before a command that may learn,
+and each process or Ray task a sweep or a tune starts;
 a script that steps the envs and trains a network in one process should ``import torch``
 before its first env step.
 """
