@@ -13,8 +13,6 @@ import zipfile
 from importlib import metadata
 from pathlib import Path
 
-import pytest
-
 from tests.support.packaging import CODE, SKIP, clean_env, module_names
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -113,16 +111,3 @@ def test_python_inside_a_checkout_without_an_install_says_what_to_do():
     assert done.returncode != 0 and "circular" not in done.stderr
     assert last.startswith("ImportError: animat is imported from") and "pip install -e ." in last
 
-
-@pytest.mark.parametrize("given, kept", [(None, "PASSIVE"), ("ACTIVE", "ACTIVE")])
-def test_import_animat_lets_idle_openmp_threads_sleep_unless_told_otherwise(tmp_path, given,
-                                                                             kept):
-    """Numba's and torch's OpenMP runtimes share the cores of a PPO run: ``import animat``
-    sets ``OMP_WAIT_POLICY`` to ``PASSIVE`` before either loads, and keeps a user's value."""
-    env = {k: v for k, v in clean_env().items() if k != "OMP_WAIT_POLICY"}
-    if given is not None:
-        env["OMP_WAIT_POLICY"] = given
-    done = subprocess.run([sys.executable, "-c", "import os, animat; "
-                           "print(os.environ['OMP_WAIT_POLICY'])"], cwd=tmp_path,
-                          capture_output=True, text=True, timeout=120, env=env, check=True)
-    assert done.stdout.strip() == kept
