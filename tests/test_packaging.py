@@ -110,4 +110,3 @@ def test_python_inside_a_checkout_without_an_install_says_what_to_do():
     last = done.stderr.strip().splitlines()[-1]
     assert done.returncode != 0 and "circular" not in done.stderr
     assert last.startswith("ImportError: animat is imported from") and "pip install -e ." in last
-
