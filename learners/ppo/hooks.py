@@ -104,4 +104,3 @@ def progress_callback(learner: LearningRun, model, venv, folder: Path | None, st
             self.began = time.perf_counter()
 
     return Progress()
-

@@ -44,13 +44,14 @@ def torch_loaded_late() -> bool:
 
 def update_threads(hp: dict[str, Any]) -> int:
     """Torch's threads while the policy is updated: ``update_threads``, or ``torch_threads``
-    where it is unset. Between updates the envs step, on Numba's threads, which torch's
-    idle threads, still waiting for work, would take the cores from."""
+    where it is unset. While the envs step (on Numba's threads) torch keeps to
+    ``torch_threads``: its idle threads, spinning for work, would take the cores from
+    Numba's."""
     return int(hp.get("update_threads", hp["torch_threads"]))
 
 
 def set_threads(count: int) -> None:
-    """Torch's intra-op threads, set only where they change (a change rebuilds its pool)."""
+    """Torch's intra-op threads, set only where the count changes."""
     import torch
 
     if torch.get_num_threads() != count:
