@@ -13,8 +13,11 @@ pixel's :func:`pixel_ray` and its length, computed once for both): :func:`seabed
 water's colour by the ray's elevation, and depth haze: everything fades into that colour as
 ``exp(-distance / visibility)``). :func:`draw_picture` is the three in order, a camera's whole
 picture (:func:`draw_picture_into` the same on work space kept from camera to camera, and
-given the bounding spheres of the triangles' chunks, :func:`chunk_spheres`, it leaves out the
-chunks the camera cannot see, :func:`seen_chunks`: the same picture for less work).
+given the triangles' groups and each group's bounding sphere, :func:`group_spheres`, it leaves
+out the groups the camera cannot see, :func:`seen_groups`: the same picture for less work).
+A group is any set of triangles (:func:`chunk_groups`: runs of consecutive ones); the
+triangles are drawn in their own order whatever their groups, so the depth test's ties fall
+as without culling.
 """
 
 from __future__ import annotations
@@ -22,45 +25,52 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-CULL_CHUNK = 32  # consecutive triangles culled together, behind one bounding sphere
+CULL_CHUNK = 32  # the triangles of a group of consecutive ones (chunk_groups)
+
+
+def chunk_groups(count: int) -> np.ndarray:
+    """(count,) int64: triangle t in group t // :data:`CULL_CHUNK`, runs of consecutive
+    triangles (what a list of triangles in no spatial order culls by)."""
+    return np.arange(count, dtype=np.int64) // CULL_CHUNK
 
 
 @njit(cache=True)
-def chunk_spheres(triangles, spheres) -> None:
-    """Fill ``spheres`` (ceil(T / CULL_CHUNK), 4) with a bounding sphere (centre m, radius m)
-    of each chunk of :data:`CULL_CHUNK` consecutive triangles of ``triangles`` (T, 3, 3) m:
-    the centre of the chunk's corners' bounding box, the radius the farthest corner from it
-    (enlarged by a micrometre, against rounding)."""
-    count = triangles.shape[0]
-    for c in range(spheres.shape[0]):
-        first, last = c * CULL_CHUNK, min(count, (c + 1) * CULL_CHUNK)
-        x0 = y0 = z0 = np.inf
-        x1 = y1 = z1 = -np.inf
-        for t in range(first, last):
-            for k in range(3):
-                x, y, z = triangles[t, k, 0], triangles[t, k, 1], triangles[t, k, 2]
-                x0, x1 = min(x0, x), max(x1, x)
-                y0, y1 = min(y0, y), max(y1, y)
-                z0, z1 = min(z0, z), max(z1, z)
-        cx, cy, cz = 0.5 * (x0 + x1), 0.5 * (y0 + y1), 0.5 * (z0 + z1)
-        far = 0.0
-        for t in range(first, last):
-            for k in range(3):
-                dx, dy, dz = triangles[t, k, 0] - cx, triangles[t, k, 1] - cy, \
-                    triangles[t, k, 2] - cz
-                far = max(far, dx * dx + dy * dy + dz * dz)
-        spheres[c, 0], spheres[c, 1], spheres[c, 2] = cx, cy, cz
-        spheres[c, 3] = np.sqrt(far) + 1e-6
+def group_spheres(triangles, groups, spheres) -> None:
+    """Fill ``spheres`` (G, 4) with a bounding sphere (centre m, radius m) of each group of
+    ``triangles`` (T, 3, 3) m, triangle t in group ``groups[t]`` (T,) of G: the centre of the
+    group's corners' bounding box, the radius the farthest corner from it (enlarged by a
+    micrometre, against rounding). A group without triangles gets radius -1 (never seen)."""
+    count = spheres.shape[0]
+    low, high = np.full((count, 3), np.inf), np.full((count, 3), -np.inf)
+    for t in range(triangles.shape[0]):
+        g = groups[t]
+        for k in range(3):
+            for a in range(3):
+                low[g, a] = min(low[g, a], triangles[t, k, a])
+                high[g, a] = max(high[g, a], triangles[t, k, a])
+    far = np.full(count, -1.0)
+    for g in range(count):
+        for a in range(3):
+            spheres[g, a] = 0.5 * (low[g, a] + high[g, a]) if low[g, a] <= high[g, a] else 0.0
+    for t in range(triangles.shape[0]):
+        g = groups[t]
+        for k in range(3):
+            dx = triangles[t, k, 0] - spheres[g, 0]
+            dy = triangles[t, k, 1] - spheres[g, 1]
+            dz = triangles[t, k, 2] - spheres[g, 2]
+            far[g] = max(far[g], dx * dx + dy * dy + dz * dz)
+    for g in range(count):
+        spheres[g, 3] = np.sqrt(far[g]) + 1e-6 if far[g] >= 0.0 else -1.0
 
 
 @njit(cache=True)
-def seen_chunks(spheres, eye, rotation, focal, shape, near, seen) -> None:
-    """``seen`` (C,) bool: whether chunk c's sphere (``spheres`` (C, 4), :func:`chunk_spheres`)
+def seen_groups(spheres, eye, rotation, focal, shape, near, seen) -> None:
+    """``seen`` (G,) bool: whether group g's sphere (``spheres`` (G, 4), :func:`group_spheres`)
     may show in the picture of a pinhole camera at ``eye`` with ``rotation`` (rows right, down,
-    forward) and ``focal`` pixels, of ``shape`` (height, width). A chunk is left out only where
+    forward) and ``focal`` pixels, of ``shape`` (height, width). A group is left out only where
     its sphere lies wholly nearer than ``near`` or wholly beyond one side of the picture
     (widened by a pixel each way), where :func:`rasterize` would draw none of its triangles: so
-    the picture is the same, bit for bit."""
+    the picture is the same, bit for bit (an empty group, radius -1, is left out)."""
     half_h, half_w = 0.5 * shape[0] + 1.0, 0.5 * shape[1] + 1.0
     norm_w, norm_h = np.sqrt(focal * focal + half_w * half_w), np.sqrt(
         focal * focal + half_h * half_h)
@@ -70,14 +80,14 @@ def seen_chunks(spheres, eye, rotation, focal, shape, near, seen) -> None:
         y = rotation[1, 0] * d0 + rotation[1, 1] * d1 + rotation[1, 2] * d2
         z = rotation[2, 0] * d0 + rotation[2, 1] * d1 + rotation[2, 2] * d2
         r = spheres[c, 3]
-        seen[c] = not (z + r < near or focal * x - half_w * z > r * norm_w
+        seen[c] = r >= 0.0 and not (z + r < near or focal * x - half_w * z > r * norm_w
                        or -focal * x - half_w * z > r * norm_w
                        or focal * y - half_h * z > r * norm_h
                        or -focal * y - half_h * z > r * norm_h)
 
 
 @njit(cache=True, error_model="numpy")
-def rasterize(xs, ys, depths, colours, image, zbuffer, near, seen) -> None:
+def rasterize(xs, ys, depths, colours, image, zbuffer, near, seen, groups) -> None:
     """Draw triangles into ``image`` (H, W, 3) uint8 where they are nearer than ``zbuffer``
     (H, W) float, updating it.
 
@@ -92,15 +102,16 @@ def rasterize(xs, ys, depths, colours, image, zbuffer, near, seen) -> None:
         depths: (3T,) vertex depths along the camera's axis, m.
         colours: (T, 3) uint8 RGB.
         near: triangles with a vertex nearer than this (m) are skipped.
-        seen: (ceil(T / CULL_CHUNK),) bool, whether each chunk of :data:`CULL_CHUNK`
-            triangles may be seen (:func:`seen_chunks`; its triangles left out otherwise, and
-            their projections not read); empty: every triangle is drawn.
+        seen: (G,) bool, whether each group of triangles may be seen (:func:`seen_groups`;
+            its triangles left out otherwise, and their projections not read); empty: every
+            triangle is drawn.
+        groups: (T,) int, each triangle's group (read only where ``seen`` is not empty).
     """
     height, width = zbuffer.shape
     inside, row = np.empty(width, np.bool_), np.empty(width)  # a row's tests and depths
     culled = seen.shape[0] > 0
     for t in range(colours.shape[0]):
-        if culled and not seen[t // CULL_CHUNK]:
+        if culled and not seen[groups[t]]:
             continue
         z0, z1, z2 = depths[3 * t], depths[3 * t + 1], depths[3 * t + 2]
         if z0 < near or z1 < near or z2 < near:
@@ -139,43 +150,35 @@ def rasterize_world(triangles, colours, eye, rotation, focal, image, zbuffer, ne
     ``eye`` (3,) with ``rotation`` (3, 3) (rows right, down, forward) and ``focal`` pixels,
     projected by :func:`project`."""
     count = 3 * triangles.shape[0]
-    corners, xs, ys, depths = np.empty((3, count)), np.empty(count), np.empty(count), np.empty(
-        count)
-    everything = np.zeros(0, np.bool_)  # no chunk culled
-    project(triangles, eye, rotation, focal, zbuffer.shape, corners, xs, ys, depths, everything)
-    rasterize(xs, ys, depths, colours, image, zbuffer, near, everything)
+    xs, ys, depths = np.empty(count), np.empty(count), np.empty(count)
+    everything, none = np.zeros(0, np.bool_), np.zeros(0, np.int64)  # no group culled
+    project(triangles, eye, rotation, focal, zbuffer.shape, xs, ys, depths, everything, none)
+    rasterize(xs, ys, depths, colours, image, zbuffer, near, everything, none)
 
 
 @njit(cache=True)
-def project(triangles, eye, rotation, focal, shape, corners, xs, ys, depths, seen) -> None:
+def project(triangles, eye, rotation, focal, shape, xs, ys, depths, seen, groups) -> None:
     """Project world-frame triangles (T, 3, 3) m for a pinhole camera at ``eye`` (3,) with
     ``rotation`` (3, 3) (rows right, down, forward), ``focal`` pixels and image ``shape``
     (height, width): corner k of triangle t to pixel (``xs``, ``ys``)[3t + k] and depth
-    ``depths``[3t + k] m (each (3T,)); only the chunks ``seen`` marks (:func:`rasterize`), all
-    where it is empty. The corners are copied out coordinate by coordinate first, into
-    ``corners`` (3, 3T), so that the projection runs in SIMD (the same numbers as projecting
-    corner by corner)."""
+    ``depths``[3t + k] m (each (3T,)); only the triangles whose group (``groups`` (T,)) is
+    ``seen`` (:func:`rasterize`), all where ``seen`` is empty."""
     height, width = shape
-    count = triangles.shape[0]
     r00, r01, r02 = rotation[0, 0], rotation[0, 1], rotation[0, 2]
     r10, r11, r12 = rotation[1, 0], rotation[1, 1], rotation[1, 2]
     r20, r21, r22 = rotation[2, 0], rotation[2, 1], rotation[2, 2]
     e0, e1, e2 = eye[0], eye[1], eye[2]
-    chunks = (count + CULL_CHUNK - 1) // CULL_CHUNK
-    for c in range(chunks):
-        if seen.shape[0] > 0 and not seen[c]:
+    culled = seen.shape[0] > 0
+    for t in range(triangles.shape[0]):
+        if culled and not seen[groups[t]]:
             continue
-        first, last = c * CULL_CHUNK, min(count, (c + 1) * CULL_CHUNK)
-        for t in range(first, last):
-            for k in range(3):
-                for a in range(3):
-                    corners[a, 3 * t + k] = triangles[t, k, a]
-        for v in range(3 * first, 3 * last):
-            d0, d1, d2 = corners[0, v] - e0, corners[1, v] - e1, corners[2, v] - e2
+        for k in range(3):
+            d0, d1, d2 = triangles[t, k, 0] - e0, triangles[t, k, 1] - e1, triangles[t, k, 2] - e2
             cx = r00 * d0 + r01 * d1 + r02 * d2
             cy = r10 * d0 + r11 * d1 + r12 * d2
             cz = r20 * d0 + r21 * d1 + r22 * d2
             safe = max(cz, 1e-6)
+            v = 3 * t + k
             xs[v] = 0.5 * width + focal * cx / safe
             ys[v] = 0.5 * height + focal * cy / safe
             depths[v] = cz
@@ -287,10 +290,9 @@ def canvas(height, width, triangles):
     seeing up to ``triangles`` triangles (a tuple of arrays, allocated once and used for camera
     after camera: allocating its half megabyte for each picture costs a share of a camera's
     time, more on two threads)."""
-    count = 3 * triangles
     return (np.empty((height, width)), np.empty((4, height, width)),
-            np.empty((2, height * width)), np.empty((3, count)), np.empty((3, count)),
-            np.empty((triangles + CULL_CHUNK - 1) // CULL_CHUNK, np.bool_))
+            np.empty((2, height * width)), np.empty((3, 3 * triangles)),
+            np.empty(triangles, np.bool_))  # as many groups as triangles at most
 
 
 @njit(cache=True)
@@ -300,34 +302,37 @@ def draw_picture(triangles, colours, eye, rotation, focal, seabed_z, tile, visib
     held): :func:`draw_picture_into` on a :func:`canvas` of its own, nothing culled."""
     work = canvas(image.shape[0], image.shape[1], triangles.shape[0])
     draw_picture_into(triangles, colours, eye, rotation, focal, seabed_z, tile, visibility,
-                      sand, top, bottom, far, near, image, work, np.zeros((0, 4)))
+                      sand, top, bottom, far, near, image, work, np.zeros((0, 4)),
+                      np.zeros(0, np.int64))
 
 
 @njit(cache=True)
 def draw_picture_into(triangles, colours, eye, rotation, focal, seabed_z, tile, visibility,
-                      sand, top, bottom, far, near, image, work, spheres) -> None:
+                      sand, top, bottom, far, near, image, work, spheres, groups) -> None:
     """A camera's whole picture into ``image`` (H, W, 3) uint8 (drawn over, whatever it
     held), on the work space ``work`` (:func:`canvas`, for at least as many triangles): its
     pixel rays (:func:`pixel_rays`), the seabed (:func:`seabed_into`), the triangles (T, 3, 3)
     m with colours (T, 3) uint8 projected (:func:`project`) and through the depth buffer
-    (:func:`rasterize`), then the water and its haze (:func:`water_into`). ``spheres``: the
-    triangles' chunks' bounding spheres (:func:`chunk_spheres`), to leave out the chunks the
-    camera cannot see (:func:`seen_chunks`: the same picture); none, (0, 4): every triangle
-    drawn."""
-    zbuffer, rays, pixels, corners, projected, seen = work
+    (:func:`rasterize`), then the water and its haze (:func:`water_into`). ``spheres``
+    (G, 4): the bounding spheres of the triangles' groups ``groups`` (T,)
+    (:func:`group_spheres`), to leave out the groups the camera cannot see
+    (:func:`seen_groups`: the same picture); none, (0, 4): every triangle drawn."""
+    zbuffer, rays, pixels, projected, seen = work
     count = 3 * triangles.shape[0]
-    if corners.shape[1] < count or zbuffer.shape != image.shape[:2]:
+    if projected.shape[1] < count or zbuffer.shape != image.shape[:2]:
         raise ValueError("draw_picture_into: the canvas is for fewer triangles or other pixels")
+    if seen.shape[0] < spheres.shape[0]:
+        raise ValueError("draw_picture_into: more groups than the canvas has triangles")
     image[:] = 0
     zbuffer[:] = np.inf
     pixel_rays(rotation, focal, rays)
     seabed_into(image, zbuffer, eye, rays, seabed_z, tile, sand, far, pixels[0])
     xs, ys, depths = projected[0, :count], projected[1, :count], projected[2, :count]
-    chunks = seen[:spheres.shape[0]]
+    shown = seen[:spheres.shape[0]]
     if spheres.shape[0] > 0:
-        seen_chunks(spheres, eye, rotation, focal, zbuffer.shape, near, chunks)
-    project(triangles, eye, rotation, focal, zbuffer.shape, corners, xs, ys, depths, chunks)
-    rasterize(xs, ys, depths, colours, image, zbuffer, near, chunks)
+        seen_groups(spheres, eye, rotation, focal, zbuffer.shape, near, shown)
+    project(triangles, eye, rotation, focal, zbuffer.shape, xs, ys, depths, shown, groups)
+    rasterize(xs, ys, depths, colours, image, zbuffer, near, shown, groups)
     water_into(image, zbuffer, rays, top, bottom, visibility, pixels[0], pixels[1])
 
 

@@ -24,13 +24,16 @@ import numpy as np
 from ...core.batch import BodyBatch, Kinematics
 from ...motor.navigation import Navigator, forward_speeds, navigation_for
 from ...render.camera import SHADOW_LIFT, Scene, fish_skin, shade, subdivide, yaw_matrix
-from ...render.cameras import SHADOW, draw_cameras
+from ...render.cameras import SHADOW, draw_cameras, groups_in_space
 from ...render.scenery import furnish
 from ...tasks.locomotion import SwimTask
 from ...vision.retina import RetinaParams, eye_poses_batch
 from .others import OtherFish
 from .senses import PHI_RANGE, THETA_RANGE
 from .start import PREY, SEABED_Z, colours, place, scenery
+
+QUADS_CULLED = 16  # quads (32 triangles) the cameras leave out together, behind one sphere
+SCENERY_CELL = 0.5  # m: the squares along which the scenery's quads are grouped
 
 
 @dataclass(frozen=True)
@@ -74,6 +77,7 @@ class PursuitWorlds:
         self.scenery: list[list] = [[] for _ in range(self.num_worlds)]
         self._quads = np.zeros((self.num_worlds, 0, 4, 3))  # shadows, skins, scenery
         self._colours = np.zeros((self.num_worlds, 0, 3), np.uint8)
+        self._groups = np.zeros((self.num_worlds, 0), np.int64)  # each quad's, culled together
         self._poses: tuple | None = None  # the kinematics and gaze of the eye poses kept
 
     # --- episodes ------------------------------------------------------------------------
@@ -183,7 +187,7 @@ class PursuitWorlds:
             np.repeat(positions.reshape(-1, 3), levels, axis=0),
             np.repeat(rotations.reshape(-1, 3, 3), levels, axis=0), np.tile(focals, 2 * n),
             np.full(n, SEABED_Z), np.full(n, Scene.grid), np.full(n, Scene.visibility),
-            (params.size, params.size), levels)
+            (params.size, params.size), levels, np.concatenate([self._groups] * 2, axis=1))
         size = params.size  # the levels stay where stacking them wants them (a view)
         return np.moveaxis(images.reshape(n, 2, size, size, levels, 3), 4, 2)
 
@@ -196,8 +200,15 @@ class PursuitWorlds:
         if self._quads.shape[1] != fish + len(quads):
             self._quads = np.zeros((self.num_worlds, fish + len(quads), 4, 3))
             self._colours = np.zeros((self.num_worlds, fish + len(quads), 3), np.uint8)
+            self._groups = np.zeros((self.num_worlds, fish + len(quads)), np.int64)
         self._quads[world, fish:] = quads
         self._colours[world, fish:] = shade(quads, base, Scene().light)
+        # the fish's quads come body by body, face by face: runs of them lie together; the
+        # scenery's lie anywhere, so they are grouped by where they are
+        fish_groups = -(-fish // QUADS_CULLED)
+        self._groups[world, :fish] = np.arange(fish) // QUADS_CULLED
+        self._groups[world, fish:] = fish_groups + groups_in_space(
+            quads.mean(axis=1), SCENERY_CELL, QUADS_CULLED)
 
     def triangles(self) -> tuple[np.ndarray, np.ndarray]:
         """(N, T, 3, 3) m and (N, T, 3) uint8: every world's triangles and colours now, in

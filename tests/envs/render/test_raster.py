@@ -16,13 +16,14 @@ from animat.envs.render.camera import (
     Scene,
     look_at,
 )
+from animat.envs.render.cameras import groups_in_space
 from animat.envs.render.raster import (
-    CULL_CHUNK,
     canvas,
-    chunk_spheres,
+    chunk_groups,
     draw_picture,
     draw_picture_into,
-    seen_chunks,
+    group_spheres,
+    seen_groups,
 )
 
 
@@ -43,7 +44,7 @@ def _draw(frame, eye, work=None):
     if work is None:
         draw_picture(*args)
     else:
-        draw_picture_into(*args, work, np.zeros((0, 4)))
+        draw_picture_into(*args, work, np.zeros((0, 4)), np.zeros(0, np.int64))
     return image
 
 
@@ -68,13 +69,19 @@ def test_a_canvas_too_small_is_refused():
         _draw(frame, np.array([-0.1, -0.9, 0.1]), canvas(32, 64, frame.triangles.shape[0]))
 
 
-def test_culling_the_chunks_a_camera_cannot_see_changes_no_pixel():
+@pytest.mark.parametrize("grouping", ["runs", "in space"])
+def test_culling_the_groups_a_camera_cannot_see_changes_no_pixel(grouping):
+    """Groups of consecutive triangles, or of triangles near each other but far apart in the
+    list (drawn in the list's order all the same): every corner lies in its group's sphere,
+    some camera leaves some group out, and no camera's picture changes by a pixel."""
     frame = _frame(6)
-    spheres = np.empty((-(-len(frame.triangles) // CULL_CHUNK), 4))
-    chunk_spheres(frame.triangles, spheres)
-    corners = frame.triangles.reshape(-1, 3)
-    for k, box in enumerate(spheres):  # every corner inside its chunk's sphere
-        inside = corners[3 * CULL_CHUNK * k:3 * CULL_CHUNK * (k + 1)] - box[:3]
+    count = len(frame.triangles)
+    groups = (chunk_groups(count) if grouping == "runs" else
+              groups_in_space(frame.triangles.mean(axis=1), 0.05, 16))
+    spheres = np.empty((groups.max() + 1, 4))
+    group_spheres(frame.triangles, groups, spheres)
+    for g, box in enumerate(spheres):  # every corner inside its group's sphere
+        inside = frame.triangles[groups == g].reshape(-1, 3) - box[:3]
         assert np.linalg.norm(inside, axis=1).max() <= box[3]
     culled_any = False
     for eye, focal in (([-0.1, -0.9, 0.1], 40.0), ([-0.1, -0.9, 0.1], 240.0),
@@ -87,10 +94,20 @@ def test_culling_the_chunks_a_camera_cannot_see_changes_no_pixel():
             draw_picture_into(frame.triangles, frame.colours, eye, rotation, focal,
                               float(frame.seabed_z), float(frame.tile),
                               float(frame.visibility), SAND, WATER_TOP, WATER_BOTTOM, FAR,
-                              NEAR, image, canvas(64, 64, len(frame.triangles)), bounds)
+                              NEAR, image, canvas(64, 64, count), bounds, groups)
             pictures.append(image)
         np.testing.assert_array_equal(pictures[0], pictures[1])
         seen = np.empty(len(spheres), np.bool_)
-        seen_chunks(spheres, eye, rotation, focal, (64, 64), NEAR, seen)
+        seen_groups(spheres, eye, rotation, focal, (64, 64), NEAR, seen)
         culled_any |= not seen.all()
-    assert culled_any  # some camera left some chunk out
+    assert culled_any  # some camera left some group out
+
+
+def test_a_group_without_triangles_is_never_seen():
+    frame = _frame(1)
+    groups = chunk_groups(len(frame.triangles)) + 1  # group 0 is empty
+    spheres = np.empty((groups.max() + 1, 4))
+    group_spheres(frame.triangles, groups, spheres)
+    seen = np.empty(len(spheres), np.bool_)
+    seen_groups(spheres, np.array([-0.1, -0.9, 0.1]), np.eye(3), 40.0, (64, 64), NEAR, seen)
+    assert spheres[0, 3] == -1.0 and not seen[0]
