@@ -5,7 +5,7 @@ Numba's parallel kernels (the envs) and torch (the network) each run on an OpenM
 their own: the system's libgomp and the one torch ships. Where Numba starts its threads
 first, a PPO update on two threads runs slower than on one: the runtimes' idle threads, which
 spin a while before they sleep, take the cores from each other's working ones (letting them
-sleep at once, ``OMP_WAIT_POLICY=PASSIVE``, cures it but slows the envs' own kernels). Where
+sleep at once, ``OMP_WAIT_POLICY=PASSIVE``, helps, but slows the envs' own kernels). Where
 torch is loaded first, two threads update faster than one.
 :func:`load_torch_first` is what the ``animat`` command does before a command that may learn,
 and each process or Ray task a sweep or a tune starts;
