@@ -77,7 +77,7 @@ class PursuitWorlds:
         self.scenery: list[list] = [[] for _ in range(self.num_worlds)]
         self._quads = np.zeros((self.num_worlds, 0, 4, 3))  # shadows, skins, scenery
         self._colours = np.zeros((self.num_worlds, 0, 3), np.uint8)
-        self._groups = np.zeros((self.num_worlds, 0), np.int64)  # each quad's, culled together
+        self._groups = np.zeros((self.num_worlds, 0), np.int64)  # each triangle's (culling)
         self._poses: tuple | None = None  # the kinematics and gaze of the eye poses kept
 
     # --- episodes ------------------------------------------------------------------------
@@ -187,7 +187,7 @@ class PursuitWorlds:
             np.repeat(positions.reshape(-1, 3), levels, axis=0),
             np.repeat(rotations.reshape(-1, 3, 3), levels, axis=0), np.tile(focals, 2 * n),
             np.full(n, SEABED_Z), np.full(n, Scene.grid), np.full(n, Scene.visibility),
-            (params.size, params.size), levels, np.concatenate([self._groups] * 2, axis=1))
+            (params.size, params.size), levels, self._groups)
         size = params.size  # the levels stay where stacking them wants them (a view)
         return np.moveaxis(images.reshape(n, 2, size, size, levels, 3), 4, 2)
 
@@ -200,15 +200,16 @@ class PursuitWorlds:
         if self._quads.shape[1] != fish + len(quads):
             self._quads = np.zeros((self.num_worlds, fish + len(quads), 4, 3))
             self._colours = np.zeros((self.num_worlds, fish + len(quads), 3), np.uint8)
-            self._groups = np.zeros((self.num_worlds, fish + len(quads)), np.int64)
+            self._groups = np.zeros((self.num_worlds, 2 * (fish + len(quads))), np.int64)
         self._quads[world, fish:] = quads
         self._colours[world, fish:] = shade(quads, base, Scene().light)
         # the fish's quads come body by body, face by face: runs of them lie together; the
-        # scenery's lie anywhere, so they are grouped by where they are
-        fish_groups = -(-fish // QUADS_CULLED)
-        self._groups[world, :fish] = np.arange(fish) // QUADS_CULLED
-        self._groups[world, fish:] = fish_groups + groups_in_space(
-            quads.mean(axis=1), SCENERY_CELL, QUADS_CULLED)
+        # scenery's lie anywhere, so they are grouped by where they are; a quad's two
+        # triangles (:meth:`triangles`: every quad's first, then every quad's second) together
+        groups = np.concatenate([np.arange(fish) // QUADS_CULLED, -(-fish // QUADS_CULLED)
+                                 + groups_in_space(quads.mean(axis=1), SCENERY_CELL,
+                                                   QUADS_CULLED)])
+        self._groups[world] = np.concatenate([groups, groups])
 
     def triangles(self) -> tuple[np.ndarray, np.ndarray]:
         """(N, T, 3, 3) m and (N, T, 3) uint8: every world's triangles and colours now, in
