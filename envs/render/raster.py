@@ -81,9 +81,9 @@ def seen_groups(spheres, eye, rotation, focal, shape, near, seen) -> None:
         z = rotation[2, 0] * d0 + rotation[2, 1] * d1 + rotation[2, 2] * d2
         r = spheres[c, 3]
         seen[c] = r >= 0.0 and not (z + r < near or focal * x - half_w * z > r * norm_w
-                       or -focal * x - half_w * z > r * norm_w
-                       or focal * y - half_h * z > r * norm_h
-                       or -focal * y - half_h * z > r * norm_h)
+                                    or -focal * x - half_w * z > r * norm_w
+                                    or focal * y - half_h * z > r * norm_h
+                                    or -focal * y - half_h * z > r * norm_h)
 
 
 @njit(cache=True, error_model="numpy")
@@ -314,7 +314,7 @@ def draw_picture_into(triangles, colours, eye, rotation, focal, seabed_z, tile, 
     pixel rays (:func:`pixel_rays`), the seabed (:func:`seabed_into`), the triangles (T, 3, 3)
     m with colours (T, 3) uint8 projected (:func:`project`) and through the depth buffer
     (:func:`rasterize`), then the water and its haze (:func:`water_into`). ``spheres``
-    (G, 4): the bounding spheres of the triangles' groups ``groups`` (T,)
+    (G, 4): the bounding spheres of the triangles' groups ``groups`` (T,), each in [0, G)
     (:func:`group_spheres`), to leave out the groups the camera cannot see
     (:func:`seen_groups`: the same picture); none, (0, 4): every triangle drawn."""
     zbuffer, rays, pixels, projected, seen = work
@@ -323,6 +323,8 @@ def draw_picture_into(triangles, colours, eye, rotation, focal, seabed_z, tile, 
         raise ValueError("draw_picture_into: the canvas is for fewer triangles or other pixels")
     if seen.shape[0] < spheres.shape[0]:
         raise ValueError("draw_picture_into: more groups than the canvas has triangles")
+    if spheres.shape[0] > 0 and groups.shape[0] != triangles.shape[0]:
+        raise ValueError("draw_picture_into: groups must name one group a triangle")
     image[:] = 0
     zbuffer[:] = np.inf
     pixel_rays(rotation, focal, rays)

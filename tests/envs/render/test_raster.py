@@ -67,6 +67,14 @@ def test_a_canvas_too_small_is_refused():
         _draw(frame, np.array([-0.1, -0.9, 0.1]), canvas(64, 64, frame.triangles.shape[0] - 1))
     with pytest.raises(ValueError, match="other pixels"):
         _draw(frame, np.array([-0.1, -0.9, 0.1]), canvas(32, 64, frame.triangles.shape[0]))
+    groups = chunk_groups(len(frame.triangles) - 1)  # one triangle without its group
+    spheres = np.zeros((groups.max() + 1, 4))
+    with pytest.raises(ValueError, match="one group a triangle"):
+        draw_picture_into(frame.triangles, frame.colours, np.array([-0.1, -0.9, 0.1]),
+                          np.eye(3), 40.0, float(frame.seabed_z), float(frame.tile),
+                          float(frame.visibility), SAND, WATER_TOP, WATER_BOTTOM, FAR, NEAR,
+                          np.zeros((64, 64, 3), np.uint8), canvas(64, 64, len(frame.triangles)),
+                          spheres, groups)
 
 
 @pytest.mark.parametrize("grouping", ["runs", "in space"])
