@@ -31,11 +31,12 @@ from .raster import canvas, chunk_groups, draw_picture_into, group_spheres
 CHUNKS_PER_THREAD = 4  # chunks of cameras per thread: few canvases, and the threads balanced
 
 
-@njit(cache=True)
+@njit(cache=True, parallel=True)
 def _bound(triangles, groups, spheres) -> None:
     """Each world's groups of triangles (N, T, 3, 3), ``groups`` (N, T), bounded once for all
-    its cameras: ``spheres`` (N, G, 4) (:func:`~animat.envs.render.raster.group_spheres`)."""
-    for w in range(triangles.shape[0]):
+    its cameras, worlds over threads: ``spheres`` (N, G, 4)
+    (:func:`~animat.envs.render.raster.group_spheres`)."""
+    for w in prange(triangles.shape[0]):
         group_spheres(triangles[w], groups[w], spheres[w])
 
 

@@ -39,7 +39,9 @@ LUMA = np.array([299, 587, 114], np.int32)  # ITU-R BT.601 weights, per mille
 def grey(images: np.ndarray) -> np.ndarray:
     """(..., H, W) uint8 luma of RGB images (..., H, W, 3): ``(299 R + 587 G + 114 B) / 1000``,
     rounded."""
-    return ((images.astype(np.int32) @ LUMA + 500) // 1000).astype(np.uint8)
+    x = images.astype(np.int32)  # per channel, not a matmul: NumPy has no integer BLAS
+    return ((x[..., 0] * LUMA[0] + x[..., 1] * LUMA[1] + x[..., 2] * LUMA[2] + 500)
+            // 1000).astype(np.uint8)
 
 
 def chosen_cameras(levels: Any, size: Any, retina: RetinaParams) -> RetinaParams:

@@ -126,6 +126,7 @@ from .shell import (
     pursuit_params,
     render_world,
     world_info,
+    world_infos,
 )
 from .summary import PursuitSummary
 from .worlds import PursuitWorlds
@@ -210,7 +211,8 @@ class FishPursuitEnv(gym.Env):
                                          fresh), 0)
 
     def _info(self, kinematics, moved: bool) -> dict:
-        return world_info(self.worlds, kinematics, self.worlds.eye_poses(kinematics), 0, moved)
+        return world_info(world_infos(self.worlds, kinematics,
+                                      self.worlds.eye_poses(kinematics), moved), 0)
 
     def render(self):
         return render_world(self.worlds, self.render_mode)

@@ -1,7 +1,7 @@
 """What the pursuit's single env and its native vector env share around their batched core
 (:class:`~animat.envs.world.pursuit.worlds.PursuitWorlds`): the arguments' checks
 (:func:`pursuit_params`), the observation's sensors and space (:func:`pursuit_observer`), a
-world's ``info`` (:func:`world_info`) and the pictures (:func:`render_world`).
+the worlds' ``info`` (:func:`world_infos`) and the pictures (:func:`render_world`).
 """
 
 from __future__ import annotations
@@ -138,39 +138,44 @@ def observe(observer: PursuitObserver, view: ObserverView, kinematics: Kinematic
     return obs
 
 
-def _in_foveas(point: np.ndarray, positions: np.ndarray, rotations: np.ndarray) -> bool:
-    for position, rotation in zip(positions, rotations):
-        direction = point - position
-        cosine = direction @ rotation[2] / np.linalg.norm(direction)
-        if cosine < np.cos(FOVEA_HALF_ANGLE):
-            return False
-    return True
+def in_foveas(points: np.ndarray, positions: np.ndarray, rotations: np.ndarray) -> np.ndarray:
+    """(N, K) bool: whether each of world n's points (N, K, 3) m lies within 7.5 deg of both its
+    eyes' axes, from the eyes at ``positions`` (N, 2, 3) m turned by ``rotations`` (N, 2, 3,
+    3) (row 2 the axis)."""
+    direction = points[:, :, None, :] - positions[:, None]  # (N, K, 2, 3)
+    cosine = (np.einsum("nkej,nej->nke", direction, rotations[:, :, 2])
+              / np.linalg.norm(direction, axis=-1))
+    return ~np.any(cosine < np.cos(FOVEA_HALF_ANGLE), axis=-1)
 
 
-def world_info(worlds: PursuitWorlds, kinematics: Kinematics, poses, world: int,
-               moved: bool) -> dict:
-    """World ``world``'s info (ground truth, for evaluation; see the env's docstring) from
-    the eye ``poses`` of :meth:`PursuitWorlds.eye_poses`."""
-    positions, rotations = poses[0][world], poses[1][world]
-    angles = worlds.gaze_angles()[world]
-    baseline = float(np.linalg.norm(positions[0] - positions[1]))
-    rows = worlds.rows(world)
-
-    def seen(fish) -> bool:
-        return any(_in_foveas(kinematics.com[rows[k]], positions, rotations) for k in fish)
-
+def world_infos(worlds: PursuitWorlds, kinematics: Kinematics, poses, moved: bool
+                ) -> dict[str, np.ndarray]:
+    """Every world's info (ground truth, for evaluation; see the env's docstring), entry ->
+    (N, ...) array, from the eye ``poses`` of :meth:`PursuitWorlds.eye_poses`."""
+    positions, rotations = poses
+    n, observers = worlds.num_worlds, worlds.observers
+    angles = worlds.gaze_angles()
+    inside = in_foveas(kinematics.com.reshape(n, worlds.fish, 3), positions, rotations)
     others = DISTRACTOR + worlds.params.distractors
-    observer = rows[0]
-    return {"target_in_fovea": seen([PREY]),
-            "distractor_in_fovea": seen(range(DISTRACTOR, others)),
-            "passer_in_fovea": seen(range(others, worlds.fish)),
-            "target_distance": float(worlds.distance[world]),
-            "gaze": angles.reshape(-1).copy(),
-            "vergence": float(angles[1, 0] - angles[0, 0]),
-            "range_estimate": triangulate(angles[0, 0], angles[1, 0], baseline),
-            "time": float(worlds.time[world]), "moved": moved,
-            "com": kinematics.com[observer].copy(),
-            "forward": kinematics.frames[observer, 0].copy()}
+    ranges = [triangulate(a[0, 0], a[1, 0], float(np.linalg.norm(p[0] - p[1])))
+              for a, p in zip(angles, positions)]
+    return {"target_in_fovea": inside[:, PREY],
+            "distractor_in_fovea": inside[:, DISTRACTOR:others].any(axis=1),
+            "passer_in_fovea": inside[:, others:].any(axis=1),
+            "target_distance": worlds.distance.copy(),
+            "gaze": angles.reshape(n, -1),
+            "vergence": angles[:, 1, 0] - angles[:, 0, 0],
+            "range_estimate": np.array(ranges),
+            "time": worlds.time.copy(), "moved": np.full(n, moved),
+            "com": kinematics.com[observers].copy(),
+            "forward": kinematics.frames[observers, 0].copy()}
+
+
+def world_info(infos: dict[str, np.ndarray], world: int) -> dict:
+    """World ``world``'s info from :func:`world_infos`: flags and scalars as Python's bool
+    and float, vectors as arrays."""
+    return {key: value[world].copy() if value.ndim > 1 else value[world].item()
+            for key, value in infos.items()}
 
 
 def render_world(worlds: PursuitWorlds, render_mode: str | None, world: int = 0,

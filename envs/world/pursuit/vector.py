@@ -32,7 +32,7 @@ from .shell import (
     pursuit_observer,
     pursuit_params,
     render_world,
-    world_info,
+    world_infos,
 )
 from .worlds import PursuitWorlds
 
@@ -132,13 +132,11 @@ class FishPursuitVectorEnv(VectorEnv):
         return observe(self.observer, self.view, kinematics, self.stack, fresh)
 
     def _infos(self, kinematics, moved: bool) -> dict:
-        poses = self.worlds.eye_poses(kinematics)
-        infos = [world_info(self.worlds, kinematics, poses, w, moved)
-                 for w in range(self.num_envs)]
+        infos = world_infos(self.worlds, kinematics, self.worlds.eye_poses(kinematics), moved)
         mask = np.ones(self.num_envs, bool)
         out: dict = {}
-        for key in infos[0]:
-            out[key], out[f"_{key}"] = np.array([info[key] for info in infos]), mask
+        for key, value in infos.items():
+            out[key], out[f"_{key}"] = value, mask
         return out
 
     def render(self):

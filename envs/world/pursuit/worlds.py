@@ -75,7 +75,8 @@ class PursuitWorlds:
         self.glance = np.zeros(self.num_worlds, int)  # looks taken in this frame
         self.distance = np.zeros(self.num_worlds)  # m, head to the prey's centre of mass
         self.scenery: list[list] = [[] for _ in range(self.num_worlds)]
-        self._quads = np.zeros((self.num_worlds, 0, 4, 3))  # shadows, skins, scenery
+        # every world's triangles and colours (:meth:`triangles`): shadows, skins, scenery
+        self._triangles = np.zeros((self.num_worlds, 0, 3, 3))
         self._colours = np.zeros((self.num_worlds, 0, 3), np.uint8)
         self._groups = np.zeros((self.num_worlds, 0), np.int64)  # each triangle's (culling)
         self._poses: tuple | None = None  # the kinematics and gaze of the eye poses kept
@@ -197,15 +198,15 @@ class PursuitWorlds:
         quads = np.concatenate([corners for corners, _ in things])
         base = np.concatenate([colours for _, colours in things])
         fish = self.fish * len(self.core.body.faces) * 5  # shadows, then 4 sub-faces each
-        if self._quads.shape[1] != fish + len(quads):
-            self._quads = np.zeros((self.num_worlds, fish + len(quads), 4, 3))
-            self._colours = np.zeros((self.num_worlds, fish + len(quads), 3), np.uint8)
+        if self._triangles.shape[1] != 2 * (fish + len(quads)):
+            self._triangles = np.zeros((self.num_worlds, 2 * (fish + len(quads)), 3, 3))
+            self._colours = np.zeros((self.num_worlds, 2 * (fish + len(quads)), 3), np.uint8)
             self._groups = np.zeros((self.num_worlds, 2 * (fish + len(quads))), np.int64)
-        self._quads[world, fish:] = quads
-        self._colours[world, fish:] = shade(quads, base, Scene().light)
+        put_quads(self._triangles[world], self._colours[world], fish, quads,
+                  shade(quads, base, Scene().light))
         # the fish's quads come body by body, face by face: runs of them lie together; the
         # scenery's lie anywhere, so they are grouped by where they are; a quad's two
-        # triangles (:meth:`triangles`: every quad's first, then every quad's second) together
+        # triangles (:func:`put_quads`) together
         groups = np.concatenate([np.arange(fish) // QUADS_CULLED, -(-fish // QUADS_CULLED)
                                  + groups_in_space(quads.mean(axis=1), SCENERY_CELL,
                                                    QUADS_CULLED)])
@@ -214,21 +215,29 @@ class PursuitWorlds:
     def triangles(self) -> tuple[np.ndarray, np.ndarray]:
         """(N, T, 3, 3) m and (N, T, 3) uint8: every world's triangles and colours now, in
         the order of :meth:`Scene.prepare` (shadows, skins, scenery; each quad's first
-        triangle, then each quad's second)."""
+        triangle, then each quad's second). The batch's own buffers: the fish are written
+        again at each call, the scenery at reset."""
         n, body = self.num_worlds, self.core.body
-        faces = self.core.state.x.reshape(n, self.fish, -1, 3)[:, :, body.faces]
-        shadows = faces.reshape(n, -1, 4, 3)
+        shadows = self.core.state.x.reshape(n, self.fish, -1, 3)[:, :, body.faces].reshape(
+            n, -1, 4, 3)
         count = shadows.shape[1]
         skins = subdivide(shadows.reshape(-1, 4, 3)).reshape(n, -1, 4, 3)
-        self._quads[:, :count] = shadows
-        self._quads[:, :count, :, 2] = SEABED_Z + SHADOW_LIFT
-        self._quads[:, count:5 * count] = skins
-        self._colours[:, :count] = SHADOW
-        self._colours[:, count:5 * count] = shade(skins, np.concatenate(self.skins),
-                                                  Scene().light)
-        quads, total = self._quads, self._quads.shape[1]
-        triangles = np.empty((n, 2 * total, 3, 3))
-        triangles[:, :total] = quads[:, :, :3]
-        triangles[:, total:, 0] = quads[:, :, 0]
-        triangles[:, total:, 1:] = quads[:, :, 2:]
-        return triangles, np.concatenate([self._colours, self._colours], axis=1)
+        shadows[..., 2] = SEABED_Z + SHADOW_LIFT
+        put_quads(self._triangles, self._colours, 0, shadows, SHADOW)
+        put_quads(self._triangles, self._colours, count, skins,
+                  shade(skins, np.concatenate(self.skins), Scene().light))
+        return self._triangles, self._colours
+
+
+def put_quads(triangles: np.ndarray, colours: np.ndarray, start: int, quads: np.ndarray,
+              shades: np.ndarray) -> None:
+    """Write ``quads`` (..., Q, 4, 3) m (corners a, b, c, d) of colours ``shades`` (..., Q,
+    3) uint8 (or one colour) into buffers of T triangles, ``triangles`` (..., T, 3, 3) and
+    ``colours`` (..., T, 3): quad q's first triangle (a, b, c) at ``start`` + q, its second
+    (a, c, d) T / 2 further on."""
+    half, stop = triangles.shape[-3] // 2, start + quads.shape[-3]
+    triangles[..., start:stop, :, :] = quads[..., :3, :]
+    triangles[..., half + start:half + stop, 0, :] = quads[..., 0, :]
+    triangles[..., half + start:half + stop, 1:, :] = quads[..., 2:, :]
+    colours[..., start:stop, :] = shades
+    colours[..., half + start:half + stop, :] = shades

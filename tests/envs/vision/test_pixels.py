@@ -63,6 +63,13 @@ def test_pixels_are_the_chosen_cameras_of_both_eyes_channel_first():
                          np.uint8)).tolist() == [76, 150, 29, 255]
 
 
+def test_grey_is_bt601_luma_rounded_for_every_colour():
+    axis = np.arange(256)
+    rgb = np.stack(np.meshgrid(axis, axis, axis, indexing="ij"), axis=-1).reshape(-1, 3)
+    exact = np.floor((rgb @ np.array([299.0, 587.0, 114.0])) / 1000.0 + 0.5)
+    np.testing.assert_array_equal(grey(rgb.astype(np.uint8)), exact.astype(np.uint8))
+
+
 def test_smaller_pictures_are_the_same_cameras_with_fewer_pixels():
     source = PreyAhead()
     small = RetinaPixels(levels=[0, 3], size=32, colour=True).read(source, None)

@@ -19,6 +19,7 @@ from animat.envs.vision.retina import (
     render_eyes,
 )
 from animat.envs.world.pursuit.senses import default_sensors
+from animat.envs.world.pursuit.shell import in_foveas
 from animat.envs.world.pursuit.start import OBSERVER
 from animat.envs.world.pursuit.summary import PursuitSummary
 
@@ -251,3 +252,22 @@ def test_a_glance_moves_the_eyes_alone_and_the_frame_counts_once():
         summary.update(step_info)
     assert summary.frames == 1
     assert "glance" not in gym.make("Animat/FishPursuit-v0").observation_space.spaces
+
+
+def test_in_foveas_needs_both_eyes_within_7_5_degrees_of_their_axes():
+    rng = np.random.default_rng(0)
+    turned = np.stack([np.linalg.qr(rng.normal(size=(3, 3)))[0] for _ in range(5)])
+    rotations = np.stack([turned, turned], axis=1)  # parallel eyes 5 cm apart
+    left = rng.normal(size=(5, 3))
+    positions = np.stack([left, left + 0.05 * turned[:, 0]], axis=1)
+    near = positions[:, :1] + rotations[:, :1, 2] * 3.0  # on the left eye's axis
+    points = np.concatenate([near + rng.normal(scale=0.2, size=(5, 40, 3)),
+                             positions[:, :1]], axis=1)  # and the left eye itself
+    inside = in_foveas(points, positions, rotations)
+    for n in range(5):
+        for k in range(41):
+            cosines = [(points[n, k] - p) @ r[2] / np.linalg.norm(points[n, k] - p)
+                       for p, r in zip(positions[n], rotations[n])]
+            assert inside[n, k] == all(c >= np.cos(np.radians(7.5)) for c in cosines) or (
+                np.isnan(cosines).any() and inside[n, k])
+    assert inside.any() and not inside.all()
