@@ -157,11 +157,14 @@ COMPACT = {"duration": 0.6, "frames": 3, "sensors": [
     {"name": "pixels", "levels": [0, 3], "size": 16}, "gaze", "proprioception"]}
 RETINA_CNN = {**PIXELS, "policy_kwargs": "dict(features_extractor_class=RetinaCNN, net_arch=[8]"
               ", features_extractor_kwargs=dict(cnn_output_dim=8, channels=(4, 4, 4)))"}
+FUSED_ADAM = RETINA_CNN["policy_kwargs"].replace(
+    "dict(", "dict(optimizer_kwargs=dict(eps=1e-5, fused=True), ", 1)
 RESUMED = {"native": ("Animat/FishSwim-v0", {"duration": 0.5}, PARAMS, 192, [64, 100, 130]),
            "pursuit": ("Animat/FishPursuit-v0", {"duration": 0.6}, PIXELS, 64, [16, 40]),
            "compact pixels": ("Animat/FishPursuit-v0", COMPACT, RETINA_CNN, 64, [16, 40]),
-           "updated on two threads": ("Animat/FishPursuit-v0", COMPACT,
-                                      {**RETINA_CNN, "update_threads": 2}, 64, [16, 40]),
+           "updated on two threads by fused Adam": (
+               "Animat/FishPursuit-v0", COMPACT, {**RETINA_CNN, "update_threads": 2,
+                                                  "policy_kwargs": FUSED_ADAM}, 64, [16, 40]),
            "replayed": ("Animat/MarineWorld-v0", {"duration": 0.6}, {
                **PIXELS, "policy": "MlpPolicy", "policy_kwargs": "dict(net_arch=[8])"}, 64,
                [16, 40])}
