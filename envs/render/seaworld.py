@@ -17,7 +17,8 @@ from numba import njit
 from ..bodies.spec import BodySpec
 from ..physics.ball import BallParams
 from .camera import Camera, Scene, box, look_at
-from .raster import pixel_ray, rasterize_world
+from .raster import rasterize_world
+from .rays import pixel_ray
 
 DOLPHIN_COLOUR = (105, 120, 140)
 BALL_COLOURS = ((230, 40, 40), (250, 250, 250), (40, 90, 230), (250, 210, 40))
