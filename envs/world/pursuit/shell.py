@@ -1,6 +1,6 @@
 """What the pursuit's single env and its native vector env share around their batched core
 (:class:`~animat.envs.world.pursuit.worlds.PursuitWorlds`): the arguments' checks
-(:func:`pursuit_params`), the observation's sensors and space (:func:`pursuit_observer`), a
+(:func:`pursuit_params`), the observation's sensors and space (:func:`pursuit_observer`),
 the worlds' ``info`` (:func:`world_infos`) and the pictures (:func:`render_world`).
 """
 
