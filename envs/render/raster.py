@@ -238,12 +238,19 @@ def draw_picture_into(triangles, colours, eye, rotation, focal, seabed_z, tile, 
     water_into(image, zbuffer, rays, top, bottom, visibility, pixels[0], pixels[1])
 
 
+def quads_into(triangles: np.ndarray, start: int, quads: np.ndarray) -> None:
+    """Write ``quads`` (..., Q, 4, 3) (corners a, b, c, d; a triangle repeats a corner) into a
+    buffer of T triangles ``triangles`` (..., T, 3, 3), in the order every picture takes them:
+    quad q's first triangle (a, b, c) at ``start`` + q, its second (a, c, d) T / 2 further on."""
+    half, stop = triangles.shape[-3] // 2, start + quads.shape[-3]
+    triangles[..., start:stop, :, :] = quads[..., :3, :]
+    triangles[..., half + start:half + stop, 0, :] = quads[..., 0, :]
+    triangles[..., half + start:half + stop, 1:, :] = quads[..., 2:, :]
+
+
 def quads_to_triangles(corners: np.ndarray) -> np.ndarray:
-    """(F, 4, ...) quads (a triangle repeats a corner) -> (2F, 3, ...) triangles: (0, 1, 2)
-    of every quad, then (0, 2, 3)."""
-    count = len(corners)
-    out = np.empty((2 * count, 3) + corners.shape[2:], corners.dtype)
-    out[:count] = corners[:, :3]
-    out[count:, 0] = corners[:, 0]
-    out[count:, 1:] = corners[:, 2:]
+    """(F, 4, 3) quads -> (2F, 3, 3) triangles: (0, 1, 2) of every quad, then (0, 2, 3)
+    (:func:`quads_into`)."""
+    out = np.empty((2 * len(corners), 3, 3), corners.dtype)
+    quads_into(out, 0, corners)
     return out

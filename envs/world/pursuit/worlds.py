@@ -25,6 +25,7 @@ from ...core.batch import BodyBatch, Kinematics
 from ...motor.navigation import Navigator, forward_speeds, navigation_for
 from ...render.camera import SHADOW_LIFT, Scene, fish_skin, shade, subdivide, yaw_matrix
 from ...render.cameras import SHADOW, draw_cameras, groups_in_space
+from ...render.raster import quads_into
 from ...render.scenery import furnish
 from ...tasks.locomotion import SwimTask
 from ...vision.retina import RetinaParams, eye_poses_batch
@@ -231,13 +232,11 @@ class PursuitWorlds:
 
 def put_quads(triangles: np.ndarray, colours: np.ndarray, start: int, quads: np.ndarray,
               shades: np.ndarray) -> None:
-    """Write ``quads`` (..., Q, 4, 3) m (corners a, b, c, d) of colours ``shades`` (..., Q,
-    3) uint8 (or one colour) into buffers of T triangles, ``triangles`` (..., T, 3, 3) and
-    ``colours`` (..., T, 3): quad q's first triangle (a, b, c) at ``start`` + q, its second
-    (a, c, d) T / 2 further on."""
-    half, stop = triangles.shape[-3] // 2, start + quads.shape[-3]
-    triangles[..., start:stop, :, :] = quads[..., :3, :]
-    triangles[..., half + start:half + stop, 0, :] = quads[..., 0, :]
-    triangles[..., half + start:half + stop, 1:, :] = quads[..., 2:, :]
+    """Write ``quads`` (..., Q, 4, 3) m of colours ``shades`` (..., Q, 3) uint8 (or one
+    colour) into the buffers of T triangles ``triangles`` (..., T, 3, 3) and ``colours``
+    (..., T, 3), at ``start`` (:func:`~animat.envs.render.raster.quads_into`: each quad's two
+    triangles T / 2 apart)."""
+    quads_into(triangles, start, quads)
+    half, stop = colours.shape[-2] // 2, start + quads.shape[-3]
     colours[..., start:stop, :] = shades
     colours[..., half + start:half + stop, :] = shades
