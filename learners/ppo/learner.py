@@ -28,6 +28,7 @@ from ..storage.files import read_json
 from ..storage.pickles import UntrustedPickle
 from ..validation import BudgetError, check_memory
 from . import checkpoint as ppo_checkpoint
+from .allocator import keep_freed_memory
 from .hooks import progress_callback, sb3_logger
 from .threads import set_threads, torch_loaded_late, update_threads
 from .zoo import PPOParams, normalize_kwargs, policy_kwargs, schedule
@@ -248,6 +249,7 @@ class PPOLearner(Learner):
         if remaining > 0:
             progress = progress_callback(self, model, venv, folder, state, start,
                                          final=model.num_timesteps + remaining)
+            keep_freed_memory()  # each minibatch reuses the memory the last one freed
             model.learn(remaining, callback=progress, reset_num_timesteps=not resumed)
             set_threads(int(self.hp["torch_threads"]))  # the last update left update_threads
         state["metrics"] = self.evaluate(model, venv)  # the policy the run returns
