@@ -162,12 +162,16 @@ def hidden(eyes: np.ndarray, targets: np.ndarray, obstacles: Obstacles,
 
 
 def perceived(eyes: np.ndarray, headings: np.ndarray, targets: np.ndarray, reach: float,
-              obstacles: Obstacles, params: OracleParams) -> tuple[np.ndarray, np.ndarray]:
+              obstacles: Obstacles, params: OracleParams,
+              pairs: tuple[np.ndarray, np.ndarray] | None = None
+              ) -> tuple[np.ndarray, np.ndarray]:
     """Which targets (T, 3) each fish (eyes (F, 3), unit headings (F, 3)) perceives within
     ``reach`` m: (F, T) bool, and the distances (F, T) m of the pairs within reach and in
     the field (inf elsewhere: read them where perceived). Only the pairs the grid
-    (:func:`pairs_within`) puts within reach are looked at."""
-    f, t = pairs_within(eyes, targets, reach)
+    (:func:`pairs_within`) puts within reach are looked at, or the (fish, target) index
+    ``pairs`` given, sorted by fish then target: those that may count, the caller knowing
+    the others cannot (the pursuit's worlds: a fish of another world is not there)."""
+    f, t = pairs_within(eyes, targets, reach) if pairs is None else pairs
     offsets = targets[t] - eyes[f]
     distance = np.linalg.norm(offsets, axis=-1)
     cosine = np.einsum("pk,pk->p", offsets, headings[f]) / np.maximum(distance, 1e-9)

@@ -101,14 +101,16 @@ def _side(headings: np.ndarray, offsets: np.ndarray) -> np.ndarray:
 
 def collision_danger(heads, headings, com, obstacles: Obstacles, tank: Tank,
                      avoid: AvoidParams, bodies: np.ndarray | None = None,
-                     exempt: np.ndarray | None = None, feeding: np.ndarray | None = None
+                     exempt: np.ndarray | None = None, feeding: np.ndarray | None = None,
+                     pairs: tuple[np.ndarray, np.ndarray] | None = None
                      ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(F,) danger, escape_turn, escape_pitch for heads (F, 3) going along headings (F, 3),
     centres of mass com (F, 3): an obstacle within ``margin`` of the way ahead, or of the
     body's nodes ``bodies`` (F, N, 3) (one passing alongside), or another fish ahead within
     ``fish_distance``, except those ``exempt`` (F, F) (the prey it hunts, the partner it
     courts: those it means to reach); the seabed is no danger to a fish ``feeding`` (F,)
-    (food rests on it)."""
+    (food rests on it). ``pairs``: the (fish, fish) index pairs that may count, sorted, in
+    place of the grid's (:func:`~animat.envs.world.oracle.perceived`)."""
     f = len(heads)
     probes = heads[:, None] + np.linspace(0.0, avoid.look_ahead, 4)[None, :, None] * headings[
         :, None]  # (F, 4, 3)
@@ -131,7 +133,7 @@ def collision_danger(heads, headings, com, obstacles: Obstacles, tank: Tank,
         low &= ~feeding
     pitch = np.where(low, 1.0, pitch)
     pitch = np.where(probes[:, :, 2].max(axis=1) > tank.top_z - avoid.margin, -1.0, pitch)
-    i, j = pairs_within(com, com, avoid.fish_distance)
+    i, j = pairs_within(com, com, avoid.fish_distance) if pairs is None else pairs
     i, j = i[i != j], j[i != j]
     offsets = com[j] - com[i]  # i to j
     gap = np.linalg.norm(offsets, axis=-1)
@@ -149,16 +151,19 @@ def collision_danger(heads, headings, com, obstacles: Obstacles, tank: Tank,
 def perceive(heads, headings, com, com_vel, food, relations: dict,
              obstacles: Obstacles, tank: Tank, oracle: OracleParams,
              avoid: AvoidParams, bodies: np.ndarray | None = None,
-             exempt: np.ndarray | None = None, feeding: np.ndarray | None = None) -> Percepts:
+             exempt: np.ndarray | None = None, feeding: np.ndarray | None = None,
+             pairs: tuple[np.ndarray, np.ndarray] | None = None) -> Percepts:
     """Percepts of F fish: heads (F, 3) m (the eye point), unit headings (F, 3), com and
     com_vel (F, 3); food (M, 3) m (every particle there is, eaten ones already replaced);
     ``relations`` the (F, F)
     matrices named in the module docstring; ``bodies`` (F, N, 3) the fish's nodes (their
     own sense of touch: an obstacle alongside); ``exempt`` (F, F) the fish each means to
-    reach (no collision danger); ``feeding`` (F,) those the seabed does not turn back."""
+    reach (no collision danger); ``feeding`` (F,) those the seabed does not turn back;
+    ``pairs`` the (fish, fish) index pairs that may count, sorted (all others left out: the
+    pursuit's worlds), in place of the grid's."""
     seen_food, food_dist = perceived(heads, headings, food, oracle.food_range, obstacles, oracle)
     food_index, food_d = nearest(seen_food, food_dist)
-    seen, dist = perceived(heads, headings, com, oracle.range, obstacles, oracle)
+    seen, dist = perceived(heads, headings, com, oracle.range, obstacles, oracle, pairs)
     seen &= ~np.eye(len(com), dtype=bool)
     pred = _nearest_related(seen, dist, relations["fears"], com)
     prey = _nearest_related(seen, dist, relations["hunts"], com)
@@ -170,7 +175,7 @@ def perceive(heads, headings, com, com_vel, food, relations: dict,
         heading = mates @ com_vel
         heading /= np.linalg.norm(heading, axis=1, keepdims=True)
     danger, turn, pitch = collision_danger(heads, headings, com, obstacles, tank, avoid,
-                                           bodies, exempt, feeding)
+                                           bodies, exempt, feeding, pairs)
     return Percepts(food_index, food_d, _positions(food_index, food), *pred, *prey, *mate,
                     np.where(count[:, None] > 0, centre, np.nan),
                     np.where(count[:, None] > 0, heading, np.nan), count, danger, turn, pitch,

@@ -7,8 +7,9 @@ water is open (no walls) round z = 0. The observer's own row is carried along (t
 functions take every fish) and its commands are the env's to replace.
 
 The minds of N worlds run as one batch of N F fish (world w's fish in rows w F .. w F + F - 1):
-every relation is within a world (block-diagonal), a fish of another world is never a
-collision danger (it is not there), the clock is per world and each world's wanderers draw
+every relation is within a world (block-diagonal), a fish of another world is neither
+perceived nor a collision danger (it is not there: only the pairs within a world are looked
+at), the clock is per world and each world's wanderers draw
 from that world's generator, so a world's fish get the commands they would get alone.
 """
 
@@ -40,6 +41,9 @@ class OtherFish:
         self.mind_params = MindParams(fear_distance=fear_distance)
         world_of = np.repeat(np.arange(worlds), fish)
         self.apart = world_of[:, None] != world_of[None, :]  # (rows, rows): other worlds
+        # every (fish, fish) pair of a world, sorted: all the pairs that may count
+        self.pairs = (np.repeat(np.arange(rows), fish),
+                      np.repeat(world_of * fish, fish) + np.tile(np.arange(fish), rows))
         fears = np.zeros((rows, rows), bool)
         starts = np.arange(worlds) * fish
         fears[starts + PREY, starts + OBSERVER] = True
@@ -74,7 +78,7 @@ class OtherFish:
         headings = kinematics.frames[:, 0]
         percepts = perceive(heads, headings, kinematics.com, kinematics.com_vel,
                             np.zeros((0, 3)), self.relations, Obstacles.none(), self.tank,
-                            self.senses, AvoidParams(), exempt=self.apart)
+                            self.senses, AvoidParams(), exempt=self.apart, pairs=self.pairs)
         rows = len(heads)
         no_focus = np.full((rows, 3), np.nan)
         return self.lives.commands(percepts, heads, headings, kinematics.com,

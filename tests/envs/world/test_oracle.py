@@ -1,6 +1,7 @@
 """The oracle's spatial grid: the pairs it hands out hold every pair within reach, and what is
 computed on them is what every pair gives (a brute force over all pairs, written here as the
-reference), for worlds small enough for all pairs and large enough for the grid."""
+reference), for worlds small enough for all pairs and large enough for the grid; and the
+pairs a caller gives in its place (the pursuit's worlds, each its own)."""
 
 import numpy as np
 import pytest
@@ -103,3 +104,30 @@ def test_collision_danger_on_the_grid_is_the_danger_over_every_pair(fish, side):
     want = _dense_danger(heads, headings, com, pillars, tank, AvoidParams(), bodies)
     assert all(np.array_equal(a, b) for a, b in zip(got, want))
     assert want[0].sum() > fish // 10 and (want[1] != 0).sum() > fish // 10
+
+
+def test_worlds_laid_over_each_other_perceive_as_alone_given_their_own_pairs():
+    """The pursuit's batch: worlds in the same water, each looking only at its own pairs
+    (``pairs``), perceive and avoid as each would alone (on the grid)."""
+    rng = np.random.default_rng(7)
+    worlds, fish, side = 4, 12, 3.0
+    scenes = [_scene(rng, fish, side, 0) for _ in range(worlds)]
+    heads, headings = (np.concatenate([scene[k] for scene in scenes]) for k in (0, 1))
+    world_of = np.repeat(np.arange(worlds), fish)
+    pairs = np.nonzero(world_of[:, None] == world_of[None, :])  # sorted, one world each
+    none, tank, avoid = Obstacles.none(), Tank(half_size=side), AvoidParams()
+    seen, distance = perceived(heads, headings, heads, 1.5, none, OracleParams(), pairs)
+    danger = collision_danger(heads, headings, heads, none, tank, avoid, pairs=pairs)
+    assert not seen[world_of[:, None] != world_of[None, :]].any()
+    for w, (points, directions, _) in enumerate(scenes):
+        rows = slice(w * fish, (w + 1) * fish)
+        alone, alone_distance = perceived(points, directions, points, 1.5, none,
+                                          OracleParams())
+        assert np.array_equal(seen[rows, rows], alone) and alone.sum() > fish // 2
+        assert np.array_equal(distance[rows, rows][alone], alone_distance[alone])
+        alone_danger = collision_danger(points, directions, points, none, tank, avoid)
+        assert all(np.array_equal(a[rows], b) for a, b in zip(danger, alone_danger))
+    alone_crowds = [collision_danger(s[0], s[1], s[0], none, tank, avoid)[1] for s in scenes]
+    assert sum(int((t != 0).sum()) for t in alone_crowds) > worlds  # some turn from a fish
+    mixed = collision_danger(heads, headings, heads, none, tank, avoid)[1]  # without pairs
+    assert not np.array_equal(mixed, danger[1])  # the other worlds' fish would count
