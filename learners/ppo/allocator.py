@@ -1,9 +1,9 @@
 """glibc's malloc set to keep the memory a PPO update frees, for its next minibatch to reuse.
 
 Each minibatch of an update allocates tensors of megabytes and frees them: 128 compact
-retinal images are 4 MB as float32 (SB3's rollout buffer keeps every observation as float32),
-and their scaled copy as much again. glibc's malloc maps such blocks from the kernel
-(``mmap``) and gives the free top of its heap back (``M_MMAP_THRESHOLD``,
+retinal images, 1 MB as SB3's rollout buffer keeps them (uint8), are 4 MB as the float32 the
+network takes, and as much again once scaled to [0, 1]. glibc's malloc maps such blocks from
+the kernel (``mmap``) and gives the free top of its heap back (``M_MMAP_THRESHOLD``,
 ``M_TRIM_THRESHOLD``: 128 KB to start with, raised as mapped blocks are freed, the second to
 twice the first). With a minibatch's mix of sizes memory keeps going back to the kernel, and
 each minibatch faults its pages in afresh, the kernel zeroing every one (costly above all in
